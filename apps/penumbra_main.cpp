@@ -1,0 +1,142 @@
+// `penumbra`: the command-line front end. Subcommands:
+//   replay TRACE        render one frame trace (docs/trace-format.md), write PNG / hash
+//   isas                list compiled and supported SIMD targets
+//   bench-replay TRACE  median and min ms per frame over repeated renders
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "raster/frame_trace.h"
+#include "raster/renderer.h"
+#include "scene/image_io.h"
+#include "scene/sha256.h"
+#include "simd/targets.h"
+
+namespace {
+
+using namespace penumbra;
+
+struct RenderFlags {
+  std::string isa = "best";
+  int threads = 1;
+  int tile = 32;
+};
+
+void addRenderFlags(CLI::App* app, RenderFlags& flags) {
+  app->add_option("--isa", flags.isa, "SIMD target: scalar|sse4|avx2|avx512|neon|best")
+      ->capture_default_str();
+  app->add_option("--threads", flags.threads, "worker threads (bytes do not depend on it)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app->add_option("--tile", flags.tile, "tile side in pixels: 16, 32 or 64")
+      ->check(CLI::IsMember({16, 32, 64}))
+      ->capture_default_str();
+}
+
+raster::RenderOptions toOptions(const RenderFlags& flags) {
+  raster::RenderOptions options;
+  if (flags.isa == "best") {
+    options.isa = simd::bestIsa();
+  } else {
+    const auto isa = simd::parseIsa(flags.isa);
+    if (!isa) throw std::invalid_argument("unknown --isa '" + flags.isa + "'");
+    if (!simd::isSupported(*isa)) {
+      throw std::invalid_argument("--isa " + flags.isa +
+                                  " is not supported here (see `penumbra isas`)");
+    }
+    options.isa = *isa;
+  }
+  options.threads = flags.threads;
+  options.tileSize = flags.tile;
+  return options;
+}
+
+int replay(const std::string& tracePath, const RenderFlags& flags, const std::string& outPath,
+           bool printHash) {
+  const raster::FrameTrace trace = raster::loadTrace(tracePath);
+  const std::vector<uint8_t> rgba = raster::renderTrace(trace, toOptions(flags));
+  if (!outPath.empty()) scene::writePng(outPath, trace.view.width, trace.view.height, rgba);
+  if (printHash) std::cout << "sha256 " << scene::sha256Hex(rgba) << "\n";
+  return 0;
+}
+
+int benchReplay(const std::string& tracePath, const RenderFlags& flags, int frames) {
+  const raster::FrameTrace trace = raster::loadTrace(tracePath);
+  const raster::RenderOptions options = toOptions(flags);
+  raster::Renderer renderer(trace.view, options);
+  std::vector<uint8_t> rgba(size_t{trace.view.width} * trace.view.height * 4);
+  renderer.render(trace.frame, rgba);  // warm-up: caches, page faults, thread start
+  std::vector<double> ms, mapsMs, tilesMs;
+  for (int f = 0; f < frames; ++f) {
+    const auto start = std::chrono::steady_clock::now();
+    renderer.render(trace.frame, rgba);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    mapsMs.push_back(renderer.lastStats().msShadowMaps);
+    tilesMs.push_back(renderer.lastStats().msTiles);
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  const raster::FrameStats& stats = renderer.lastStats();
+  std::printf("trace %s\n", tracePath.c_str());
+  std::printf("size %ux%u passes %zu isa %s threads %d tile %d frames %d\n", trace.view.width,
+              trace.view.height, trace.frame.passes.size(), simd::isaName(options.isa),
+              options.threads, options.tileSize, frames);
+  std::printf("ms_per_frame median %.3f min %.3f\n", median(ms), *std::min_element(ms.begin(), ms.end()));
+  std::printf("stage_ms_median shadow_maps %.3f tiles %.3f\n", median(mapsMs), median(tilesMs));
+  std::printf("pixels shadow_map %llu pass %llu object %llu\n",
+              static_cast<unsigned long long>(stats.shadowMapPixels),
+              static_cast<unsigned long long>(stats.passPixels),
+              static_cast<unsigned long long>(stats.objectPixels));
+  std::printf("sha256 %s\n", scene::sha256Hex(rgba).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Penumbra: CPU-only, bit-exact soft shadows for augmented reality"};
+  app.require_subcommand(1);
+
+  RenderFlags replayFlags;
+  std::string replayTrace, replayOut;
+  bool replayHash = false;
+  CLI::App* replayCmd = app.add_subcommand("replay", "Render one frame trace");
+  replayCmd->add_option("TRACE", replayTrace, "frame trace (.json)")->required();
+  addRenderFlags(replayCmd, replayFlags);
+  replayCmd->add_option("--out", replayOut, "write the frame as PNG");
+  replayCmd->add_flag("--hash", replayHash, "print `sha256 <hex>` of the RGBA8 frame bytes");
+
+  app.add_subcommand("isas", "List SIMD targets: compiled, and whether this CPU runs them");
+
+  RenderFlags benchFlags;
+  benchFlags.threads = 2;
+  std::string benchTrace;
+  int benchFrames = 50;
+  CLI::App* benchCmd = app.add_subcommand("bench-replay", "Time repeated renders of one trace");
+  benchCmd->add_option("TRACE", benchTrace, "frame trace (.json)")->required();
+  addRenderFlags(benchCmd, benchFlags);
+  benchCmd->add_option("--frames", benchFrames, "timed frames")->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
+    if (benchCmd->parsed()) return benchReplay(benchTrace, benchFlags, benchFrames);
+    for (simd::Isa isa : simd::compiledIsas()) {
+      std::cout << simd::isaName(isa) << (simd::isSupported(isa) ? "" : " (not supported by this CPU)")
+                << "\n";
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "penumbra: error: " << e.what() << "\n";
+    return 1;
+  }
+}

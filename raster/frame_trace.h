@@ -1,0 +1,111 @@
+// The frame trace: one frame exactly as the rasterizer consumes it (docs/trace-format.md).
+//
+// A trace is the rasterizer's whole input: the fixed camera and static receiver mesh
+// (`StaticView`, cached by the Renderer across frames because the kiosk camera does not
+// move) and the per-frame content (`FrameContent`: background photograph, shaded synthetic
+// objects, occluder proxies and the shadow passes of Gibson 2003 §7, Fig. 2).
+//
+// On disk: a JSON file plus one little-endian binary sidecar holding the arrays.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace penumbra::raster {
+
+// Row-major 4x4: clip = M * (x, y, z, 1), element (r, c) at m[4*r + c].
+struct Mat4 {
+  std::array<float, 16> m{};
+  static Mat4 identity();
+  bool operator==(const Mat4&) const = default;
+};
+
+struct Vec3 {
+  float x = 0, y = 0, z = 0;
+  bool operator==(const Vec3&) const = default;
+};
+
+struct Rgb8 {
+  uint8_t r = 0, g = 0, b = 0;
+  bool operator==(const Rgb8&) const = default;
+};
+
+// Indexed triangles, three indices per triangle, either winding (no culling).
+struct Mesh {
+  std::vector<Vec3> positions;
+  std::vector<uint32_t> indices;
+  size_t triangleCount() const { return indices.size() / 3; }
+  bool operator==(const Mesh&) const = default;
+};
+
+// A synthetic object, already shaded: one 8-bit colour per vertex (tone-mapped).
+struct ShadedMesh {
+  Mesh mesh;
+  std::vector<Rgb8> colours;
+  bool operator==(const ShadedMesh&) const = default;
+};
+
+// One blending pass (Gibson 2003 Fig. 2, inner loop): a shadow map of an occluder proxy
+// seen from one source cluster, and the receiver triangles whose pixels lose
+// S * M (intensity transfer times occlusion mask) in 8 bits.
+struct ShadowPass {
+  Mat4 lightViewProj;          // world -> light clip space (perspective from the source)
+  uint32_t shadowMapSize = 256;  // square, a multiple of 16, at most 4096
+  float depthBias = 0.0f;      // in light window depth ([0, 1]) units
+  bool pcf2x2 = false;         // fractional 2x2 mask instead of a binary one
+  uint32_t occluder = 0;       // index into FrameContent::occluders
+  std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
+  std::vector<Rgb8> receiverS;  // 3 per receiver triangle, in corner order
+  bool operator==(const ShadowPass&) const = default;
+};
+
+struct StaticView {
+  uint32_t width = 0, height = 0;
+  Mat4 cameraViewProj;  // world -> camera clip space
+  Mesh staticMesh;      // the patch mesh of the real room, drawn into depth and id only
+  bool operator==(const StaticView&) const = default;
+};
+
+struct FrameContent {
+  std::vector<uint8_t> background;  // RGBA8, width*height*4, row 0 at the top
+  std::vector<ShadedMesh> objects;
+  std::vector<Mesh> occluders;      // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
+  std::vector<ShadowPass> passes;   // applied in this order
+  bool operator==(const FrameContent&) const = default;
+};
+
+struct FrameTrace {
+  StaticView view;
+  FrameContent frame;
+  bool operator==(const FrameTrace&) const = default;
+};
+
+// Every failure to read or validate a trace: the message names the file and the field.
+class TraceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Limits a valid trace respects (docs/trace-format.md §Limits).
+inline constexpr uint32_t kMaxImageSide = 4096;
+inline constexpr uint32_t kMaxShadowMapSize = 4096;
+
+// Checks sizes, indices and finiteness; throws TraceError naming `where` and the field.
+void validateTrace(const FrameTrace& trace, const std::string& where);
+
+// Checks the per-frame part against a view of `width` x `height` with `staticTriangles`
+// static triangles; throws TraceError naming `where` and the field.
+void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
+                   size_t staticTriangles, const std::string& where);
+
+// Reads `path` (JSON) and its binary sidecar; validates. Throws TraceError.
+FrameTrace loadTrace(const std::filesystem::path& path);
+
+// Writes `path` (JSON) and `<stem>.bin` beside it. Throws TraceError on I/O failure.
+void saveTrace(const FrameTrace& trace, const std::filesystem::path& path);
+
+}  // namespace penumbra::raster

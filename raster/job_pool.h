@@ -1,0 +1,44 @@
+// A minimal fork-join pool for tile and pass jobs (docs/pipeline-spec.md §8).
+//
+// parallelFor(n, fn) runs fn(0) ... fn(n-1), each exactly once, on the calling thread and
+// the workers, and returns when all have finished. Which thread runs which index is not
+// deterministic; callers make each index own its outputs, so the result is.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace penumbra::raster {
+
+class JobPool {
+ public:
+  explicit JobPool(int threads);  // threads >= 1, including the caller
+  ~JobPool();
+  JobPool(const JobPool&) = delete;
+  JobPool& operator=(const JobPool&) = delete;
+
+  // `fn(index, worker)`: worker in [0, threads()) identifies per-thread scratch space.
+  void parallelFor(size_t n, const std::function<void(size_t index, int worker)>& fn);
+  int threads() const { return static_cast<int>(workers_.size()) + 1; }
+
+ private:
+  void workerLoop(int worker);
+  void drain(int worker);
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  const std::function<void(size_t, int)>* job_ = nullptr;
+  size_t jobSize_ = 0;
+  std::atomic<size_t> next_{0};
+  uint64_t generation_ = 0;
+  int busy_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace penumbra::raster

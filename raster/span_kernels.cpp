@@ -1,0 +1,234 @@
+// SIMD targets of raster/span_kernels.h. Each lane computes exactly what the scalar
+// reference computes for its pixel: the same IEEE operations in the same order (no FMA,
+// no approximate division), integer planes modulo 2^32 (spec §5), so every target gives
+// the reference's bytes. tests/span_kernels_test.cpp compares them pixel by pixel.
+#include "raster/span_kernels.h"
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "raster/span_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "simd/u8_ops-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace penumbra::raster::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using VU = hn::Vec<DU>;
+using MI = hn::Mask<DI>;
+
+// a >= b on int32 lanes (Highway 1.0.3 has no integer Ge).
+HWY_INLINE MI GeI(VI a, VI b) { return hn::Not(hn::Lt(a, b)); }
+
+// Lane positions and the run mask of the vector starting at aligned x.
+struct Chunk {
+  VI px;
+  MI inRun;
+};
+
+HWY_INLINE Chunk chunkAt(int32_t x, int32_t xa, int32_t xb) {
+  const DI di;
+  const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
+  return {px, hn::And(GeI(px, hn::Set(di, xa)), hn::Lt(px, hn::Set(di, xb)))};
+}
+
+HWY_INLINE int32_t alignDown(int32_t x) {
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(DF()));
+  return x & ~(lanes - 1);
+}
+
+// z = (z00 + dzdx*fx) + dzdy*fy, spec §5.
+HWY_INLINE VF depthAt(const DepthPlane& p, VI px, int32_t ox, float fy) {
+  const DF df;
+  const DI di;
+  const VF fx = hn::ConvertTo(df, hn::Sub(px, hn::Set(di, ox)));
+  return hn::Add(hn::Add(hn::Set(df, p.z00), hn::Mul(hn::Set(df, p.dzdx), fx)),
+                 hn::Set(df, p.dzdy * fy));
+}
+
+// clamp((c + gx*fx + gy*fy mod 2^32 + 0x8000) >> 16, 0, 255) as int32 lanes, spec §5.
+HWY_INLINE VI attributeAt(const AttributePlane& p, VU fx, uint32_t fy) {
+  const DU du;
+  const DI di;
+  const VU v = hn::Add(hn::Add(hn::Set(du, p.c), hn::Mul(hn::Set(du, p.gx), fx)),
+                       hn::Set(du, p.gy * fy));
+  const VI a = hn::ShiftRight<16>(hn::BitCast(di, hn::Add(v, hn::Set(du, 0x8000u))));
+  return hn::Min(hn::Max(a, hn::Zero(di)), hn::Set(di, 255));
+}
+
+uint32_t DepthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                   const SpanPlanes& planes, uint32_t triangleId) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const float fy = static_cast<float>(y - planes.oy);
+  size_t passed = 0;
+  for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+    const Chunk c = chunkAt(x, xa, xb);
+    const VF z = depthAt(planes.depth, c.px, planes.ox, fy);
+    const VF old = hn::LoadU(df, depth + x);
+    const auto pass = hn::And(hn::RebindMask(df, c.inRun), hn::Lt(z, old));
+    hn::StoreU(hn::IfThenElse(pass, z, old), df, depth + x);
+    if (id != nullptr) {
+      const VU oldId = hn::LoadU(du, id + x);
+      hn::StoreU(hn::IfThenElse(hn::RebindMask(du, pass), hn::Set(du, triangleId), oldId), du,
+                 id + x);
+    }
+    passed += hn::CountTrue(df, pass);
+    (void)di;
+  }
+  return static_cast<uint32_t>(passed);
+}
+
+uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
+                    int32_t y, const SpanPlanes& planes) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const float fy = static_cast<float>(y - planes.oy);
+  const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
+  uint32_t* pixels = reinterpret_cast<uint32_t*>(rgba);
+  size_t passed = 0;
+  for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+    const Chunk c = chunkAt(x, xa, xb);
+    const VF z = depthAt(planes.depth, c.px, planes.ox, fy);
+    const VF old = hn::LoadU(df, depth + x);
+    const auto pass = hn::And(hn::RebindMask(df, c.inRun), hn::Lt(z, old));
+    if (hn::AllFalse(df, pass)) continue;
+    const auto passU = hn::RebindMask(du, pass);
+    const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, planes.ox)));
+    const VI r = attributeAt(planes.rgb[0], fx, fyu);
+    const VI g = attributeAt(planes.rgb[1], fx, fyu);
+    const VI b = attributeAt(planes.rgb[2], fx, fyu);
+    const VU packed = hn::BitCast(
+        du, hn::Or(hn::Or(r, hn::ShiftLeft<8>(g)),
+                   hn::Or(hn::ShiftLeft<16>(b), hn::Set(di, static_cast<int32_t>(0xFF000000u)))));
+    hn::StoreU(hn::IfThenElse(pass, z, old), df, depth + x);
+    hn::StoreU(hn::IfThenElse(passU, hn::Set(du, kObjectId), hn::LoadU(du, id + x)), du, id + x);
+    hn::StoreU(hn::IfThenElse(passU, packed, hn::LoadU(du, pixels + x)), du, pixels + x);
+    passed += hn::CountTrue(df, pass);
+  }
+  return static_cast<uint32_t>(passed);
+}
+
+// Does texel (i, j) occlude depth d? Lanes outside the map read texel 0 and answer false.
+HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
+  const DF df;
+  const DI di;
+  const VI size = hn::Set(di, s.size);
+  const MI inside =
+      hn::And(hn::And(valid, hn::And(GeI(i, hn::Zero(di)), hn::Lt(i, size))),
+              hn::And(GeI(j, hn::Zero(di)), hn::Lt(j, size)));
+  const VI index = hn::IfThenElseZero(inside, hn::Add(hn::Mul(j, size), i));
+  const VF texel = hn::GatherIndex(df, s.map, index);
+  return hn::And(inside, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
+}
+
+// The mask M of spec §7 as int32 lanes in [0, 255].
+HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
+  const DF df;
+  const DI di;
+  const float* p = s.p;
+  auto row = [&](int r) {
+    return hn::Add(hn::Add(hn::Add(hn::Mul(hn::Set(df, p[4 * r]), sx),
+                                   hn::Mul(hn::Set(df, p[4 * r + 1]), sy)),
+                           hn::Mul(hn::Set(df, p[4 * r + 2]), z)),
+                   hn::Set(df, p[4 * r + 3]));
+  };
+  const VF q0 = row(0), q1 = row(1), q2 = row(2), q3 = row(3);
+  const auto front = hn::Gt(q3, hn::Zero(df));
+  const VF u = hn::Div(q0, q3), v = hn::Div(q1, q3), d = hn::Div(q2, q3);
+  const VF size = hn::Set(df, static_cast<float>(s.size));
+  if (!s.pcf2x2) {
+    const auto inside = hn::And(front, hn::And(hn::And(hn::Ge(u, hn::Zero(df)), hn::Lt(u, size)),
+                                               hn::And(hn::Ge(v, hn::Zero(df)), hn::Lt(v, size))));
+    const MI valid = hn::RebindMask(di, inside);
+    // Truncation equals floor here: u, v >= 0 in valid lanes; others are masked.
+    const VI i = hn::ConvertTo(di, hn::IfThenElseZero(inside, u));
+    const VI j = hn::ConvertTo(di, hn::IfThenElseZero(inside, v));
+    return hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Set(di, 255));
+  }
+  const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
+  const VF up = hn::Sub(u, half), vp = hn::Sub(v, half);
+  const auto inside =
+      hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
+                             hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
+  const MI valid = hn::RebindMask(di, inside);
+  const VF fu = hn::Floor(hn::IfThenElseZero(inside, up));
+  const VF fv = hn::Floor(hn::IfThenElseZero(inside, vp));
+  const VI i = hn::ConvertTo(di, fu), j = hn::ConvertTo(di, fv);
+  const VF k256 = hn::Set(df, 256.0f);
+  const VI wu = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
+  const VI wv = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
+  const VI one = hn::Set(di, 1), full = hn::Set(di, 256);
+  const VI iu = hn::Sub(full, wu), iv = hn::Sub(full, wv);
+  const VI sum = hn::Add(
+      hn::Add(hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Mul(iu, iv)),
+              hn::IfThenElseZero(occludes(s, hn::Add(i, one), j, d, valid), hn::Mul(wu, iv))),
+      hn::Add(hn::IfThenElseZero(occludes(s, i, hn::Add(j, one), d, valid), hn::Mul(iu, wv)),
+              hn::IfThenElseZero(occludes(s, hn::Add(i, one), hn::Add(j, one), d, valid),
+                                 hn::Mul(wu, wv))));
+  return hn::ShiftRight<16>(hn::Add(hn::Mul(sum, hn::Set(di, 255)), hn::Set(di, 32768)));
+}
+
+uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa,
+                      int32_t xb, int32_t y, const SpanPlanes& s, uint32_t triangleId,
+                      const ShadowLookup& lookup) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const uint32_t fyu = static_cast<uint32_t>(y - s.oy);
+  const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
+  uint32_t* pixels = reinterpret_cast<uint32_t*>(rgba);
+  size_t matched = 0;
+  for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+    const Chunk c = chunkAt(x, xa, xb);
+    const auto active = hn::And(hn::RebindMask(du, c.inRun),
+                                hn::Eq(hn::LoadU(du, id + x), hn::Set(du, triangleId)));
+    if (hn::AllFalse(du, active)) continue;
+    matched += hn::CountTrue(du, active);
+    const VF sx = hn::Add(hn::ConvertTo(df, c.px), hn::Set(df, 0.5f));
+    const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + x));
+    const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, s.ox)));
+    const VU old = hn::LoadU(du, pixels + x);
+    VU result = hn::And(old, hn::Set(du, 0xFF000000u));
+    for (int ch = 0; ch < 3; ++ch) {
+      const VI sub = simd::HWY_NAMESPACE::ProductU8(di, attributeAt(s.rgb[ch], fx, fyu), m);
+      const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), hn::Set(du, 0xFFu)));
+      const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, sub);
+      result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
+    }
+    hn::StoreU(hn::IfThenElse(active, result, old), du, pixels + x);
+  }
+  return static_cast<uint32_t>(matched);
+}
+
+const SpanKernels* Table() {
+  static const SpanKernels kernels{&DepthLess, &ColourLess, &MaskSubtract};
+  return &kernels;
+}
+
+}  // namespace penumbra::raster::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "simd/target_table.h"
+
+namespace penumbra::raster {
+
+const SpanKernels& spanKernelsFor(simd::Isa isa) {
+  if (isa == simd::Isa::kScalar) return scalarSpanKernels();
+  return *PENUMBRA_TARGET_TABLE_LOOKUP(Table, isa);
+}
+
+}  // namespace penumbra::raster
+#endif  // HWY_ONCE

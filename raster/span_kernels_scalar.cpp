@@ -1,0 +1,113 @@
+// The scalar reference of raster/span_kernels.h: docs/pipeline-spec.md line by line.
+#include <algorithm>
+#include <cmath>
+
+#include "raster/span_kernels.h"
+#include "simd/u8_ops.h"
+
+namespace penumbra::raster {
+namespace {
+
+float depthAt(const DepthPlane& p, float fx, float fy) {
+  return (p.z00 + p.dzdx * fx) + p.dzdy * fy;  // spec §5
+}
+
+uint8_t attributeAt(const AttributePlane& p, uint32_t fx, uint32_t fy) {
+  const uint32_t v = p.c + p.gx * fx + p.gy * fy;  // modulo 2^32, spec §5
+  const int32_t a = static_cast<int32_t>(v + 0x8000u) >> 16;
+  return static_cast<uint8_t>(std::clamp(a, 0, 255));
+}
+
+bool occludes(const ShadowLookup& s, int32_t i, int32_t j, float d) {
+  return i >= 0 && i < s.size && j >= 0 && j < s.size &&
+         d > s.map[static_cast<size_t>(j) * s.size + i] + s.bias;
+}
+
+// The occlusion mask M in [0, 255] of spec §7.
+uint32_t maskAt(const ShadowLookup& s, float sx, float sy, float z) {
+  const float* p = s.p;
+  const float q0 = ((p[0] * sx + p[1] * sy) + p[2] * z) + p[3];
+  const float q1 = ((p[4] * sx + p[5] * sy) + p[6] * z) + p[7];
+  const float q2 = ((p[8] * sx + p[9] * sy) + p[10] * z) + p[11];
+  const float q3 = ((p[12] * sx + p[13] * sy) + p[14] * z) + p[15];
+  if (!(q3 > 0.0f)) return 0;
+  const float u = q0 / q3, v = q1 / q3, d = q2 / q3;
+  const float size = static_cast<float>(s.size);
+  if (!s.pcf2x2) {
+    if (!(u >= 0.0f && u < size && v >= 0.0f && v < size)) return 0;
+    return occludes(s, static_cast<int32_t>(u), static_cast<int32_t>(v), d) ? 255u : 0u;
+  }
+  const float up = u - 0.5f, vp = v - 0.5f;
+  if (!(up > -1.0f && up < size && vp > -1.0f && vp < size)) return 0;
+  const float fu = std::floor(up), fv = std::floor(vp);
+  const int32_t i = static_cast<int32_t>(fu), j = static_cast<int32_t>(fv);
+  const int32_t wu = static_cast<int32_t>((up - fu) * 256.0f + 0.5f);
+  const int32_t wv = static_cast<int32_t>((vp - fv) * 256.0f + 0.5f);
+  const int32_t sum = (occludes(s, i, j, d) ? (256 - wu) * (256 - wv) : 0) +
+                      (occludes(s, i + 1, j, d) ? wu * (256 - wv) : 0) +
+                      (occludes(s, i, j + 1, d) ? (256 - wu) * wv : 0) +
+                      (occludes(s, i + 1, j + 1, d) ? wu * wv : 0);
+  return static_cast<uint32_t>((255 * sum + 32768) >> 16);
+}
+
+uint32_t depthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                   const SpanPlanes& planes, uint32_t triangleId) {
+  uint32_t passed = 0;
+  const float fy = static_cast<float>(y - planes.oy);
+  for (int32_t x = xa; x < xb; ++x) {
+    const float z = depthAt(planes.depth, static_cast<float>(x - planes.ox), fy);
+    if (z < depth[x]) {
+      depth[x] = z;
+      if (id != nullptr) id[x] = triangleId;
+      ++passed;
+    }
+  }
+  return passed;
+}
+
+uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
+                    int32_t y, const SpanPlanes& planes) {
+  uint32_t passed = 0;
+  const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
+  const float fy = static_cast<float>(y - planes.oy);
+  for (int32_t x = xa; x < xb; ++x) {
+    const float z = depthAt(planes.depth, static_cast<float>(x - planes.ox), fy);
+    if (!(z < depth[x])) continue;
+    const uint32_t fxu = static_cast<uint32_t>(x - planes.ox);
+    depth[x] = z;
+    id[x] = kObjectId;
+    uint8_t* px = rgba + 4 * static_cast<size_t>(x);
+    for (int c = 0; c < 3; ++c) px[c] = attributeAt(planes.rgb[c], fxu, fyu);
+    px[3] = 255;
+    ++passed;
+  }
+  return passed;
+}
+
+uint32_t maskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa,
+                      int32_t xb, int32_t y, const SpanPlanes& s, uint32_t triangleId,
+                      const ShadowLookup& lookup) {
+  uint32_t matched = 0;
+  const uint32_t fyu = static_cast<uint32_t>(y - s.oy);
+  const float sy = static_cast<float>(y) + 0.5f;
+  for (int32_t x = xa; x < xb; ++x) {
+    if (id[x] != triangleId) continue;
+    ++matched;
+    const uint32_t m = maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[x]);
+    const uint32_t fxu = static_cast<uint32_t>(x - s.ox);
+    uint8_t* px = rgba + 4 * static_cast<size_t>(x);
+    for (int c = 0; c < 3; ++c) {
+      px[c] = simd::subtractMaskedU8(px[c], attributeAt(s.rgb[c], fxu, fyu),
+                                     static_cast<uint8_t>(m));
+    }
+  }
+  return matched;
+}
+
+const SpanKernels kScalar{&depthLess, &colourLess, &maskSubtract};
+
+}  // namespace
+
+const SpanKernels& scalarSpanKernels() { return kScalar; }
+
+}  // namespace penumbra::raster

@@ -1,0 +1,244 @@
+#include "raster/triangle_setup.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::raster {
+namespace {
+
+// GCC and Clang provide 128-bit integers on x86-64 and aarch64 (spec §1).
+__extension__ typedef __int128 Int128;
+
+template <class T>
+T floorDiv(T n, T d) {  // d > 0
+  const T q = n / d;
+  return (n % d != 0 && n < 0) ? q - 1 : q;
+}
+template <class T>
+T ceilDiv(T n, T d) {  // d > 0
+  const T q = n / d;
+  return (n % d != 0 && n > 0) ? q + 1 : q;
+}
+// Round half up (spec §1).
+template <class T>
+T roundDiv(T n, T d) {
+  return floorDiv(T(2) * n + d, T(2) * d);
+}
+
+// Signed distance to clip plane `p` (spec §3), evaluated exactly as written there.
+float planeDistance(int p, const ClipVertex& v) {
+  switch (p) {
+    case 0: return v.w - 1e-5f;
+    case 1: return v.z + v.w;
+    case 2: return v.w - v.z;
+    case 3: return kGuardBand * v.w - v.x;
+    case 4: return kGuardBand * v.w + v.x;
+    case 5: return kGuardBand * v.w - v.y;
+    default: return kGuardBand * v.w + v.y;
+  }
+}
+constexpr int kPlaneCount = 7;
+
+// The intersection is always computed from the inside vertex towards the outside one, so
+// an edge shared by two triangles yields the same vertex from both (watertight clipping).
+ClippedVertex intersect(const ClippedVertex& in, float dIn, const ClippedVertex& out,
+                        float dOut) {
+  const float t = dIn / (dIn - dOut);
+  ClippedVertex r;
+  r.clip.x = in.clip.x + t * (out.clip.x - in.clip.x);
+  r.clip.y = in.clip.y + t * (out.clip.y - in.clip.y);
+  r.clip.z = in.clip.z + t * (out.clip.z - in.clip.z);
+  r.clip.w = in.clip.w + t * (out.clip.w - in.clip.w);
+  for (int k = 0; k < 3; ++k) r.bary[k] = in.bary[k] + t * (out.bary[k] - in.bary[k]);
+  return r;
+}
+
+SnappedVertex snap(const ClippedVertex& v, uint32_t width, uint32_t height) {
+  const float sx = 128.0f * static_cast<float>(width);   // 256 * hw, exact
+  const float sy = 128.0f * static_cast<float>(height);  // 256 * hh, exact
+  SnappedVertex s;
+  s.x = static_cast<int32_t>(std::nearbyint((v.clip.x / v.clip.w) * sx + sx));
+  s.y = static_cast<int32_t>(std::nearbyint(-(v.clip.y / v.clip.w) * sy + sy));
+  s.z = (v.clip.z / v.clip.w) * 0.5f + 0.5f;
+  s.w[1] = static_cast<int32_t>(std::nearbyint(v.bary[1] * 65536.0f));
+  s.w[2] = static_cast<int32_t>(std::nearbyint(v.bary[2] * 65536.0f));
+  s.w[0] = 65536 - s.w[1] - s.w[2];
+  return s;
+}
+
+}  // namespace
+
+ClipVertex transformPoint(const Mat4& m, const Vec3& p) {
+  const auto& a = m.m;
+  return {((a[0] * p.x + a[1] * p.y) + a[2] * p.z) + a[3],
+          ((a[4] * p.x + a[5] * p.y) + a[6] * p.z) + a[7],
+          ((a[8] * p.x + a[9] * p.y) + a[10] * p.z) + a[11],
+          ((a[12] * p.x + a[13] * p.y) + a[14] * p.z) + a[15]};
+}
+
+void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width,
+                         uint32_t height, std::vector<std::array<SnappedVertex, 3>>& out) {
+  // Trivial accept / reject (spec §3).
+  bool allInside = true;
+  for (int p = 0; p < kPlaneCount; ++p) {
+    int outside = 0;
+    for (const ClipVertex& v : tri) outside += planeDistance(p, v) >= 0.0f ? 0 : 1;
+    if (outside == 3) return;
+    allInside = allInside && outside == 0;
+  }
+  // At most 3 + 7 vertices after seven planes.
+  std::array<ClippedVertex, 10> poly, next;
+  int n = 3;
+  for (int k = 0; k < 3; ++k) {
+    poly[k].clip = tri[k];
+    poly[k].bary = {0.0f, 0.0f, 0.0f};
+    poly[k].bary[k] = 1.0f;
+  }
+  if (!allInside) {
+    for (int p = 0; p < kPlaneCount && n > 0; ++p) {
+      int m = 0;
+      for (int i = 0; i < n; ++i) {
+        const ClippedVertex& a = poly[i];
+        const ClippedVertex& b = poly[(i + 1) % n];
+        const float da = planeDistance(p, a.clip);
+        const float db = planeDistance(p, b.clip);
+        const bool aIn = da >= 0.0f, bIn = db >= 0.0f;
+        if (aIn) next[m++] = a;
+        if (aIn && !bIn) next[m++] = intersect(a, da, b, db);
+        if (!aIn && bIn) next[m++] = intersect(b, db, a, da);
+      }
+      poly = next;
+      n = m;
+    }
+    if (n < 3) return;
+  }
+  std::array<SnappedVertex, 10> snapped;
+  for (int i = 0; i < n; ++i) snapped[i] = snap(poly[i], width, height);
+  for (int i = 1; i + 1 < n; ++i) out.push_back({snapped[0], snapped[i], snapped[i + 1]});
+}
+
+bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint32_t height,
+                   SetupTriangle& t) {
+  t.v = vin;
+  auto detOf = [](const std::array<SnappedVertex, 3>& v) {
+    return int64_t{v[1].x - v[0].x} * (v[2].y - v[0].y) -
+           int64_t{v[2].x - v[0].x} * (v[1].y - v[0].y);
+  };
+  t.det = detOf(t.v);
+  if (t.det == 0) return false;
+  if (t.det < 0) {
+    std::swap(t.v[1], t.v[2]);
+    t.det = -t.det;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const SnappedVertex& a = t.v[i];
+    const SnappedVertex& b = t.v[(i + 1) % 3];
+    Edge& e = t.edges[i];
+    e.a = int64_t{a.y} - b.y;
+    e.b = int64_t{b.x} - a.x;
+    e.c = int64_t{a.x} * b.y - int64_t{a.y} * b.x;
+    const bool topLeft = e.a > 0 || (e.a == 0 && e.b > 0);
+    e.bias = topLeft ? 0 : 1;
+  }
+  const int32_t xs[3] = {t.v[0].x, t.v[1].x, t.v[2].x};
+  const int32_t ys[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
+  const int64_t loX = *std::min_element(xs, xs + 3), hiX = *std::max_element(xs, xs + 3);
+  const int64_t loY = *std::min_element(ys, ys + 3), hiY = *std::max_element(ys, ys + 3);
+  // Pixel px is a candidate when its centre 256 px + 128 lies in [lo, hi].
+  t.minX = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loX - 128, 256)));
+  t.maxX = static_cast<int32_t>(std::min<int64_t>(width, floorDiv<int64_t>(hiX - 128, 256) + 1));
+  t.minY = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loY - 128, 256)));
+  t.maxY =
+      static_cast<int32_t>(std::min<int64_t>(height, floorDiv<int64_t>(hiY - 128, 256) + 1));
+  if (t.minX >= t.maxX || t.minY >= t.maxY) return false;
+
+  // Depth plane (spec §5), binary64 then rounded once to binary32.
+  const double det = static_cast<double>(t.det);
+  const double dx1 = t.v[1].x - t.v[0].x, dy1 = t.v[1].y - t.v[0].y;
+  const double dx2 = t.v[2].x - t.v[0].x, dy2 = t.v[2].y - t.v[0].y;
+  const double z0 = t.v[0].z;
+  const double dz1 = static_cast<double>(t.v[1].z) - z0, dz2 = static_cast<double>(t.v[2].z) - z0;
+  const double gX = (dz1 * dy2 - dz2 * dy1) / det;
+  const double gY = (dz2 * dx1 - dz1 * dx2) / det;
+  const double ox = 256.0 * t.minX + 128.0 - t.v[0].x;
+  const double oy = 256.0 * t.minY + 128.0 - t.v[0].y;
+  const double zc = z0 + gX * ox + gY * oy;
+  t.depth.z00 = static_cast<float>(zc);
+  t.depth.dzdx = static_cast<float>(gX * 256.0);
+  t.depth.dzdy = static_cast<float>(gY * 256.0);
+  return true;
+}
+
+AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners) {
+  std::array<int64_t, 3> v;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = int64_t{t.v[i].w[0]} * corners[0] + int64_t{t.v[i].w[1]} * corners[1] +
+           int64_t{t.v[i].w[2]} * corners[2];
+  }
+  // |dv| < 2^24 and coordinate differences < 2^23, so nX, nY < 2^48; the origin term
+  // multiplies them by another < 2^23 and needs 128 bits.
+  const int64_t dv1 = v[1] - v[0], dv2 = v[2] - v[0];
+  const int64_t nX = dv1 * (t.v[2].y - t.v[0].y) - dv2 * (t.v[1].y - t.v[0].y);
+  const int64_t nY = dv2 * (t.v[1].x - t.v[0].x) - dv1 * (t.v[2].x - t.v[0].x);
+  const int64_t gx = roundDiv<int64_t>(256 * nX, t.det);
+  const int64_t gy = roundDiv<int64_t>(256 * nY, t.det);
+  const Int128 ox = int64_t{256} * t.minX + 128 - t.v[0].x;
+  const Int128 oy = int64_t{256} * t.minY + 128 - t.v[0].y;
+  const int64_t c =
+      v[0] + static_cast<int64_t>(roundDiv<Int128>(nX * ox + nY * oy, Int128{t.det}));
+  // Reduction modulo 2^32 is the arithmetic of spec §5.
+  return {static_cast<uint32_t>(c), static_cast<uint32_t>(gx), static_cast<uint32_t>(gy)};
+}
+
+bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa,
+             int32_t& xb) {
+  int64_t lo = std::max(x0, t.minX), hi = std::min(x1, t.maxX);
+  const int64_t yc = int64_t{256} * y + 128;
+  for (const Edge& e : t.edges) {
+    const int64_t k = e.a * 128 + e.b * yc + e.c - e.bias;
+    const int64_t a = e.a * 256;
+    if (a > 0) {
+      lo = std::max(lo, ceilDiv(-k, a));
+    } else if (a < 0) {
+      hi = std::min(hi, floorDiv(k, -a) + 1);
+    } else if (k < 0) {
+      return false;
+    }
+  }
+  if (lo >= hi) return false;
+  xa = static_cast<int32_t>(lo);
+  xb = static_cast<int32_t>(hi);
+  return true;
+}
+
+TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1,
+                          int32_t y1) {
+  if (x1 <= t.minX || x0 >= t.maxX || y1 <= t.minY || y0 >= t.maxY) return TileCoverage::kNone;
+  const int64_t cx[2] = {int64_t{256} * x0 + 128, int64_t{256} * (x1 - 1) + 128};
+  const int64_t cy[2] = {int64_t{256} * y0 + 128, int64_t{256} * (y1 - 1) + 128};
+  bool full = true;
+  for (const Edge& e : t.edges) {
+    int inside = 0;
+    for (int64_t yy : cy) {
+      for (int64_t xx : cx) inside += e.eval(xx, yy) >= 0 ? 1 : 0;
+    }
+    if (inside == 0) return TileCoverage::kNone;
+    full = full && inside == 4;
+  }
+  return full ? TileCoverage::kFull : TileCoverage::kPartial;
+}
+
+std::vector<uint8_t> coverageMask(const std::array<SnappedVertex, 3>& v, uint32_t width,
+                                  uint32_t height) {
+  std::vector<uint8_t> mask(size_t{width} * height, 0);
+  SetupTriangle t;
+  if (!setupTriangle(v, width, height, t)) return mask;
+  for (int32_t y = t.minY; y < t.maxY; ++y) {
+    int32_t xa, xb;
+    if (!rowSpan(t, y, 0, static_cast<int32_t>(width), xa, xb)) continue;
+    std::fill(mask.begin() + size_t{width} * y + xa, mask.begin() + size_t{width} * y + xb, 1);
+  }
+  return mask;
+}
+
+}  // namespace penumbra::raster

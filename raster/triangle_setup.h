@@ -1,0 +1,96 @@
+// Fixed-point triangle setup: snapping, clipping, edge functions, exact row spans, and
+// the depth and 8-bit attribute planes (docs/pipeline-spec.md §2–5).
+//
+// Everything here is scalar and exact; the SIMD kernels (raster/span_kernels.h) only
+// evaluate the planes set up here over spans computed here.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "raster/frame_trace.h"
+
+namespace penumbra::raster {
+
+inline constexpr int kSubPixelBits = 8;
+inline constexpr int32_t kSubPixelOne = 1 << kSubPixelBits;  // 256
+inline constexpr float kGuardBand = 4.0f;                     // spec §3
+
+struct ClipVertex {
+  float x, y, z, w;
+};
+
+// A clip-space vertex after clipping, with its weights on the original triangle's corners.
+struct ClippedVertex {
+  ClipVertex clip;
+  std::array<float, 3> bary;
+};
+
+// A snapped screen-space vertex: 8 sub-pixel bits, window depth, 16-bit corner weights.
+struct SnappedVertex {
+  int32_t x = 0, y = 0;          // 1/256 pixel
+  float z = 0;                   // window depth in [0, 1]
+  std::array<int32_t, 3> w{};    // sum 65536 (spec §3)
+};
+
+// Transform of a world-space point (spec §2).
+ClipVertex transformPoint(const Mat4& m, const Vec3& p);
+
+// Clips one triangle (spec §3) and snaps the resulting fan to a `width` x `height`
+// viewport (spec §2). Appends 0, 1 or up to 5 triangles (3 vertices each) to `out`.
+void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width,
+                         uint32_t height, std::vector<std::array<SnappedVertex, 3>>& out);
+
+struct Edge {
+  int64_t a = 0, b = 0, c = 0;  // E(X, Y) = a X + b Y + c (spec §4)
+  int64_t bias = 0;             // 0 for top-left edges, 1 otherwise
+  int64_t eval(int64_t x, int64_t y) const { return a * x + b * y + c - bias; }
+};
+
+struct DepthPlane {
+  float z00 = 0, dzdx = 0, dzdy = 0;  // z = (z00 + dzdx*fx) + dzdy*fy (spec §5)
+};
+
+struct AttributePlane {
+  uint32_t c = 0, gx = 0, gy = 0;  // v = c + gx*fx + gy*fy mod 2^32, 8.16 fixed (spec §5)
+};
+
+// A triangle ready to draw: edges with the fill rule folded in, pixel bounding box
+// (clipped to the viewport; empty if minX >= maxX or minY >= maxY), depth plane.
+struct SetupTriangle {
+  std::array<SnappedVertex, 3> v;  // counter-clockwise in the det > 0 sense of spec §4
+  std::array<Edge, 3> edges;
+  int64_t det = 0;
+  int32_t minX = 0, minY = 0, maxX = 0, maxY = 0;  // pixels, [min, max)
+  DepthPlane depth;
+  int32_t originX() const { return minX; }
+  int32_t originY() const { return minY; }
+};
+
+// False when the triangle is degenerate (det = 0) or covers no pixel centre of the
+// viewport's bounding box.
+bool setupTriangle(const std::array<SnappedVertex, 3>& v, uint32_t width, uint32_t height,
+                   SetupTriangle& out);
+
+// The 8-bit attribute plane of one channel (spec §5): `corners` are the channel's values at
+// the corners of the original, unclipped triangle; each snapped vertex weighs them by its
+// 16-bit weights.
+AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners);
+
+// Covered run of row `y`, clipped to [x0, x1): returns false if empty (spec §4).
+bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa,
+             int32_t& xb);
+
+// Tile classification against the three edges (spec §4): trivial reject, trivial accept,
+// or partial. Tile covers pixels [x0, x1) x [y0, y1).
+enum class TileCoverage : uint8_t { kNone, kPartial, kFull };
+TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1,
+                          int32_t y1);
+
+// Pixel-exact coverage of one already-snapped triangle in a width x height image, row 0 at
+// the top: 1 where covered. For the coverage tests and the Mesa comparison.
+std::vector<uint8_t> coverageMask(const std::array<SnappedVertex, 3>& v, uint32_t width,
+                                  uint32_t height);
+
+}  // namespace penumbra::raster
