@@ -59,7 +59,8 @@ SnappedVertex snap(const ClippedVertex& v, uint32_t width, uint32_t height) {
   SnappedVertex s;
   s.x = static_cast<int32_t>(std::nearbyint((v.clip.x / v.clip.w) * sx + sx));
   s.y = static_cast<int32_t>(std::nearbyint(-(v.clip.y / v.clip.w) * sy + sy));
-  s.z = (v.clip.z / v.clip.w) * 0.5f + 0.5f;
+  // Clipped vertices can land a rounding step outside [-w, w]; GL clamps window depth too.
+  s.z = std::clamp((v.clip.z / v.clip.w) * 0.5f + 0.5f, 0.0f, 1.0f);
   s.w[1] = static_cast<int32_t>(std::nearbyint(v.bary[1] * 65536.0f));
   s.w[2] = static_cast<int32_t>(std::nearbyint(v.bary[2] * 65536.0f));
   s.w[0] = 65536 - s.w[1] - s.w[2];

@@ -1,0 +1,213 @@
+// Coverage: fill rule, watertightness, clipping and degenerate input (spec §3–4).
+#include "raster/triangle_setup.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace penumbra::raster {
+namespace {
+
+SnappedVertex sv(int32_t x, int32_t y) {
+  SnappedVertex v;
+  v.x = x;
+  v.y = y;
+  v.w = {65536, 0, 0};
+  return v;
+}
+
+int countCovered(const std::vector<uint8_t>& mask) {
+  int n = 0;
+  for (uint8_t m : mask) n += m;
+  return n;
+}
+
+TEST(FillRule, PixelCentresOnEdgesFollowTopLeft) {
+  // Square with corners exactly on pixel centres (2.5, 2.5)-(6.5, 6.5), split on a diagonal
+  // through pixel centres. Top-left rule: top and left edges in, bottom and right out,
+  // the shared diagonal in exactly one triangle.
+  const int32_t a = 2 * 256 + 128, b = 6 * 256 + 128;
+  const auto t1 = coverageMask({sv(a, a), sv(b, a), sv(b, b)}, 10, 10);
+  const auto t2 = coverageMask({sv(a, a), sv(b, b), sv(a, b)}, 10, 10);
+  for (int y = 0; y < 10; ++y) {
+    for (int x = 0; x < 10; ++x) {
+      const int n = t1[10 * y + x] + t2[10 * y + x];
+      const bool inside = x >= 2 && x < 6 && y >= 2 && y < 6;
+      EXPECT_EQ(n, inside ? 1 : 0) << x << "," << y;
+    }
+  }
+}
+
+TEST(FillRule, WindingDoesNotMatter) {
+  const auto cw = coverageMask({sv(100, 200), sv(2000, 900), sv(700, 2400)}, 12, 12);
+  const auto ccw = coverageMask({sv(100, 200), sv(700, 2400), sv(2000, 900)}, 12, 12);
+  EXPECT_EQ(cw, ccw);
+  EXPECT_GT(countCovered(cw), 0);
+}
+
+TEST(Coverage, DegenerateAndTinyTriangles) {
+  EXPECT_EQ(countCovered(coverageMask({sv(300, 300), sv(900, 900), sv(1500, 1500)}, 8, 8)), 0);
+  EXPECT_EQ(countCovered(coverageMask({sv(300, 300), sv(300, 300), sv(300, 300)}, 8, 8)), 0);
+  // A sub-pixel triangle around a pixel centre covers exactly it; one beside it nothing.
+  EXPECT_EQ(countCovered(coverageMask({sv(380, 370), sv(390, 390), sv(370, 390)}, 8, 8)), 1);
+  EXPECT_EQ(countCovered(coverageMask({sv(260, 260), sv(270, 260), sv(260, 270)}, 8, 8)), 0);
+}
+
+TEST(Coverage, HugeTriangleCoversEverything) {
+  const int32_t big = 1 << 21;
+  EXPECT_EQ(countCovered(coverageMask({sv(-big, -big), sv(big, -big), sv(0, big)}, 64, 48)),
+            64 * 48);
+}
+
+// A jittered grid of shared vertices, larger than the image: every pixel exactly once.
+TEST(Watertight, SharedEdgesCoveredExactlyOnce) {
+  std::mt19937 rng(42);
+  std::uniform_int_distribution<int32_t> jitter(-200, 200);
+  const int n = 9;
+  const uint32_t w = 96, h = 80;
+  std::vector<SnappedVertex> grid;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const bool border = i == 0 || j == 0 || i == n || j == n;
+      const int32_t x = -512 + i * int32_t(w + 4) * 256 / n + (border ? 0 : jitter(rng) * 3);
+      const int32_t y = -512 + j * int32_t(h + 4) * 256 / n + (border ? 0 : jitter(rng) * 3);
+      grid.push_back(sv(x, y));
+    }
+  }
+  std::vector<int> count(size_t{w} * h, 0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const SnappedVertex& a = grid[j * (n + 1) + i];
+      const SnappedVertex& b = grid[j * (n + 1) + i + 1];
+      const SnappedVertex& c = grid[(j + 1) * (n + 1) + i + 1];
+      const SnappedVertex& d = grid[(j + 1) * (n + 1) + i];
+      // Alternate the diagonal so both diagonal directions are exercised.
+      const bool flip = (i + j) % 2 == 0;
+      const std::array<std::array<SnappedVertex, 3>, 2> tris =
+          flip ? std::array<std::array<SnappedVertex, 3>, 2>{{{a, b, c}, {a, c, d}}}
+               : std::array<std::array<SnappedVertex, 3>, 2>{{{a, b, d}, {b, c, d}}};
+      for (const auto& t : tris) {
+        const auto m = coverageMask(t, w, h);
+        for (size_t k = 0; k < m.size(); ++k) count[k] += m[k];
+      }
+    }
+  }
+  for (size_t k = 0; k < count.size(); ++k) ASSERT_EQ(count[k], 1) << "pixel " << k;
+}
+
+// A fan around a vertex with many thin slivers: still exactly once.
+TEST(Watertight, FanOfSlivers) {
+  const uint32_t w = 64, h = 64;
+  const int32_t cx = 32 * 256 + 77, cy = 31 * 256 + 200;
+  const int spokes = 97;
+  std::vector<SnappedVertex> rim;
+  for (int k = 0; k < spokes; ++k) {
+    const double a = 2.0 * 3.14159265358979 * k / spokes;
+    rim.push_back(sv(cx + int32_t(std::lround(std::cos(a) * 90 * 256)),
+                     cy + int32_t(std::lround(std::sin(a) * 90 * 256))));
+  }
+  std::vector<int> count(size_t{w} * h, 0);
+  for (int k = 0; k < spokes; ++k) {
+    const auto m = coverageMask({sv(cx, cy), rim[k], rim[(k + 1) % spokes]}, w, h);
+    for (size_t i = 0; i < m.size(); ++i) count[i] += m[i];
+  }
+  for (size_t i = 0; i < count.size(); ++i) ASSERT_EQ(count[i], 1) << "pixel " << i;
+}
+
+TEST(Spans, TileClassificationIsExact) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int32_t> coord(-4000, 70 * 256);
+  for (int trial = 0; trial < 300; ++trial) {
+    SetupTriangle t;
+    if (!setupTriangle({sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)),
+                        sv(coord(rng), coord(rng))},
+                       64, 64, t)) {
+      continue;
+    }
+    for (int32_t ty = 0; ty < 64; ty += 16) {
+      for (int32_t tx = 0; tx < 64; tx += 16) {
+        int covered = 0;
+        for (int32_t y = ty; y < ty + 16; ++y) {
+          int32_t xa, xb;
+          if (rowSpan(t, y, tx, tx + 16, xa, xb)) covered += xb - xa;
+        }
+        const TileCoverage c = classifyTile(t, tx, ty, tx + 16, ty + 16);
+        if (c == TileCoverage::kNone) {
+          ASSERT_EQ(covered, 0);
+        }
+        if (c == TileCoverage::kFull) {
+          ASSERT_EQ(covered, 256);
+        }
+      }
+    }
+  }
+}
+
+ClipVertex cv(float x, float y, float z, float w) { return {x, y, z, w}; }
+
+TEST(Clipping, NearPlaneCrossingKeepsTheVisiblePart) {
+  std::vector<std::array<SnappedVertex, 3>> out;
+  // One vertex behind the camera (w < 0): clipped to a quad, drawn as a fan of two.
+  clipAndSnapTriangle({cv(-0.5f, -0.5f, 0.5f, 1.0f), cv(0.5f, -0.5f, 0.5f, 1.0f),
+                       cv(0.0f, 0.5f, -3.0f, -1.0f)},
+                      64, 64, out);
+  ASSERT_EQ(out.size(), 2u);
+  for (const auto& tri : out) {
+    for (const SnappedVertex& v : tri) {
+      EXPECT_GE(v.z, 0.0f);
+      EXPECT_EQ(v.w[0] + v.w[1] + v.w[2], 65536);
+    }
+  }
+}
+
+TEST(Clipping, FullyOutsideAndOffscreenAreDiscarded) {
+  std::vector<std::array<SnappedVertex, 3>> out;
+  clipAndSnapTriangle({cv(0, 0, -2, -1), cv(1, 0, -2, -1), cv(0, 1, -2, -1)}, 64, 64, out);
+  EXPECT_TRUE(out.empty());
+  clipAndSnapTriangle({cv(10, 10, 0, 1), cv(11, 10, 0, 1), cv(10, 11, 0, 1)}, 64, 64, out);
+  EXPECT_TRUE(out.empty());
+}
+
+TEST(Clipping, GuardBandBoundsSnappedCoordinates) {
+  std::vector<std::array<SnappedVertex, 3>> out;
+  clipAndSnapTriangle({cv(-1e6f, -1e6f, 0, 1), cv(1e6f, -1e6f, 0, 1), cv(0, 1e6f, 0, 1)}, 4096,
+                      4096, out);
+  ASSERT_FALSE(out.empty());
+  for (const auto& tri : out) {
+    for (const SnappedVertex& v : tri) {
+      EXPECT_LT(std::abs(v.x), 1 << 23);
+      EXPECT_LT(std::abs(v.y), 1 << 23);
+    }
+  }
+}
+
+TEST(Attributes, PlaneReproducesVertexValuesAndStaysInRange) {
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int32_t> coord(0, 40 * 256);
+  std::uniform_int_distribution<int> value(0, 255);
+  for (int trial = 0; trial < 200; ++trial) {
+    SetupTriangle t;
+    if (!setupTriangle({sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)),
+                        sv(coord(rng), coord(rng))},
+                       40, 40, t)) {
+      continue;
+    }
+    // With every vertex weight on corner 0, the plane is constant.
+    const uint8_t c = static_cast<uint8_t>(value(rng));
+    const AttributePlane p = attributePlane(t, {c, static_cast<uint8_t>(value(rng)), 0});
+    for (int32_t y = t.minY; y < t.maxY; ++y) {
+      int32_t xa, xb;
+      if (!rowSpan(t, y, 0, 40, xa, xb)) continue;
+      for (int32_t x = xa; x < xb; ++x) {
+        const uint32_t v = p.c + p.gx * uint32_t(x - t.minX) + p.gy * uint32_t(y - t.minY);
+        const int32_t a = static_cast<int32_t>(v + 0x8000u) >> 16;
+        ASSERT_EQ(a, c);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::raster

@@ -1,0 +1,91 @@
+// Frame-level behaviour of the Renderer: what must and must not change the pixels.
+#include "raster/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/test_scenes.h"
+
+namespace penumbra {
+namespace {
+
+using raster::RenderOptions;
+
+TEST(Renderer, ObjectOutsideEveryShadowLeavesTheBackground) {
+  testing::TestSceneOptions o;
+  o.objectVisible = false;
+  o.objectOffsetX = 40.0f;  // far outside the room: every light looks away from the floor
+  const raster::FrameTrace t = testing::makeTestScene(o);
+  EXPECT_EQ(raster::renderTrace(t, {simd::bestIsa(), 2, 32}), t.frame.background);
+}
+
+TEST(Renderer, NoPassesDrawsOnlyTheObject) {
+  testing::TestSceneOptions o;
+  o.passes = 0;
+  const raster::FrameTrace t = testing::makeTestScene(o);
+  const auto out = raster::renderTrace(t, {simd::Isa::kScalar, 1, 32});
+  size_t changed = 0;
+  for (size_t i = 0; i < out.size(); ++i) changed += out[i] != t.frame.background[i];
+  EXPECT_GT(changed, 0u);
+  raster::FrameTrace hidden = t;
+  hidden.frame.objects.clear();
+  EXPECT_EQ(raster::renderTrace(hidden, {simd::Isa::kScalar, 1, 32}), t.frame.background);
+}
+
+TEST(Renderer, ShadowsOnlyDarken) {
+  const raster::FrameTrace t = testing::makeTestScene({});
+  raster::FrameTrace noShadow = t;
+  noShadow.frame.passes.clear();
+  const auto lit = raster::renderTrace(noShadow, {simd::bestIsa(), 1, 32});
+  const auto shadowed = raster::renderTrace(t, {simd::bestIsa(), 1, 32});
+  size_t darker = 0;
+  for (size_t i = 0; i < lit.size(); ++i) {
+    ASSERT_LE(shadowed[i], lit[i]) << "byte " << i;
+    darker += shadowed[i] < lit[i];
+  }
+  EXPECT_GT(darker, 100u) << "the occluder must cast a visible shadow";
+}
+
+TEST(Renderer, MovingTheObjectMovesTheShadow) {
+  testing::TestSceneOptions o;
+  const auto a = raster::renderTrace(testing::makeTestScene(o), {simd::bestIsa(), 2, 16});
+  o.objectOffsetX = 0.5f;
+  const auto b = raster::renderTrace(testing::makeTestScene(o), {simd::bestIsa(), 2, 16});
+  EXPECT_NE(a, b);
+}
+
+TEST(Renderer, RendersManyFramesIdentically) {
+  const raster::FrameTrace t = testing::makeTestScene({});
+  raster::Renderer r(t.view, {simd::bestIsa(), 3, 32});
+  std::vector<uint8_t> first(t.frame.background.size()), again(first.size());
+  r.render(t.frame, first);
+  for (int i = 0; i < 3; ++i) {
+    r.render(t.frame, again);
+    ASSERT_EQ(first, again);
+  }
+  EXPECT_GT(r.lastStats().passPixels, 0u);
+  EXPECT_GT(r.lastStats().shadowMapPixels, 0u);
+}
+
+TEST(Renderer, RejectsBadOptions) {
+  const raster::FrameTrace t = testing::makeTestScene({});
+  EXPECT_THROW(raster::Renderer(t.view, {simd::Isa::kScalar, 0, 32}), std::invalid_argument);
+  EXPECT_THROW(raster::Renderer(t.view, {simd::Isa::kScalar, 1, 24}), std::invalid_argument);
+  raster::StaticView singular = t.view;
+  singular.cameraViewProj = raster::Mat4{};
+  EXPECT_THROW(raster::Renderer(singular, {}), raster::TraceError);
+}
+
+TEST(Renderer, RejectsAFrameThatDoesNotFitTheView) {
+  raster::FrameTrace t = testing::makeTestScene({});
+  raster::Renderer r(t.view, {});
+  std::vector<uint8_t> out(t.frame.background.size());
+  raster::FrameContent bad = t.frame;
+  bad.passes[0].receiverTriangles[0] = 1u << 30;
+  EXPECT_THROW(r.render(bad, out), raster::TraceError);
+  bad = t.frame;
+  bad.objects[0].mesh.positions[0].x = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(r.render(bad, out), raster::TraceError);
+}
+
+}  // namespace
+}  // namespace penumbra

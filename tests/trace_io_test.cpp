@@ -1,0 +1,125 @@
+// Reading and writing frame traces: round trip, and a clear error for every malformed file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "raster/frame_trace.h"
+#include "tests/test_scenes.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+class TraceFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("penumbra-trace-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(dir_);
+    trace_ = testing::makeTestScene({});
+    raster::saveTrace(trace_, dir_ / "scene.json");
+    std::ifstream in(dir_ / "scene.json");
+    doc_ = json::parse(in);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes `doc` as bad.json beside the good sidecar; returns the loader's error.
+  std::string errorFor(const json& doc) {
+    std::ofstream(dir_ / "bad.json") << doc.dump();
+    try {
+      raster::loadTrace(dir_ / "bad.json");
+    } catch (const raster::TraceError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+  raster::FrameTrace trace_;
+  json doc_;
+};
+
+TEST_F(TraceFiles, RoundTripIsExact) {
+  EXPECT_EQ(raster::loadTrace(dir_ / "scene.json"), trace_);
+}
+
+TEST_F(TraceFiles, MissingFieldsAreNamed) {
+  for (const char* field : {"width", "camera_view_proj", "static_mesh", "background", "passes"}) {
+    json d = doc_;
+    d.erase(field);
+    const std::string e = errorFor(d);
+    EXPECT_NE(e.find("bad.json"), std::string::npos) << e;
+    EXPECT_NE(e.find(field), std::string::npos) << e;
+  }
+  json d = doc_;
+  d["passes"][0].erase("light_view_proj");
+  EXPECT_NE(errorFor(d).find("passes[0].light_view_proj"), std::string::npos);
+}
+
+TEST_F(TraceFiles, WrongSizesAndIndicesAreNamed) {
+  json d = doc_;
+  d["width"] = 161;
+  EXPECT_NE(errorFor(d).find("background"), std::string::npos);
+  d = doc_;
+  d["passes"][1]["shadow_map_size"] = 100;
+  EXPECT_NE(errorFor(d).find("passes[1].shadow_map_size"), std::string::npos);
+  d = doc_;
+  d["passes"][0]["occluder"] = 5;
+  EXPECT_NE(errorFor(d).find("passes[0].occluder"), std::string::npos);
+  d = doc_;
+  d["static_mesh"]["indices"]["count"] = d["static_mesh"]["indices"]["count"].get<int>() - 1;
+  EXPECT_NE(errorFor(d).find("static_mesh.indices"), std::string::npos);
+  d = doc_;
+  d["version"] = 2;
+  EXPECT_NE(errorFor(d).find("version"), std::string::npos);
+  d = doc_;
+  d["passes"][0]["receiver_s"]["count"] = 1;
+  EXPECT_NE(errorFor(d).find("receiver_s"), std::string::npos);
+}
+
+TEST_F(TraceFiles, OutOfRangeIndexIsNamed) {
+  raster::FrameTrace bad = trace_;
+  bad.frame.occluders[0].indices[4] = 999;
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  try {
+    raster::validateTrace(bad, "x.json");
+  } catch (const raster::TraceError& e) {
+    EXPECT_NE(std::string(e.what()).find("occluders[0].indices"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(TraceFiles, TruncatedBufferIsRefused) {
+  fs::resize_file(dir_ / "scene.bin", fs::file_size(dir_ / "scene.bin") / 2);
+  try {
+    raster::loadTrace(dir_ / "scene.json");
+    FAIL() << "a truncated buffer was accepted";
+  } catch (const raster::TraceError& e) {
+    EXPECT_NE(std::string(e.what()).find("runs past the end"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(TraceFiles, NonFiniteNumbersAreRefused) {
+  raster::FrameTrace bad = trace_;
+  bad.view.staticMesh.positions[3].y = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  bad = trace_;
+  bad.frame.passes[2].lightViewProj.m[5] = std::nanf("");
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+}
+
+TEST_F(TraceFiles, NotJsonAndMissingFilesAreRefused) {
+  std::ofstream(dir_ / "garbage.json") << "{ this is not json";
+  EXPECT_THROW(raster::loadTrace(dir_ / "garbage.json"), raster::TraceError);
+  EXPECT_THROW(raster::loadTrace(dir_ / "absent.json"), raster::TraceError);
+  json d = doc_;
+  d["buffer"] = "absent.bin";
+  EXPECT_NE(errorFor(d).find("buffer"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra
