@@ -1,0 +1,124 @@
+// Google Benchmark suite: per-pixel cost of each hot kernel on each target, and whole
+// frames. Speed targets live here (and in `penumbra bench-replay`), never in unit tests.
+//   build/release/bin/penumbra_bench --benchmark_filter=MaskSubtract
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "raster/renderer.h"
+#include "raster/span_kernels.h"
+#include "simd/u8_ops.h"
+#include "tests/test_scenes.h"
+
+namespace penumbra {
+namespace {
+
+constexpr int32_t kRun = 256;
+
+void BM_ProductU8(benchmark::State& state, simd::Isa isa) {
+  std::vector<uint8_t> a(1 << 16), b(1 << 16), out(1 << 16);
+  for (size_t i = 0; i < a.size(); ++i) {
+    a[i] = uint8_t(i >> 8);
+    b[i] = uint8_t(i);
+  }
+  const simd::U8Ops& ops = simd::u8OpsFor(isa);
+  for (auto _ : state) {
+    ops.subtractMasked(out.data(), a.data(), b.data(), out.size());
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(out.size()));
+}
+
+// One 256-pixel run of the mask-and-subtract pass (spec §6 step 4): every pixel matches
+// the triangle id and looks up a 256x256 shadow map; `pcf` selects the 2x2 filter.
+void BM_MaskSubtract(benchmark::State& state, simd::Isa isa, bool pcf) {
+  std::vector<uint8_t> rgba(4 * kRun, 200);
+  std::vector<float> depth(kRun, 0.5f);
+  std::vector<uint32_t> id(kRun, 1);
+  std::vector<float> map(256 * 256);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> d(0.3f, 0.7f);
+  for (float& v : map) v = d(rng);
+  raster::ShadowLookup lookup{};
+  lookup.p[0] = 0.9f;
+  lookup.p[5] = 0.9f;
+  lookup.p[3] = 3.0f;
+  lookup.p[7] = 40.0f;
+  lookup.p[10] = 1.0f;
+  lookup.p[15] = 1.0f;
+  lookup.map = map.data();
+  lookup.size = 256;
+  lookup.bias = 0.001f;
+  lookup.pcf2x2 = pcf;
+  raster::SpanPlanes s{};
+  for (auto& a : s.rgb) a = {20u << 16, 300u, 200u};
+  const raster::SpanKernels& k = raster::spanKernelsFor(isa);
+  int32_t y = 0;
+  for (auto _ : state) {
+    for (auto& b : rgba) b = 200;
+    benchmark::DoNotOptimize(k.maskSubtract(rgba.data(), depth.data(), id.data(), 0, kRun,
+                                            y++ & 127, s, 1, lookup));
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * kRun);
+}
+
+void BM_DepthLess(benchmark::State& state, simd::Isa isa) {
+  std::vector<float> depth(kRun);
+  raster::SpanPlanes p{};
+  p.depth = {0.5f, 0.0001f, 0.0002f};
+  const raster::SpanKernels& k = raster::spanKernelsFor(isa);
+  for (auto _ : state) {
+    std::fill(depth.begin(), depth.end(), 1.0f);
+    benchmark::DoNotOptimize(k.depthLess(depth.data(), nullptr, 0, kRun, 3, p, 0));
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * kRun);
+}
+
+raster::FrameTrace benchTrace() {
+  const auto path = std::filesystem::path(PENUMBRA_DATA_DIR) / "traces" / "showroom-50.json";
+  if (std::filesystem::exists(path)) return raster::loadTrace(path);
+  testing::TestSceneOptions o;
+  o.width = 640;
+  o.height = 480;
+  o.passes = 50;
+  return testing::makeTestScene(o);
+}
+
+// A whole frame of the showroom trace (640x480, 50 passes); reports pass pixels/s.
+void BM_Frame(benchmark::State& state, simd::Isa isa) {
+  static const raster::FrameTrace trace = benchTrace();
+  raster::Renderer r(trace.view, {isa, int(state.range(0)), 32});
+  std::vector<uint8_t> out(trace.frame.background.size());
+  for (auto _ : state) r.render(trace.frame, out);
+  state.counters["pass_pixels"] = double(r.lastStats().passPixels);
+  state.counters["map_pixels"] = double(r.lastStats().shadowMapPixels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(r.lastStats().passPixels));
+}
+
+void registerAll() {
+  for (simd::Isa isa : simd::supportedIsas()) {
+    const std::string n = simd::isaName(isa);
+    benchmark::RegisterBenchmark(("ProductU8/" + n).c_str(), BM_ProductU8, isa);
+    benchmark::RegisterBenchmark(("DepthLess/" + n).c_str(), BM_DepthLess, isa);
+    benchmark::RegisterBenchmark(("MaskSubtract/binary/" + n).c_str(), BM_MaskSubtract, isa, false);
+    benchmark::RegisterBenchmark(("MaskSubtract/pcf2x2/" + n).c_str(), BM_MaskSubtract, isa, true);
+    benchmark::RegisterBenchmark(("Frame/" + n).c_str(), BM_Frame, isa)
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+}
+
+}  // namespace
+}  // namespace penumbra
+
+int main(int argc, char** argv) {
+  penumbra::registerAll();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
