@@ -76,7 +76,8 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
   for (int f = 0; f < frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
     renderer.render(trace.frame, rgba);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                     .count());
     mapsMs.push_back(renderer.lastStats().msShadowMaps);
     tilesMs.push_back(renderer.lastStats().msTiles);
   }
@@ -89,7 +90,8 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
   std::printf("size %ux%u passes %zu isa %s threads %d tile %d frames %d\n", trace.view.width,
               trace.view.height, trace.frame.passes.size(), simd::isaName(options.isa),
               options.threads, options.tileSize, frames);
-  std::printf("ms_per_frame median %.3f min %.3f\n", median(ms), *std::min_element(ms.begin(), ms.end()));
+  std::printf("ms_per_frame median %.3f min %.3f\n", median(ms),
+              *std::min_element(ms.begin(), ms.end()));
   std::printf("stage_ms_median shadow_maps %.3f tiles %.3f\n", median(mapsMs), median(tilesMs));
   std::printf("pixels shadow_map %llu pass %llu object %llu\n",
               static_cast<unsigned long long>(stats.shadowMapPixels),
@@ -123,7 +125,8 @@ int main(int argc, char** argv) {
   CLI::App* benchCmd = app.add_subcommand("bench-replay", "Time repeated renders of one trace");
   benchCmd->add_option("TRACE", benchTrace, "frame trace (.json)")->required();
   addRenderFlags(benchCmd, benchFlags);
-  benchCmd->add_option("--frames", benchFrames, "timed frames")->check(CLI::Range(1, 100000))
+  benchCmd->add_option("--frames", benchFrames, "timed frames")
+      ->check(CLI::Range(1, 100000))
       ->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
@@ -131,8 +134,8 @@ int main(int argc, char** argv) {
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
     if (benchCmd->parsed()) return benchReplay(benchTrace, benchFlags, benchFrames);
     for (simd::Isa isa : simd::compiledIsas()) {
-      std::cout << simd::isaName(isa) << (simd::isSupported(isa) ? "" : " (not supported by this CPU)")
-                << "\n";
+      std::cout << simd::isaName(isa)
+                << (simd::isSupported(isa) ? "" : " (not supported by this CPU)") << "\n";
     }
     return 0;
   } catch (const std::exception& e) {

@@ -58,8 +58,8 @@ void BM_MaskSubtract(benchmark::State& state, simd::Isa isa, bool pcf) {
   int32_t y = 0;
   for (auto _ : state) {
     for (auto& b : rgba) b = 200;
-    benchmark::DoNotOptimize(k.maskSubtract(rgba.data(), depth.data(), id.data(), 0, kRun,
-                                            y++ & 127, s, 1, lookup));
+    benchmark::DoNotOptimize(
+        k.maskSubtract(rgba.data(), depth.data(), id.data(), 0, kRun, y++ & 127, s, 1, lookup));
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * kRun);
 }

@@ -3,8 +3,8 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -33,8 +33,8 @@ void validateMatrix(const Mat4& m, const std::string& where, const std::string& 
 
 void validateMesh(const Mesh& mesh, const std::string& where, const std::string& field) {
   if (mesh.indices.size() % 3 != 0) {
-    fail(where, field + ".indices", "count " + std::to_string(mesh.indices.size()) +
-                                        " is not a multiple of 3");
+    fail(where, field + ".indices",
+         "count " + std::to_string(mesh.indices.size()) + " is not a multiple of 3");
   }
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     if (!finite(mesh.positions[i])) {
@@ -67,8 +67,8 @@ struct Reader {
     if (!v.is_number()) fail(where, path + key, "not a number");
     if constexpr (std::is_integral_v<T>) {
       // Views and sizes are below 2^53 in any real file; larger counts are refused.
-      constexpr uint64_t kLimit = std::min<uint64_t>(std::numeric_limits<T>::max(),
-                                                     uint64_t{1} << 53);
+      constexpr uint64_t kLimit =
+          std::min<uint64_t>(std::numeric_limits<T>::max(), uint64_t{1} << 53);
       if (!v.is_number_integer() || v.get<int64_t>() < 0 ||
           static_cast<uint64_t>(v.get<int64_t>()) > kLimit) {
         fail(where, path + key, "not a non-negative integer in range");
@@ -84,8 +84,8 @@ struct Reader {
     if (!v.is_array() || v.size() != 16) fail(where, path + key, "needs 16 numbers");
     Mat4 m;
     for (size_t i = 0; i < 16; ++i) {
-      if (!v[i].is_number()) fail(where, path + key, "element " + std::to_string(i) +
-                                                         " is not a number");
+      if (!v[i].is_number())
+        fail(where, path + key, "element " + std::to_string(i) + " is not a number");
       m.m[i] = static_cast<float>(v[i].get<double>());
     }
     return m;
@@ -101,9 +101,9 @@ struct Reader {
     const auto count = number<uint64_t>(v, "count", field + ".");
     const uint64_t bytes = count * components * sizeof(T);
     if (count > (uint64_t{1} << 32) || offset > blob->size() || bytes > blob->size() - offset) {
-      fail(where, field, "view [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
-                             ") runs past the end of the buffer (" +
-                             std::to_string(blob->size()) + " bytes)");
+      fail(where, field,
+           "view [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
+               ") runs past the end of the buffer (" + std::to_string(blob->size()) + " bytes)");
     }
     out.resize(count * components);
     if (bytes > 0) std::memcpy(out.data(), blob->data() + offset, bytes);
@@ -114,7 +114,8 @@ struct Reader {
     std::vector<float> flat;
     view(j, key, path, 3, flat);
     out.resize(flat.size() / 3);
-    for (size_t i = 0; i < out.size(); ++i) out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
   void rgbs(const json& j, const std::string& key, const std::string& path,
@@ -122,7 +123,8 @@ struct Reader {
     std::vector<uint8_t> flat;
     view(j, key, path, 3, flat);
     out.resize(flat.size() / 3);
-    for (size_t i = 0; i < out.size(); ++i) out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
   Mesh mesh(const json& j, const std::string& path) const {
@@ -161,7 +163,8 @@ struct Writer {
     return view(reinterpret_cast<const uint8_t*>(v.data()), v.size(), 3);
   }
   json mesh(const Mesh& m) {
-    return {{"positions", vec3s(m.positions)}, {"indices", view(m.indices.data(), m.indices.size(), 1)}};
+    return {{"positions", vec3s(m.positions)},
+            {"indices", view(m.indices.data(), m.indices.size(), 1)}};
   }
 };
 
@@ -192,9 +195,9 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
                    size_t staticTriangles, const std::string& where) {
   const size_t pixels = size_t{width} * height;
   if (frame.background.size() != pixels * 4) {
-    fail(where, "background", "has " + std::to_string(frame.background.size()) +
-                                  " bytes, expected width*height*4 = " +
-                                  std::to_string(pixels * 4));
+    fail(where, "background",
+         "has " + std::to_string(frame.background.size()) +
+             " bytes, expected width*height*4 = " + std::to_string(pixels * 4));
   }
   for (size_t i = 0; i < frame.objects.size(); ++i) {
     const std::string field = "objects[" + std::to_string(i) + "]";
@@ -216,8 +219,8 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
     }
     if (!std::isfinite(pass.depthBias)) fail(where, field + ".depth_bias", "is not finite");
     if (pass.occluder >= frame.occluders.size()) {
-      fail(where, field + ".occluder", "index " + std::to_string(pass.occluder) +
-                                           " is out of range");
+      fail(where, field + ".occluder",
+           "index " + std::to_string(pass.occluder) + " is out of range");
     }
     for (uint32_t t : pass.receiverTriangles) {
       if (t >= staticTriangles) {
@@ -318,17 +321,18 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
   for (const Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
   doc["passes"] = json::array();
   for (const ShadowPass& p : trace.frame.passes) {
-    doc["passes"].push_back({{"light_view_proj", matrixJson(p.lightViewProj)},
-                             {"shadow_map_size", p.shadowMapSize},
-                             {"depth_bias", static_cast<double>(p.depthBias)},
-                             {"pcf2x2", p.pcf2x2},
-                             {"occluder", p.occluder},
-                             {"receiver_triangles",
-                              w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
-                             {"receiver_s", w.rgbs(p.receiverS)}});
+    doc["passes"].push_back(
+        {{"light_view_proj", matrixJson(p.lightViewProj)},
+         {"shadow_map_size", p.shadowMapSize},
+         {"depth_bias", static_cast<double>(p.depthBias)},
+         {"pcf2x2", p.pcf2x2},
+         {"occluder", p.occluder},
+         {"receiver_triangles", w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
+         {"receiver_s", w.rgbs(p.receiverS)}});
   }
   std::ofstream bin(path.parent_path() / blobName, std::ios::binary);
-  bin.write(reinterpret_cast<const char*>(w.blob.data()), static_cast<std::streamsize>(w.blob.size()));
+  bin.write(reinterpret_cast<const char*>(w.blob.data()),
+            static_cast<std::streamsize>(w.blob.size()));
   std::ofstream out(path);
   out << doc.dump(1) << "\n";
   if (!bin || !out) throw TraceError(path.string() + ": cannot write trace");

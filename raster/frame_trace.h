@@ -53,13 +53,13 @@ struct ShadedMesh {
 // seen from one source cluster, and the receiver triangles whose pixels lose
 // S * M (intensity transfer times occlusion mask) in 8 bits.
 struct ShadowPass {
-  Mat4 lightViewProj;          // world -> light clip space (perspective from the source)
+  Mat4 lightViewProj;            // world -> light clip space (perspective from the source)
   uint32_t shadowMapSize = 256;  // square, a multiple of 16, at most 4096
-  float depthBias = 0.0f;      // in light window depth ([0, 1]) units
-  bool pcf2x2 = false;         // fractional 2x2 mask instead of a binary one
-  uint32_t occluder = 0;       // index into FrameContent::occluders
+  float depthBias = 0.0f;        // in light window depth ([0, 1]) units
+  bool pcf2x2 = false;           // fractional 2x2 mask instead of a binary one
+  uint32_t occluder = 0;         // index into FrameContent::occluders
   std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
-  std::vector<Rgb8> receiverS;  // 3 per receiver triangle, in corner order
+  std::vector<Rgb8> receiverS;              // 3 per receiver triangle, in corner order
   bool operator==(const ShadowPass&) const = default;
 };
 
@@ -73,8 +73,8 @@ struct StaticView {
 struct FrameContent {
   std::vector<uint8_t> background;  // RGBA8, width*height*4, row 0 at the top
   std::vector<ShadedMesh> objects;
-  std::vector<Mesh> occluders;      // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
-  std::vector<ShadowPass> passes;   // applied in this order
+  std::vector<Mesh> occluders;     // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
+  std::vector<ShadowPass> passes;  // applied in this order
   bool operator==(const FrameContent&) const = default;
 };
 

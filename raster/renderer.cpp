@@ -104,8 +104,8 @@ struct TileItem {
 
 // Draws `t` over rows [y0, y1) and columns [x0, x1): `full` means every pixel is covered.
 template <class Fn>
-void forEachRun(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                bool full, Fn&& fn) {
+void forEachRun(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1, bool full,
+                Fn&& fn) {
   const int32_t rowBegin = std::max(y0, t.minY), rowEnd = std::min(y1, t.maxY);
   for (int32_t y = rowBegin; y < rowEnd; ++y) {
     int32_t xa = x0, xb = x1;
@@ -126,9 +126,9 @@ struct Renderer::Impl {
 
   // Static cache (spec §6 step 2).
   std::vector<SetupTriangle> staticSubs;
-  std::vector<uint32_t> staticSubOwner;   // original triangle index of each sub-triangle
+  std::vector<uint32_t> staticSubOwner;      // original triangle index of each sub-triangle
   std::vector<uint32_t> firstSubOfTriangle;  // triangle t -> subs [first[t], first[t+1])
-  std::vector<uint32_t> tileListStart;    // sub s -> tileEntries [start[s], start[s+1])
+  std::vector<uint32_t> tileListStart;       // sub s -> tileEntries [start[s], start[s+1])
   std::vector<TileEntry> tileEntries;
   std::vector<float> staticDepth;
   std::vector<uint32_t> staticId;
@@ -189,16 +189,17 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
 void Renderer::Impl::buildStaticCache() {
   const Mesh& mesh = view.staticMesh;
   std::vector<ClipVertex> clip(mesh.positions.size());
-  for (size_t i = 0; i < clip.size(); ++i) clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
+  for (size_t i = 0; i < clip.size(); ++i)
+    clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
   std::vector<std::array<SnappedVertex, 3>> fan;
   const size_t triangles = mesh.triangleCount();
   firstSubOfTriangle.assign(triangles + 1, 0);
   for (size_t t = 0; t < triangles; ++t) {
     firstSubOfTriangle[t] = static_cast<uint32_t>(staticSubs.size());
     fan.clear();
-    clipAndSnapTriangle({clip[mesh.indices[3 * t]], clip[mesh.indices[3 * t + 1]],
-                         clip[mesh.indices[3 * t + 2]]},
-                        view.width, view.height, fan);
+    clipAndSnapTriangle(
+        {clip[mesh.indices[3 * t]], clip[mesh.indices[3 * t + 1]], clip[mesh.indices[3 * t + 2]]},
+        view.width, view.height, fan);
     for (const auto& tri : fan) {
       SetupTriangle s;
       if (!setupTriangle(tri, view.width, view.height, s)) continue;
@@ -216,8 +217,8 @@ void Renderer::Impl::buildStaticCache() {
     const SetupTriangle& t = staticSubs[s];
     const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
     forEachRun(t, 0, 0, width, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-      kernels->depthLess(staticDepth.data() + stride * y, staticId.data() + stride * y, xa, xb,
-                         y, planes, staticSubOwner[s]);
+      kernels->depthLess(staticDepth.data() + stride * y, staticId.data() + stride * y, xa, xb, y,
+                         planes, staticSubOwner[s]);
     });
   }
 
@@ -230,9 +231,8 @@ void Renderer::Impl::buildStaticCache() {
     for (int32_t ty = t.minY / ts; ty <= (t.maxY - 1) / ts; ++ty) {
       for (int32_t tx = t.minX / ts; tx <= (t.maxX - 1) / ts; ++tx) {
         const int32_t x0 = tx * ts, y0 = ty * ts;
-        const TileCoverage c =
-            classifyTile(t, x0, y0, std::min(x0 + ts, width),
-                         std::min(y0 + ts, static_cast<int32_t>(view.height)));
+        const TileCoverage c = classifyTile(t, x0, y0, std::min(x0 + ts, width),
+                                            std::min(y0 + ts, static_cast<int32_t>(view.height)));
         if (c == TileCoverage::kNone) continue;
         tileEntries.push_back({static_cast<uint32_t>(ty * tilesX + tx), c == TileCoverage::kFull});
       }
@@ -248,12 +248,14 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
   for (const ShadedMesh& object : frame.objects) {
     const Mesh& mesh = object.mesh;
     clip.resize(mesh.positions.size());
-    for (size_t i = 0; i < clip.size(); ++i) clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
+    for (size_t i = 0; i < clip.size(); ++i)
+      clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
       const uint32_t* idx = &mesh.indices[3 * t];
       fan.clear();
       clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, view.width, view.height, fan);
-      const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]], c2 = object.colours[idx[2]];
+      const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
+                 c2 = object.colours[idx[2]];
       for (const auto& tri : fan) {
         ObjectTriangle o;
         if (!setupTriangle(tri, view.width, view.height, o.t)) continue;
@@ -280,7 +282,8 @@ void Renderer::Impl::preparePass(const FrameContent& frame, size_t index) {
   work.mapPixels = 0;
   const Mesh& occluder = frame.occluders[pass.occluder];
   std::vector<ClipVertex> clip(occluder.positions.size());
-  for (size_t i = 0; i < clip.size(); ++i) clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
+  for (size_t i = 0; i < clip.size(); ++i)
+    clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
   std::vector<std::array<SnappedVertex, 3>> fan;
   for (size_t t = 0; t < occluder.triangleCount(); ++t) {
     const uint32_t* idx = &occluder.indices[3 * t];
@@ -291,8 +294,8 @@ void Renderer::Impl::preparePass(const FrameContent& frame, size_t index) {
       if (!setupTriangle(tri, size, size, s)) continue;
       const SpanPlanes planes{s.depth, {}, s.minX, s.minY};
       forEachRun(s, 0, 0, isize, s.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-        work.mapPixels += kernels->depthLess(work.shadowMap.data() + size_t{size} * y, nullptr,
-                                             xa, xb, y, planes, 0);
+        work.mapPixels += kernels->depthLess(work.shadowMap.data() + size_t{size} * y, nullptr, xa,
+                                             xb, y, planes, 0);
       });
     }
   }
@@ -332,7 +335,8 @@ void Renderer::Impl::bin() {
   for (auto& list : tileObjects) list.clear();
   for (auto& list : tileItems) list.clear();
   const int32_t ts = options.tileSize;
-  const int32_t width = static_cast<int32_t>(view.width), height = static_cast<int32_t>(view.height);
+  const int32_t width = static_cast<int32_t>(view.width),
+                height = static_cast<int32_t>(view.height);
   for (size_t o = 0; o < objectTriangles.size(); ++o) {
     const SetupTriangle& t = objectTriangles[o].t;
     for (int32_t ty = t.minY / ts; ty <= (t.maxY - 1) / ts; ++ty) {
@@ -341,7 +345,8 @@ void Renderer::Impl::bin() {
         const TileCoverage c =
             classifyTile(t, x0, y0, std::min(x0 + ts, width), std::min(y0 + ts, height));
         if (c != TileCoverage::kNone) {
-          tileObjects[size_t(ty) * tilesX + tx].push_back({static_cast<uint32_t>(o), c == TileCoverage::kFull});
+          tileObjects[size_t(ty) * tilesX + tx].push_back(
+              {static_cast<uint32_t>(o), c == TileCoverage::kFull});
         }
       }
     }
@@ -366,7 +371,8 @@ void Renderer::Impl::drawTile(uint32_t tile, const FrameContent& frame, std::spa
   const int32_t x1 = std::min(x0 + ts, static_cast<int32_t>(view.width));
   const int32_t y1 = std::min(y0 + ts, static_cast<int32_t>(view.height));
   // The tile also owns the row padding right of the image (spec §8).
-  const int32_t ownedX1 = x1 == static_cast<int32_t>(view.width) ? static_cast<int32_t>(stride) : x1;
+  const int32_t ownedX1 =
+      x1 == static_cast<int32_t>(view.width) ? static_cast<int32_t>(stride) : x1;
   const auto& objects = tileObjects[tile];
   const auto& items = tileItems[tile];
 
@@ -383,7 +389,8 @@ void Renderer::Impl::drawTile(uint32_t tile, const FrameContent& frame, std::spa
       const ObjectTriangle& o = objectTriangles[index];
       forEachRun(o.t, x0, y0, x1, y1, full, [&](int32_t y, int32_t xa, int32_t xb) {
         const size_t row = stride * y;
-        objectPixels += kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
+        objectPixels +=
+            kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
       });
     }
     for (const TileItem& item : items) {
@@ -393,8 +400,8 @@ void Renderer::Impl::drawTile(uint32_t tile, const FrameContent& frame, std::spa
       const uint32_t owner = staticSubOwner[pt.staticSub];
       forEachRun(t, x0, y0, x1, y1, item.full, [&](int32_t y, int32_t xa, int32_t xb) {
         const size_t row = stride * y;
-        passPixels += kernels->maskSubtract(&rgba[4 * row], &depth[row], &id[row], xa, xb, y,
-                                            pt.s, owner, pass.lookup);
+        passPixels += kernels->maskSubtract(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, pt.s,
+                                            owner, pass.lookup);
       });
     }
     for (int32_t y = y0; y < y1; ++y) {
@@ -416,8 +423,12 @@ Renderer::Renderer(const StaticView& view, const RenderOptions& options)
 
 Renderer::~Renderer() = default;
 
-const FrameStats& Renderer::lastStats() const { return impl_->stats; }
-const StaticView& Renderer::view() const { return impl_->view; }
+const FrameStats& Renderer::lastStats() const {
+  return impl_->stats;
+}
+const StaticView& Renderer::view() const {
+  return impl_->view;
+}
 
 void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   Impl& r = *impl_;

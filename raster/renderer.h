@@ -19,15 +19,15 @@ namespace penumbra::raster {
 
 struct RenderOptions {
   simd::Isa isa = simd::Isa::kScalar;
-  int threads = 1;      // >= 1; the result does not depend on it
-  int tileSize = 32;    // 16, 32 or 64; the result does not depend on it
+  int threads = 1;    // >= 1; the result does not depend on it
+  int tileSize = 32;  // 16, 32 or 64; the result does not depend on it
 };
 
 // Per-frame counters (filled by render()); they do not affect the pixels.
 struct FrameStats {
-  uint64_t shadowMapPixels = 0;   // covered shadow-map pixels, all passes
-  uint64_t passPixels = 0;        // receiver pixels whose id matched, all passes
-  uint64_t objectPixels = 0;      // object pixels that passed the depth test
+  uint64_t shadowMapPixels = 0;  // covered shadow-map pixels, all passes
+  uint64_t passPixels = 0;       // receiver pixels whose id matched, all passes
+  uint64_t objectPixels = 0;     // object pixels that passed the depth test
   double msShadowMaps = 0, msTiles = 0, msTotal = 0;
 };
 

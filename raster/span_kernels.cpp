@@ -24,7 +24,9 @@ using VU = hn::Vec<DU>;
 using MI = hn::Mask<DI>;
 
 // a >= b on int32 lanes (Highway 1.0.3 has no integer Ge).
-HWY_INLINE MI GeI(VI a, VI b) { return hn::Not(hn::Lt(a, b)); }
+HWY_INLINE MI GeI(VI a, VI b) {
+  return hn::Not(hn::Lt(a, b));
+}
 
 // Lane positions and the run mask of the vector starting at aligned x.
 struct Chunk {
@@ -56,8 +58,8 @@ HWY_INLINE VF depthAt(const DepthPlane& p, VI px, int32_t ox, float fy) {
 HWY_INLINE VI attributeAt(const AttributePlane& p, VU fx, uint32_t fy) {
   const DU du;
   const DI di;
-  const VU v = hn::Add(hn::Add(hn::Set(du, p.c), hn::Mul(hn::Set(du, p.gx), fx)),
-                       hn::Set(du, p.gy * fy));
+  const VU v =
+      hn::Add(hn::Add(hn::Set(du, p.c), hn::Mul(hn::Set(du, p.gx), fx)), hn::Set(du, p.gy * fy));
   const VI a = hn::ShiftRight<16>(hn::BitCast(di, hn::Add(v, hn::Set(du, 0x8000u))));
   return hn::Min(hn::Max(a, hn::Zero(di)), hn::Set(di, 255));
 }
@@ -87,8 +89,8 @@ uint32_t DepthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y
   return static_cast<uint32_t>(passed);
 }
 
-uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
-                    int32_t y, const SpanPlanes& planes) {
+uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                    const SpanPlanes& planes) {
   const DF df;
   const DI di;
   const DU du;
@@ -124,9 +126,8 @@ HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
   const DF df;
   const DI di;
   const VI size = hn::Set(di, s.size);
-  const MI inside =
-      hn::And(hn::And(valid, hn::And(GeI(i, hn::Zero(di)), hn::Lt(i, size))),
-              hn::And(GeI(j, hn::Zero(di)), hn::Lt(j, size)));
+  const MI inside = hn::And(hn::And(valid, hn::And(GeI(i, hn::Zero(di)), hn::Lt(i, size))),
+                            hn::And(GeI(j, hn::Zero(di)), hn::Lt(j, size)));
   const VI index = hn::IfThenElseZero(inside, hn::Add(hn::Mul(j, size), i));
   const VF texel = hn::GatherIndex(df, s.map, index);
   return hn::And(inside, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
@@ -138,10 +139,10 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
   const DI di;
   const float* p = s.p;
   auto row = [&](int r) {
-    return hn::Add(hn::Add(hn::Add(hn::Mul(hn::Set(df, p[4 * r]), sx),
-                                   hn::Mul(hn::Set(df, p[4 * r + 1]), sy)),
-                           hn::Mul(hn::Set(df, p[4 * r + 2]), z)),
-                   hn::Set(df, p[4 * r + 3]));
+    return hn::Add(
+        hn::Add(hn::Add(hn::Mul(hn::Set(df, p[4 * r]), sx), hn::Mul(hn::Set(df, p[4 * r + 1]), sy)),
+                hn::Mul(hn::Set(df, p[4 * r + 2]), z)),
+        hn::Set(df, p[4 * r + 3]));
   };
   const VF q0 = row(0), q1 = row(1), q2 = row(2), q3 = row(3);
   const auto front = hn::Gt(q3, hn::Zero(df));
@@ -158,16 +159,17 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
   }
   const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
   const VF up = hn::Sub(u, half), vp = hn::Sub(v, half);
-  const auto inside =
-      hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
-                             hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
+  const auto inside = hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
+                                             hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
   const MI valid = hn::RebindMask(di, inside);
   const VF fu = hn::Floor(hn::IfThenElseZero(inside, up));
   const VF fv = hn::Floor(hn::IfThenElseZero(inside, vp));
   const VI i = hn::ConvertTo(di, fu), j = hn::ConvertTo(di, fv);
   const VF k256 = hn::Set(df, 256.0f);
-  const VI wu = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
-  const VI wv = hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
+  const VI wu =
+      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
+  const VI wv =
+      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
   const VI one = hn::Set(di, 1), full = hn::Set(di, 256);
   const VI iu = hn::Sub(full, wu), iv = hn::Sub(full, wv);
   const VI sum = hn::Add(
@@ -179,8 +181,8 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
   return hn::ShiftRight<16>(hn::Add(hn::Mul(sum, hn::Set(di, 255)), hn::Set(di, 32768)));
 }
 
-uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa,
-                      int32_t xb, int32_t y, const SpanPlanes& s, uint32_t triangleId,
+uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa, int32_t xb,
+                      int32_t y, const SpanPlanes& s, uint32_t triangleId,
                       const ShadowLookup& lookup) {
   const DF df;
   const DI di;
@@ -203,7 +205,8 @@ uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int
     VU result = hn::And(old, hn::Set(du, 0xFF000000u));
     for (int ch = 0; ch < 3; ++ch) {
       const VI sub = simd::HWY_NAMESPACE::ProductU8(di, attributeAt(s.rgb[ch], fx, fyu), m);
-      const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), hn::Set(du, 0xFFu)));
+      const VI value =
+          hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), hn::Set(du, 0xFFu)));
       const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, sub);
       result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
     }

@@ -19,8 +19,8 @@ inline constexpr uint32_t kObjectId = 0xFFFFFFFFu;   // id of pixels a synthetic
 
 // Where a pixel's receiver point falls in one pass's shadow map (spec §7).
 struct ShadowLookup {
-  float p[16];           // camera window space -> light texel space, row-major
-  const float* map;      // size*size depths, row 0 first
+  float p[16];       // camera window space -> light texel space, row-major
+  const float* map;  // size*size depths, row 0 first
   int32_t size;
   float bias;
   bool pcf2x2;

@@ -65,8 +65,8 @@ uint32_t depthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y
   return passed;
 }
 
-uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
-                    int32_t y, const SpanPlanes& planes) {
+uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                    const SpanPlanes& planes) {
   uint32_t passed = 0;
   const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
   const float fy = static_cast<float>(y - planes.oy);
@@ -84,8 +84,8 @@ uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32
   return passed;
 }
 
-uint32_t maskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa,
-                      int32_t xb, int32_t y, const SpanPlanes& s, uint32_t triangleId,
+uint32_t maskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa, int32_t xb,
+                      int32_t y, const SpanPlanes& s, uint32_t triangleId,
                       const ShadowLookup& lookup) {
   uint32_t matched = 0;
   const uint32_t fyu = static_cast<uint32_t>(y - s.oy);
@@ -97,8 +97,8 @@ uint32_t maskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int
     const uint32_t fxu = static_cast<uint32_t>(x - s.ox);
     uint8_t* px = rgba + 4 * static_cast<size_t>(x);
     for (int c = 0; c < 3; ++c) {
-      px[c] = simd::subtractMaskedU8(px[c], attributeAt(s.rgb[c], fxu, fyu),
-                                     static_cast<uint8_t>(m));
+      px[c] =
+          simd::subtractMaskedU8(px[c], attributeAt(s.rgb[c], fxu, fyu), static_cast<uint8_t>(m));
     }
   }
   return matched;
@@ -108,6 +108,8 @@ const SpanKernels kScalar{&depthLess, &colourLess, &maskSubtract};
 
 }  // namespace
 
-const SpanKernels& scalarSpanKernels() { return kScalar; }
+const SpanKernels& scalarSpanKernels() {
+  return kScalar;
+}
 
 }  // namespace penumbra::raster

@@ -44,7 +44,8 @@ SpanPlanes randomPlanes(std::mt19937& rng) {
   std::uniform_int_distribution<uint32_t> u(0, 0xFFFFFFFFu);
   SpanPlanes p;
   p.depth = {0.5f + f(rng) * 10, f(rng), f(rng)};
-  for (auto& a : p.rgb) a = {u(rng) % (255u << 16), u(rng) % 20000u - 10000u, u(rng) % 20000u - 10000u};
+  for (auto& a : p.rgb)
+    a = {u(rng) % (255u << 16), u(rng) % 20000u - 10000u, u(rng) % 20000u - 10000u};
   p.ox = 3;
   p.oy = 2;
   return p;
@@ -114,7 +115,8 @@ TEST_P(SpanKernelsOnTarget, MaskSubtractMatchesScalar) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllTargets, SpanKernelsOnTarget, ::testing::ValuesIn(simd::supportedIsas()),
+INSTANTIATE_TEST_SUITE_P(AllTargets, SpanKernelsOnTarget,
+                         ::testing::ValuesIn(simd::supportedIsas()),
                          penumbra::testing::isaTestName);
 
 }  // namespace

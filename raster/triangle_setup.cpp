@@ -28,21 +28,27 @@ T roundDiv(T n, T d) {
 // Signed distance to clip plane `p` (spec §3), evaluated exactly as written there.
 float planeDistance(int p, const ClipVertex& v) {
   switch (p) {
-    case 0: return v.w - 1e-5f;
-    case 1: return v.z + v.w;
-    case 2: return v.w - v.z;
-    case 3: return kGuardBand * v.w - v.x;
-    case 4: return kGuardBand * v.w + v.x;
-    case 5: return kGuardBand * v.w - v.y;
-    default: return kGuardBand * v.w + v.y;
+    case 0:
+      return v.w - 1e-5f;
+    case 1:
+      return v.z + v.w;
+    case 2:
+      return v.w - v.z;
+    case 3:
+      return kGuardBand * v.w - v.x;
+    case 4:
+      return kGuardBand * v.w + v.x;
+    case 5:
+      return kGuardBand * v.w - v.y;
+    default:
+      return kGuardBand * v.w + v.y;
   }
 }
 constexpr int kPlaneCount = 7;
 
 // The intersection is always computed from the inside vertex towards the outside one, so
 // an edge shared by two triangles yields the same vertex from both (watertight clipping).
-ClippedVertex intersect(const ClippedVertex& in, float dIn, const ClippedVertex& out,
-                        float dOut) {
+ClippedVertex intersect(const ClippedVertex& in, float dIn, const ClippedVertex& out, float dOut) {
   const float t = dIn / (dIn - dOut);
   ClippedVertex r;
   r.clip.x = in.clip.x + t * (out.clip.x - in.clip.x);
@@ -77,8 +83,8 @@ ClipVertex transformPoint(const Mat4& m, const Vec3& p) {
           ((a[12] * p.x + a[13] * p.y) + a[14] * p.z) + a[15]};
 }
 
-void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width,
-                         uint32_t height, std::vector<std::array<SnappedVertex, 3>>& out) {
+void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, uint32_t height,
+                         std::vector<std::array<SnappedVertex, 3>>& out) {
   // Trivial accept / reject (spec §3).
   bool allInside = true;
   for (int p = 0; p < kPlaneCount; ++p) {
@@ -149,8 +155,7 @@ bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint
   t.minX = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loX - 128, 256)));
   t.maxX = static_cast<int32_t>(std::min<int64_t>(width, floorDiv<int64_t>(hiX - 128, 256) + 1));
   t.minY = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loY - 128, 256)));
-  t.maxY =
-      static_cast<int32_t>(std::min<int64_t>(height, floorDiv<int64_t>(hiY - 128, 256) + 1));
+  t.maxY = static_cast<int32_t>(std::min<int64_t>(height, floorDiv<int64_t>(hiY - 128, 256) + 1));
   if (t.minX >= t.maxX || t.minY >= t.maxY) return false;
 
   // Depth plane (spec §5), binary64 then rounded once to binary32.
@@ -185,14 +190,12 @@ AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 
   const int64_t gy = roundDiv<int64_t>(256 * nY, t.det);
   const Int128 ox = int64_t{256} * t.minX + 128 - t.v[0].x;
   const Int128 oy = int64_t{256} * t.minY + 128 - t.v[0].y;
-  const int64_t c =
-      v[0] + static_cast<int64_t>(roundDiv<Int128>(nX * ox + nY * oy, Int128{t.det}));
+  const int64_t c = v[0] + static_cast<int64_t>(roundDiv<Int128>(nX * ox + nY * oy, Int128{t.det}));
   // Reduction modulo 2^32 is the arithmetic of spec §5.
   return {static_cast<uint32_t>(c), static_cast<uint32_t>(gx), static_cast<uint32_t>(gy)};
 }
 
-bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa,
-             int32_t& xb) {
+bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) {
   int64_t lo = std::max(x0, t.minX), hi = std::min(x1, t.maxX);
   const int64_t yc = int64_t{256} * y + 128;
   for (const Edge& e : t.edges) {
@@ -212,8 +215,7 @@ bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t&
   return true;
 }
 
-TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1,
-                          int32_t y1) {
+TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
   if (x1 <= t.minX || x0 >= t.maxX || y1 <= t.minY || y0 >= t.maxY) return TileCoverage::kNone;
   const int64_t cx[2] = {int64_t{256} * x0 + 128, int64_t{256} * (x1 - 1) + 128};
   const int64_t cy[2] = {int64_t{256} * y0 + 128, int64_t{256} * (y1 - 1) + 128};

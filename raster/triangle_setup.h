@@ -15,7 +15,7 @@ namespace penumbra::raster {
 
 inline constexpr int kSubPixelBits = 8;
 inline constexpr int32_t kSubPixelOne = 1 << kSubPixelBits;  // 256
-inline constexpr float kGuardBand = 4.0f;                     // spec §3
+inline constexpr float kGuardBand = 4.0f;                    // spec §3
 
 struct ClipVertex {
   float x, y, z, w;
@@ -29,9 +29,9 @@ struct ClippedVertex {
 
 // A snapped screen-space vertex: 8 sub-pixel bits, window depth, 16-bit corner weights.
 struct SnappedVertex {
-  int32_t x = 0, y = 0;          // 1/256 pixel
-  float z = 0;                   // window depth in [0, 1]
-  std::array<int32_t, 3> w{};    // sum 65536 (spec §3)
+  int32_t x = 0, y = 0;        // 1/256 pixel
+  float z = 0;                 // window depth in [0, 1]
+  std::array<int32_t, 3> w{};  // sum 65536 (spec §3)
 };
 
 // Transform of a world-space point (spec §2).
@@ -39,8 +39,8 @@ ClipVertex transformPoint(const Mat4& m, const Vec3& p);
 
 // Clips one triangle (spec §3) and snaps the resulting fan to a `width` x `height`
 // viewport (spec §2). Appends 0, 1 or up to 5 triangles (3 vertices each) to `out`.
-void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width,
-                         uint32_t height, std::vector<std::array<SnappedVertex, 3>>& out);
+void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, uint32_t height,
+                         std::vector<std::array<SnappedVertex, 3>>& out);
 
 struct Edge {
   int64_t a = 0, b = 0, c = 0;  // E(X, Y) = a X + b Y + c (spec §4)
@@ -79,14 +79,12 @@ bool setupTriangle(const std::array<SnappedVertex, 3>& v, uint32_t width, uint32
 AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners);
 
 // Covered run of row `y`, clipped to [x0, x1): returns false if empty (spec §4).
-bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa,
-             int32_t& xb);
+bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa, int32_t& xb);
 
 // Tile classification against the three edges (spec §4): trivial reject, trivial accept,
 // or partial. Tile covers pixels [x0, x1) x [y0, y1).
 enum class TileCoverage : uint8_t { kNone, kPartial, kFull };
-TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1,
-                          int32_t y1);
+TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1);
 
 // Pixel-exact coverage of one already-snapped triangle in a width x height image, row 0 at
 // the top: 1 where covered. For the coverage tests and the Mesa comparison.

@@ -121,9 +121,9 @@ TEST(Spans, TileClassificationIsExact) {
   std::uniform_int_distribution<int32_t> coord(-4000, 70 * 256);
   for (int trial = 0; trial < 300; ++trial) {
     SetupTriangle t;
-    if (!setupTriangle({sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)),
-                        sv(coord(rng), coord(rng))},
-                       64, 64, t)) {
+    if (!setupTriangle(
+            {sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng))},
+            64, 64, t)) {
       continue;
     }
     for (int32_t ty = 0; ty < 64; ty += 16) {
@@ -145,14 +145,16 @@ TEST(Spans, TileClassificationIsExact) {
   }
 }
 
-ClipVertex cv(float x, float y, float z, float w) { return {x, y, z, w}; }
+ClipVertex cv(float x, float y, float z, float w) {
+  return {x, y, z, w};
+}
 
 TEST(Clipping, NearPlaneCrossingKeepsTheVisiblePart) {
   std::vector<std::array<SnappedVertex, 3>> out;
   // One vertex behind the camera (w < 0): clipped to a quad, drawn as a fan of two.
-  clipAndSnapTriangle({cv(-0.5f, -0.5f, 0.5f, 1.0f), cv(0.5f, -0.5f, 0.5f, 1.0f),
-                       cv(0.0f, 0.5f, -3.0f, -1.0f)},
-                      64, 64, out);
+  clipAndSnapTriangle(
+      {cv(-0.5f, -0.5f, 0.5f, 1.0f), cv(0.5f, -0.5f, 0.5f, 1.0f), cv(0.0f, 0.5f, -3.0f, -1.0f)}, 64,
+      64, out);
   ASSERT_EQ(out.size(), 2u);
   for (const auto& tri : out) {
     for (const SnappedVertex& v : tri) {
@@ -189,9 +191,9 @@ TEST(Attributes, PlaneReproducesVertexValuesAndStaysInRange) {
   std::uniform_int_distribution<int> value(0, 255);
   for (int trial = 0; trial < 200; ++trial) {
     SetupTriangle t;
-    if (!setupTriangle({sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)),
-                        sv(coord(rng), coord(rng))},
-                       40, 40, t)) {
+    if (!setupTriangle(
+            {sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng))},
+            40, 40, t)) {
       continue;
     }
     // With every vertex weight on corner 0, the plane is constant.

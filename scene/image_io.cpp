@@ -1,6 +1,5 @@
 #include "scene/image_io.h"
 
-
 #ifdef PENUMBRA_HAVE_PNG
 #include <png.h>
 #endif
@@ -10,13 +9,15 @@ namespace penumbra::scene {
 #ifdef PENUMBRA_HAVE_PNG
 
 // libpng's simplified API (1.6): no setjmp, errors come back in image.message.
-bool pngSupported() { return true; }
+bool pngSupported() {
+  return true;
+}
 
 void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height,
               std::span<const uint8_t> rgba) {
   if (rgba.size() != size_t{width} * height * 4) {
-    throw ImageError(path.string() + ": pixel buffer size does not match " +
-                     std::to_string(width) + "x" + std::to_string(height));
+    throw ImageError(path.string() + ": pixel buffer size does not match " + std::to_string(width) +
+                     "x" + std::to_string(height));
   }
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
@@ -48,7 +49,9 @@ ImageRgba8 readPng(const std::filesystem::path& path) {
 
 #else
 
-bool pngSupported() { return false; }
+bool pngSupported() {
+  return false;
+}
 
 void writePng(const std::filesystem::path& path, uint32_t, uint32_t, std::span<const uint8_t>) {
   throw ImageError(path.string() + ": this build has no PNG support (PENUMBRA_WITH_PNG=OFF)");

@@ -7,11 +7,16 @@ namespace penumbra::simd {
 
 const char* isaName(Isa isa) {
   switch (isa) {
-    case Isa::kScalar: return "scalar";
-    case Isa::kSse4: return "sse4";
-    case Isa::kAvx2: return "avx2";
-    case Isa::kAvx512: return "avx512";
-    case Isa::kNeon: return "neon";
+    case Isa::kScalar:
+      return "scalar";
+    case Isa::kSse4:
+      return "sse4";
+    case Isa::kAvx2:
+      return "avx2";
+    case Isa::kAvx512:
+      return "avx512";
+    case Isa::kNeon:
+      return "neon";
   }
   return "unknown";
 }
@@ -25,16 +30,22 @@ std::optional<Isa> parseIsa(std::string_view name) {
 
 int64_t highwayTarget(Isa isa) {
   switch (isa) {
-    case Isa::kScalar: return 0;
+    case Isa::kScalar:
+      return 0;
 #if HWY_ARCH_X86
-    case Isa::kSse4: return HWY_SSE4;
-    case Isa::kAvx2: return HWY_AVX2;
-    case Isa::kAvx512: return HWY_AVX3;
+    case Isa::kSse4:
+      return HWY_SSE4;
+    case Isa::kAvx2:
+      return HWY_AVX2;
+    case Isa::kAvx512:
+      return HWY_AVX3;
 #endif
 #if HWY_ARCH_ARM_A64
-    case Isa::kNeon: return HWY_NEON;
+    case Isa::kNeon:
+      return HWY_NEON;
 #endif
-    default: return -1;
+    default:
+      return -1;
   }
 }
 
@@ -68,6 +79,8 @@ std::vector<Isa> supportedIsas() {
   return out;
 }
 
-Isa bestIsa() { return supportedIsas().back(); }
+Isa bestIsa() {
+  return supportedIsas().back();
+}
 
 }  // namespace penumbra::simd

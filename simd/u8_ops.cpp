@@ -46,8 +46,7 @@ void ProductArray(const uint8_t* a, const uint8_t* b, uint8_t* out, size_t n) {
 
 void SubtractSaturateArray(const uint8_t* a, const uint8_t* b, uint8_t* out, size_t n) {
   forEachU16(
-      a, b, out, n, [](auto va, auto vb) { return hn::SaturatedSub(va, vb); },
-      subtractSaturateU8);
+      a, b, out, n, [](auto va, auto vb) { return hn::SaturatedSub(va, vb); }, subtractSaturateU8);
 }
 
 void SubtractMaskedArray(uint8_t* dst, const uint8_t* s, const uint8_t* m, size_t n) {

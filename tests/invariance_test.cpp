@@ -52,8 +52,7 @@ void expectInvariant(const raster::FrameTrace& trace, const std::string& name) {
     for (int threads : {1, 2, 3, 4, 8}) {
       for (int tile : {16, 32, 64}) {
         EXPECT_EQ(hashOf(trace, {isa, threads, tile}), reference)
-            << name << ": isa " << simd::isaName(isa) << " threads " << threads << " tile "
-            << tile;
+            << name << ": isa " << simd::isaName(isa) << " threads " << threads << " tile " << tile;
       }
     }
   }

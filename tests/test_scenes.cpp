@@ -53,14 +53,16 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
   const float step = 4.0f / static_cast<float>(n);
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
-      const float x0 = -2.0f + step * static_cast<float>(i), z0 = -2.0f + step * static_cast<float>(j);
+      const float x0 = -2.0f + step * static_cast<float>(i),
+                  z0 = -2.0f + step * static_cast<float>(j);
       addQuad(room, {x0, 0, z0 + step}, {x0 + step, 0, z0 + step}, {x0 + step, 0, z0}, {x0, 0, z0});
     }
   }
   for (int j = 0; j < n / 2; ++j) {
     for (int i = 0; i < n; ++i) {
       const float x0 = -2.0f + step * static_cast<float>(i), y0 = step * static_cast<float>(j);
-      addQuad(room, {x0, y0, -2}, {x0 + step, y0, -2}, {x0 + step, y0 + step, -2}, {x0, y0 + step, -2});
+      addQuad(room, {x0, y0, -2}, {x0 + step, y0, -2}, {x0 + step, y0 + step, -2},
+              {x0, y0 + step, -2});
     }
   }
 
@@ -81,7 +83,8 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
     raster::ShadedMesh shaded{object, {}};
     for (size_t i = 0; i < object.positions.size(); ++i) {
       const uint64_t r = mix(o.seed * 1000 + i);
-      shaded.colours.push_back({static_cast<uint8_t>(60 + r % 120), static_cast<uint8_t>(40 + (r >> 8) % 120),
+      shaded.colours.push_back({static_cast<uint8_t>(60 + r % 120),
+                                static_cast<uint8_t>(40 + (r >> 8) % 120),
                                 static_cast<uint8_t>(30 + (r >> 16) % 120)});
     }
     t.frame.objects.push_back(shaded);
@@ -106,10 +109,12 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
     pass.pcf2x2 = o.pcf2x2 || p % 3 == 2;
     pass.occluder = 0;
     for (uint32_t tri = 0; tri < room.triangleCount(); ++tri) {
-      if (mix(o.seed + 7919u * tri + static_cast<uint64_t>(p)) % 5 == 0) continue;  // not every receiver
+      if (mix(o.seed + 7919u * tri + static_cast<uint64_t>(p)) % 5 == 0)
+        continue;  // not every receiver
       pass.receiverTriangles.push_back(tri);
       for (int c = 0; c < 3; ++c) {
-        const uint64_t r = mix((o.seed << 20) + tri * 3u + static_cast<uint64_t>(c) + 100000u * static_cast<uint64_t>(p));
+        const uint64_t r = mix((o.seed << 20) + tri * 3u + static_cast<uint64_t>(c) +
+                               100000u * static_cast<uint64_t>(p));
         pass.receiverS.push_back({static_cast<uint8_t>(r % 41), static_cast<uint8_t>((r >> 8) % 41),
                                   static_cast<uint8_t>((r >> 16) % 41)});
       }

@@ -9,7 +9,7 @@ namespace penumbra::testing {
 
 struct TestSceneOptions {
   uint32_t width = 160, height = 120;
-  int floorCells = 12;     // floor grid cells per side (2 triangles each), plus a back wall
+  int floorCells = 12;  // floor grid cells per side (2 triangles each), plus a back wall
   int passes = 6;
   bool pcf2x2 = false;
   bool objectVisible = true;

@@ -19,7 +19,8 @@ class TraceFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("penumbra-trace-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("penumbra-trace-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
     trace_ = testing::makeTestScene({});
     raster::saveTrace(trace_, dir_ / "scene.json");
