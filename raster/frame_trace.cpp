@@ -222,12 +222,19 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
       fail(where, field + ".occluder",
            "index " + std::to_string(pass.occluder) + " is out of range");
     }
+    // Each receiver once per pass (spec §6): a triangle listed twice would subtract twice.
+    std::vector<bool> listed(staticTriangles, false);
     for (uint32_t t : pass.receiverTriangles) {
       if (t >= staticTriangles) {
         fail(where, field + ".receiver_triangles",
              "triangle " + std::to_string(t) + " is out of range (" +
                  std::to_string(staticTriangles) + " static triangles)");
       }
+      if (listed[t]) {
+        fail(where, field + ".receiver_triangles",
+             "triangle " + std::to_string(t) + " is listed twice");
+      }
+      listed[t] = true;
     }
     if (pass.receiverS.size() != 3 * pass.receiverTriangles.size()) {
       fail(where, field + ".receiver_s", "count must be 3 x receiver_triangles count");

@@ -1,6 +1,7 @@
 #include "raster/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -73,11 +74,6 @@ bool invert(const Mat4d& m, Mat4d& inv) {
   return true;
 }
 
-struct TileEntry {
-  uint32_t tile;
-  bool full;
-};
-
 // A receiver triangle of one pass, ready to draw: which static sub-triangle, its S planes.
 struct PassTriangle {
   uint32_t staticSub;
@@ -99,7 +95,6 @@ struct ObjectTriangle {
 struct TileItem {
   uint32_t pass;  // index into passes
   uint32_t tri;   // index into that pass's triangles
-  bool full;
 };
 
 // Draws `t` over rows [y0, y1) and columns [x0, x1): `full` means every pixel is covered.
@@ -129,14 +124,19 @@ struct Renderer::Impl {
   std::vector<uint32_t> staticSubOwner;      // original triangle index of each sub-triangle
   std::vector<uint32_t> firstSubOfTriangle;  // triangle t -> subs [first[t], first[t+1])
   std::vector<uint32_t> tileListStart;       // sub s -> tileEntries [start[s], start[s+1])
-  std::vector<TileEntry> tileEntries;
+  std::vector<uint32_t> tileEntries;         // tile indices
   std::vector<float> staticDepth;
   std::vector<uint32_t> staticId;
+  // Row runs of every static sub-triangle, computed once (spec §4): the camera is fixed, so
+  // passes never divide. Sub-triangle s has rows [minY, maxY) at spanStart[s].
+  std::vector<uint32_t> spanStart;
+  std::vector<std::pair<int32_t, int32_t>> spans;  // [xa, xb); empty runs have xa >= xb
 
   // Per-frame working state, reused.
   std::vector<uint8_t> rgba;
   std::vector<float> depth;
   std::vector<uint32_t> id;
+  std::vector<uint32_t> sScratch;  // packed S of the current pass, zero outside it (spec §6)
   std::vector<ObjectTriangle> objectTriangles;
   std::vector<std::vector<std::pair<uint32_t, bool>>> tileObjects;
   std::vector<std::vector<TileItem>> tileItems;
@@ -180,6 +180,7 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
   rgba.assign(stride * v.height * 4, 0);
   depth.assign(stride * v.height, kInfinity);
   id.assign(stride * v.height, kNoSurface);
+  sScratch.assign(stride * v.height, 0);
   tileObjects.resize(size_t(tilesX) * tilesY);
   tileItems.resize(size_t(tilesX) * tilesY);
   workerCounts.resize(size_t(pool.threads()));
@@ -222,6 +223,18 @@ void Renderer::Impl::buildStaticCache() {
     });
   }
 
+  spanStart.assign(staticSubs.size() + 1, 0);
+  for (size_t s = 0; s < staticSubs.size(); ++s) {
+    spanStart[s] = static_cast<uint32_t>(spans.size());
+    const SetupTriangle& t = staticSubs[s];
+    for (int32_t y = t.minY; y < t.maxY; ++y) {
+      int32_t xa = 0, xb = 0;
+      if (!rowSpan(t, y, 0, width, xa, xb)) xa = xb = 0;
+      spans.emplace_back(xa, xb);
+    }
+  }
+  spanStart[staticSubs.size()] = static_cast<uint32_t>(spans.size());
+
   // Which tiles each sub-triangle touches (binning with trivial reject/accept, spec §4).
   const int32_t ts = options.tileSize;
   tileListStart.assign(staticSubs.size() + 1, 0);
@@ -234,7 +247,7 @@ void Renderer::Impl::buildStaticCache() {
         const TileCoverage c = classifyTile(t, x0, y0, std::min(x0 + ts, width),
                                             std::min(y0 + ts, static_cast<int32_t>(view.height)));
         if (c == TileCoverage::kNone) continue;
-        tileEntries.push_back({static_cast<uint32_t>(ty * tilesX + tx), c == TileCoverage::kFull});
+        tileEntries.push_back(static_cast<uint32_t>(ty * tilesX + tx));
       }
     }
   }
@@ -356,8 +369,7 @@ void Renderer::Impl::bin() {
     for (size_t k = 0; k < triangles.size(); ++k) {
       const uint32_t sub = triangles[k].staticSub;
       for (uint32_t e = tileListStart[sub]; e < tileListStart[sub + 1]; ++e) {
-        tileItems[tileEntries[e].tile].push_back(
-            {static_cast<uint32_t>(p), static_cast<uint32_t>(k), tileEntries[e].full});
+        tileItems[tileEntries[e]].push_back({static_cast<uint32_t>(p), static_cast<uint32_t>(k)});
       }
     }
   }
@@ -393,16 +405,42 @@ void Renderer::Impl::drawTile(uint32_t tile, const FrameContent& frame, std::spa
             kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
       });
     }
-    for (const TileItem& item : items) {
-      const PassWork& pass = passes[item.pass];
-      const PassTriangle& pt = pass.triangles[item.tri];
-      const SetupTriangle& t = staticSubs[pt.staticSub];
-      const uint32_t owner = staticSubOwner[pt.staticSub];
-      forEachRun(t, x0, y0, x1, y1, item.full, [&](int32_t y, int32_t xa, int32_t xb) {
-        const size_t row = stride * y;
-        passPixels += kernels->maskSubtract(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, pt.s,
-                                            owner, pass.lookup);
-      });
+    // Passes in order; within a pass, S of every receiver run into the scratch buffer,
+    // then one shading sweep over the rows the pass touched (spec §6 step 4).
+    std::array<int32_t, 64> runBegin, runEnd;
+    for (size_t first = 0; first < items.size();) {
+      const uint32_t passIndex = items[first].pass;
+      const PassWork& pass = passes[passIndex];
+      runBegin.fill(x1);
+      runEnd.fill(x0);
+      int32_t rowLo = y1, rowHi = y0;
+      size_t i = first;
+      for (; i < items.size() && items[i].pass == passIndex; ++i) {
+        const PassTriangle& pt = pass.triangles[items[i].tri];
+        const SetupTriangle& t = staticSubs[pt.staticSub];
+        const uint32_t owner = staticSubOwner[pt.staticSub];
+        const auto* run = &spans[spanStart[pt.staticSub]];
+        const int32_t ya = std::max(y0, t.minY), yb = std::min(y1, t.maxY);
+        for (int32_t y = ya; y < yb; ++y) {
+          const int32_t xa = std::max(x0, run[y - t.minY].first);
+          const int32_t xb = std::min(x1, run[y - t.minY].second);
+          if (xa >= xb) continue;
+          const size_t row = stride * y;
+          const uint32_t matched =
+              kernels->interpolateS(&sScratch[row], &id[row], xa, xb, y, pt.s, owner);
+          if (matched == 0) continue;
+          passPixels += matched;
+          runBegin[y - y0] = std::min(runBegin[y - y0], xa);
+          runEnd[y - y0] = std::max(runEnd[y - y0], xb);
+          rowLo = std::min(rowLo, y);
+          rowHi = std::max(rowHi, y + 1);
+        }
+      }
+      if (rowLo < rowHi) {
+        kernels->shadeRows(rgba.data(), depth.data(), sScratch.data(), stride, rowLo, rowHi,
+                           &runBegin[rowLo - y0], &runEnd[rowLo - y0], pass.lookup);
+      }
+      first = i;
     }
     for (int32_t y = y0; y < y1; ++y) {
       std::memcpy(&out[4 * (size_t{view.width} * y + x0)], &rgba[4 * (stride * y + x0)],

@@ -181,16 +181,12 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
   return hn::ShiftRight<16>(hn::Add(hn::Mul(sum, hn::Set(di, 255)), hn::Set(di, 32768)));
 }
 
-uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa, int32_t xb,
-                      int32_t y, const SpanPlanes& s, uint32_t triangleId,
-                      const ShadowLookup& lookup) {
-  const DF df;
+uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                      const SpanPlanes& planes, uint32_t triangleId) {
   const DI di;
   const DU du;
-  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
-  const uint32_t fyu = static_cast<uint32_t>(y - s.oy);
-  const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
-  uint32_t* pixels = reinterpret_cast<uint32_t*>(rgba);
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(du));
+  const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
   size_t matched = 0;
   for (int32_t x = alignDown(xa); x < xb; x += lanes) {
     const Chunk c = chunkAt(x, xa, xb);
@@ -198,25 +194,54 @@ uint32_t MaskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int
                                 hn::Eq(hn::LoadU(du, id + x), hn::Set(du, triangleId)));
     if (hn::AllFalse(du, active)) continue;
     matched += hn::CountTrue(du, active);
-    const VF sx = hn::Add(hn::ConvertTo(df, c.px), hn::Set(df, 0.5f));
-    const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + x));
-    const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, s.ox)));
-    const VU old = hn::LoadU(du, pixels + x);
-    VU result = hn::And(old, hn::Set(du, 0xFF000000u));
-    for (int ch = 0; ch < 3; ++ch) {
-      const VI sub = simd::HWY_NAMESPACE::ProductU8(di, attributeAt(s.rgb[ch], fx, fyu), m);
-      const VI value =
-          hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), hn::Set(du, 0xFFu)));
-      const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, sub);
-      result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
-    }
-    hn::StoreU(hn::IfThenElse(active, result, old), du, pixels + x);
+    const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, planes.ox)));
+    const VI packed = hn::Or(hn::Or(attributeAt(planes.rgb[0], fx, fyu),
+                                    hn::ShiftLeft<8>(attributeAt(planes.rgb[1], fx, fyu))),
+                             hn::ShiftLeft<16>(attributeAt(planes.rgb[2], fx, fyu)));
+    hn::StoreU(hn::IfThenElse(active, hn::BitCast(du, packed), hn::LoadU(du, sOut + x)), du,
+               sOut + x);
   }
   return static_cast<uint32_t>(matched);
 }
 
+void ShadeRows(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
+               int32_t y1, const int32_t* xaRow, const int32_t* xbRow, const ShadowLookup& lookup) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const VU byteMask = hn::Set(du, 0xFFu);
+  for (int32_t y = y0; y < y1; ++y) {
+    const int32_t xa = xaRow[y - y0], xb = xbRow[y - y0];
+    const size_t row = stride * static_cast<size_t>(y);
+    uint32_t* pixels = reinterpret_cast<uint32_t*>(rgba) + row;
+    uint32_t* sRow = s + row;
+    const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
+    for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+      // Outside [xa, xb) s is 0 too (the buffer is kept clean), so no run mask is needed.
+      const VU packed = hn::LoadU(du, sRow + x);
+      const auto active = hn::Ne(packed, hn::Zero(du));
+      if (hn::AllFalse(du, active)) continue;
+      hn::StoreU(hn::Zero(du), du, sRow + x);
+      const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
+      const VF sx = hn::Add(hn::ConvertTo(df, px), hn::Set(df, 0.5f));
+      const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + row + x));
+      const VU old = hn::LoadU(du, pixels + x);
+      VU result = hn::And(old, hn::Set(du, 0xFF000000u));
+      for (int ch = 0; ch < 3; ++ch) {
+        const VI sValue = hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
+        const VI sub = simd::HWY_NAMESPACE::ProductU8(di, sValue, m);
+        const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), byteMask));
+        const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, sub);
+        result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
+      }
+      hn::StoreU(hn::IfThenElse(active, result, old), du, pixels + x);
+    }
+  }
+}
+
 const SpanKernels* Table() {
-  static const SpanKernels kernels{&DepthLess, &ColourLess, &MaskSubtract};
+  static const SpanKernels kernels{&DepthLess, &ColourLess, &InterpolateS, &ShadeRows};
   return &kernels;
 }
 

@@ -41,11 +41,20 @@ struct SpanKernels {
   // z < depth: colour, depth and id = kObjectId (spec §6 step 3). Returns pixels written.
   uint32_t (*colourLess)(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
                          int32_t y, const SpanPlanes& planes);
-  // Where id == triangleId: rgb = max(rgb - round(S * M / 255), 0) (spec §6 step 4, §7).
-  // Returns how many pixels matched the id.
-  uint32_t (*maskSubtract)(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa,
-                           int32_t xb, int32_t y, const SpanPlanes& s, uint32_t triangleId,
-                           const ShadowLookup& lookup);
+  // The mask-and-subtract pass (spec §6 step 4) runs in two kernels per tile and pass:
+  //
+  // 1. Per receiver run: where id == triangleId, s = S packed as r | g << 8 | b << 16
+  //    (spec §5). Returns how many pixels matched. A pass lists each triangle once
+  //    (validateFrame), so no pixel is written twice in one pass.
+  uint32_t (*interpolateS)(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                           const SpanPlanes& planes, uint32_t triangleId);
+  // 2. For rows y0 <= y < y1 and xa[y - y0] <= x < xb[y - y0]: where s != 0,
+  //    rgb = max(rgb - round(S * M / 255), 0) with M from `lookup` (spec §7); then s = 0,
+  //    so the scratch buffer is clean for the next pass. S = 0 subtracts nothing, so
+  //    skipping unmarked pixels is exact. Pointers address pixel (0, 0); rows are `stride`
+  //    pixels apart.
+  void (*shadeRows)(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
+                    int32_t y1, const int32_t* xa, const int32_t* xb, const ShadowLookup& lookup);
 };
 
 // The kernels of `isa`; the caller checks simd::isSupported(isa).

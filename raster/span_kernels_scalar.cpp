@@ -84,27 +84,41 @@ uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32
   return passed;
 }
 
-uint32_t maskSubtract(uint8_t* rgba, const float* depth, const uint32_t* id, int32_t xa, int32_t xb,
-                      int32_t y, const SpanPlanes& s, uint32_t triangleId,
-                      const ShadowLookup& lookup) {
+uint32_t interpolateS(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,
+                      const SpanPlanes& planes, uint32_t triangleId) {
   uint32_t matched = 0;
-  const uint32_t fyu = static_cast<uint32_t>(y - s.oy);
-  const float sy = static_cast<float>(y) + 0.5f;
+  const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
   for (int32_t x = xa; x < xb; ++x) {
     if (id[x] != triangleId) continue;
     ++matched;
-    const uint32_t m = maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[x]);
-    const uint32_t fxu = static_cast<uint32_t>(x - s.ox);
-    uint8_t* px = rgba + 4 * static_cast<size_t>(x);
-    for (int c = 0; c < 3; ++c) {
-      px[c] =
-          simd::subtractMaskedU8(px[c], attributeAt(s.rgb[c], fxu, fyu), static_cast<uint8_t>(m));
-    }
+    const uint32_t fxu = static_cast<uint32_t>(x - planes.ox);
+    s[x] = uint32_t{attributeAt(planes.rgb[0], fxu, fyu)} |
+           uint32_t{attributeAt(planes.rgb[1], fxu, fyu)} << 8 |
+           uint32_t{attributeAt(planes.rgb[2], fxu, fyu)} << 16;
   }
   return matched;
 }
 
-const SpanKernels kScalar{&depthLess, &colourLess, &maskSubtract};
+void shadeRows(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
+               int32_t y1, const int32_t* xa, const int32_t* xb, const ShadowLookup& lookup) {
+  for (int32_t y = y0; y < y1; ++y) {
+    const size_t row = stride * static_cast<size_t>(y);
+    const float sy = static_cast<float>(y) + 0.5f;
+    for (int32_t x = xa[y - y0]; x < xb[y - y0]; ++x) {
+      const uint32_t packed = s[row + x];
+      if (packed == 0) continue;
+      s[row + x] = 0;
+      const uint8_t m =
+          static_cast<uint8_t>(maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[row + x]));
+      uint8_t* px = rgba + 4 * (row + x);
+      for (int c = 0; c < 3; ++c) {
+        px[c] = simd::subtractMaskedU8(px[c], static_cast<uint8_t>(packed >> (8 * c)), m);
+      }
+    }
+  }
+}
+
+const SpanKernels kScalar{&depthLess, &colourLess, &interpolateS, &shadeRows};
 
 }  // namespace
 

@@ -78,22 +78,57 @@ TEST_P(SpanKernelsOnTarget, DepthAndColourMatchScalar) {
   }
 }
 
-TEST_P(SpanKernelsOnTarget, MaskSubtractMatchesScalar) {
+TEST_P(SpanKernelsOnTarget, InterpolateSMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(13);
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  for (int trial = 0; trial < 2000; ++trial) {
+    Rows rows = randomRows(rng);
+    std::vector<uint32_t> a(kRow, 0), b(kRow, 0);
+    const SpanPlanes p = randomPlanes(rng);
+    int32_t xa = pos(rng), xb = pos(rng);
+    if (xa > xb) std::swap(xa, xb);
+    ASSERT_EQ(ref.interpolateS(a.data(), rows.id.data(), xa, xb, trial % 40, p, 1),
+              k.interpolateS(b.data(), rows.id.data(), xa, xb, trial % 40, p, 1));
+    ASSERT_EQ(a, b) << trial;
+  }
+}
+
+TEST_P(SpanKernelsOnTarget, ShadeRowsMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(12);
   std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
   std::uniform_real_distribution<float> f(-1.0f, 1.0f);
-  const int32_t size = 32;
+  const int32_t size = 32, rows = 6;
   std::vector<float> map(size * size);
   for (float& v : map) v = 0.3f + 0.4f * (f(rng) + 1.0f) / 2.0f;
   map[7] = std::numeric_limits<float>::infinity();
-  for (int trial = 0; trial < 3000; ++trial) {
-    Rows a = randomRows(rng);
-    Rows b = a;
-    const SpanPlanes s = randomPlanes(rng);
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<uint8_t> rgbaA(4 * kRow * rows);
+    std::vector<float> depth(kRow * rows);
+    std::vector<uint32_t> sA(kRow * rows, 0);
+    for (auto& v : rgbaA) v = static_cast<uint8_t>(bits(rng));
+    for (float& v : depth) v = 0.5f + 0.5f * f(rng);
+    depth[9] = std::numeric_limits<float>::quiet_NaN();
+    depth[kRow + 3] = std::numeric_limits<float>::infinity();
+    std::vector<int32_t> xa(rows), xb(rows);
+    for (int r = 0; r < rows; ++r) {
+      xa[r] = pos(rng);
+      xb[r] = pos(rng);
+      if (xa[r] > xb[r]) std::swap(xa[r], xb[r]);
+      for (int32_t x = xa[r]; x < xb[r]; ++x) {
+        // Mostly marked pixels, some unmarked (S = 0), some with one channel zero.
+        if (bits(rng) % 5 != 0)
+          sA[r * kRow + x] = bits(rng) & (bits(rng) % 3 ? 0xFFFFFFu : 0x00FF00u);
+      }
+    }
+    std::vector<uint8_t> rgbaB = rgbaA;
+    std::vector<uint32_t> sB = sA;
     ShadowLookup lookup{};
-    // A projective map that sends the row across (and beyond) the shadow map.
+    // A projective map that sends the rows across (and beyond) the shadow map.
     for (float& v : lookup.p) v = f(rng);
     lookup.p[0] = 0.4f + 0.1f * f(rng);
     lookup.p[3] = 16.0f * f(rng);
@@ -106,12 +141,12 @@ TEST_P(SpanKernelsOnTarget, MaskSubtractMatchesScalar) {
     lookup.size = size;
     lookup.bias = 0.01f * (f(rng) + 1.0f);
     lookup.pcf2x2 = trial % 2 == 1;
-    int32_t xa = pos(rng), xb = pos(rng);
-    if (xa > xb) std::swap(xa, xb);
-    const int32_t y = trial % 30;
-    ASSERT_EQ(ref.maskSubtract(a.rgba.data(), a.depth.data(), a.id.data(), xa, xb, y, s, 1, lookup),
-              k.maskSubtract(b.rgba.data(), b.depth.data(), b.id.data(), xa, xb, y, s, 1, lookup));
-    ASSERT_EQ(a.rgba, b.rgba) << "trial " << trial;
+    ref.shadeRows(rgbaA.data(), depth.data(), sA.data(), kRow, 0, rows, xa.data(), xb.data(),
+                  lookup);
+    k.shadeRows(rgbaB.data(), depth.data(), sB.data(), kRow, 0, rows, xa.data(), xb.data(), lookup);
+    ASSERT_EQ(rgbaA, rgbaB) << "trial " << trial;
+    ASSERT_EQ(sA, sB) << "trial " << trial;
+    for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
   }
 }
 
