@@ -66,6 +66,19 @@ int replay(const std::string& tracePath, const RenderFlags& flags, const std::st
   return 0;
 }
 
+// The first "cpu MHz" of /proc/cpuinfo (x86 Linux); 0 where it is not reported.
+double nominalCpuHz() {
+  std::FILE* f = std::fopen("/proc/cpuinfo", "r");
+  if (f == nullptr) return 0;
+  char line[256];
+  double mhz = 0;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    if (std::sscanf(line, "cpu MHz : %lf", &mhz) == 1) break;
+  }
+  std::fclose(f);
+  return mhz * 1e6;
+}
+
 int benchReplay(const std::string& tracePath, const RenderFlags& flags, int frames) {
   const raster::FrameTrace trace = raster::loadTrace(tracePath);
   const raster::RenderOptions options = toOptions(flags);
@@ -97,6 +110,14 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
               static_cast<unsigned long long>(stats.shadowMapPixels),
               static_cast<unsigned long long>(stats.passPixels),
               static_cast<unsigned long long>(stats.objectPixels));
+  // Cycles per pass pixel, to project the cost to other CPUs (docs/performance.md): all
+  // tile work (copies, object, passes) per receiver pixel, at the nominal clock, per thread.
+  const double hz = nominalCpuHz();
+  if (hz > 0 && stats.passPixels > 0) {
+    std::printf("tile_cycles_per_pass_pixel %.2f (at %.0f MHz, %d threads)\n",
+                median(tilesMs) * 1e-3 * hz * options.threads / double(stats.passPixels),
+                hz * 1e-6, options.threads);
+  }
   std::printf("sha256 %s\n", scene::sha256Hex(rgba).c_str());
   return 0;
 }

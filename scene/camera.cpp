@@ -15,9 +15,12 @@ glm::dmat4 lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dv
   const glm::dvec3 s = glm::normalize(side);
   const glm::dvec3 u = glm::cross(s, f);
   glm::dmat4 m(1.0);  // columns: m[c][r]
+  // One matrix row per line reads as the math.
+  // clang-format off
   m[0][0] = s.x;  m[1][0] = s.y;  m[2][0] = s.z;  m[3][0] = -glm::dot(s, eye);
   m[0][1] = u.x;  m[1][1] = u.y;  m[2][1] = u.z;  m[3][1] = -glm::dot(u, eye);
   m[0][2] = -f.x; m[1][2] = -f.y; m[2][2] = -f.z; m[3][2] = glm::dot(f, eye);
+  // clang-format on
   return m;
 }
 

@@ -1,0 +1,267 @@
+#include "scene/patch_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <utility>
+
+namespace penumbra::scene {
+
+void Aabb::extend(const glm::dvec3& p) {
+  if (empty()) {
+    min = max = p;
+    return;
+  }
+  min = glm::min(min, p);
+  max = glm::max(max, p);
+}
+
+Aabb Aabb::emptyBox() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return Aabb{glm::dvec3(inf), glm::dvec3(-inf)};
+}
+
+glm::dvec3 Quad::normal() const {
+  return glm::normalize(glm::cross(edgeU, edgeV));
+}
+
+double Quad::area() const {
+  return glm::length(glm::cross(edgeU, edgeV));
+}
+
+const Material& Quad::materialAt(double s, double t) const {
+  for (const Region& r : regions) {
+    if (s >= r.s0 && s <= r.s1 && t >= r.t0 && t <= r.t1) return r.material;
+  }
+  return material;
+}
+
+uint32_t RoomDescription::addQuad(Quad quad) {
+  if (!(glm::length(glm::cross(quad.edgeU, quad.edgeV)) > 0)) {
+    throw std::invalid_argument("RoomDescription::addQuad: degenerate quad " + quad.name);
+  }
+  quads.push_back(std::move(quad));
+  return static_cast<uint32_t>(quads.size() - 1);
+}
+
+namespace {
+
+struct Face {
+  const char* name;
+  glm::dvec3 origin, u, v;
+};
+
+// The six faces of `b` with normals pointing inwards (into the box). Swapping u and v
+// flips cross(u, v), which turns them outwards; the origin corner is common to both.
+std::array<Face, 6> inwardFaces(const Aabb& b) {
+  const glm::dvec3 d = b.size();
+  const glm::dvec3 dx(d.x, 0, 0), dy(0, d.y, 0), dz(0, 0, d.z);
+  const glm::dvec3 lo = b.min;
+  return {{
+      {"floor", lo, dz, dx},                                   // cross(z, x) = +y
+      {"ceiling", glm::dvec3(lo.x, b.max.y, lo.z), dx, dz},    // cross(x, z) = -y
+      {"wall_xmin", lo, dy, dz},                               // +x
+      {"wall_xmax", glm::dvec3(b.max.x, lo.y, lo.z), dz, dy},  // -x
+      {"wall_zmin", lo, dx, dy},                               // +z
+      {"wall_zmax", glm::dvec3(lo.x, lo.y, b.max.z), dy, dx},  // -z
+  }};
+}
+
+}  // namespace
+
+uint32_t RoomDescription::addRoomShell(const Aabb& room, const Material& floor,
+                                       const Material& walls, const Material& ceiling) {
+  const auto faces = inwardFaces(room);
+  uint32_t first = 0;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const Material& m = i == 0 ? floor : (i == 1 ? ceiling : walls);
+    const uint32_t id =
+        addQuad(Quad{faces[i].name, faces[i].origin, faces[i].u, faces[i].v, m, {}});
+    if (i == 0) first = id;
+  }
+  return first;
+}
+
+uint32_t RoomDescription::addSolidBox(const std::string& name, const Aabb& box,
+                                      const Material& material, bool withBottom) {
+  static constexpr const char* kSide[6] = {"bottom", "top", "xmin", "xmax", "zmin", "zmax"};
+  const auto faces = inwardFaces(box);
+  uint32_t first = static_cast<uint32_t>(quads.size());
+  for (size_t i = withBottom ? 0 : 1; i < faces.size(); ++i) {
+    addQuad(Quad{name + "_" + kSide[i], faces[i].origin, faces[i].v, faces[i].u, material, {}});
+  }
+  solids.push_back(box);
+  return first;
+}
+
+std::optional<RayHit> RoomDescription::intersect(const glm::dvec3& origin, const glm::dvec3& dir,
+                                                 double tMin, double tMax) const {
+  std::optional<RayHit> best;
+  double bestT = tMax;
+  for (uint32_t qi = 0; qi < quads.size(); ++qi) {
+    const Quad& q = quads[qi];
+    const glm::dvec3 n = glm::cross(q.edgeU, q.edgeV);
+    const double denom = glm::dot(n, dir);
+    if (denom == 0) continue;  // parallel: no hit we could see
+    const double t = glm::dot(n, q.origin - origin) / denom;
+    if (!(t > tMin && t < bestT)) continue;
+    // Parametric (s, u) by the 2x2 Gram system, valid for any parallelogram.
+    const glm::dvec3 p = origin + t * dir;
+    const glm::dvec3 r = p - q.origin;
+    const double uu = glm::dot(q.edgeU, q.edgeU), uv = glm::dot(q.edgeU, q.edgeV);
+    const double vv = glm::dot(q.edgeV, q.edgeV);
+    const double ru = glm::dot(r, q.edgeU), rv = glm::dot(r, q.edgeV);
+    const double det = uu * vv - uv * uv;
+    const double s = (ru * vv - rv * uv) / det;
+    const double u = (rv * uu - ru * uv) / det;
+    if (s < 0 || s > 1 || u < 0 || u > 1) continue;
+    bestT = t;
+    best = RayHit{t, qi, s, u, p, glm::normalize(n)};
+  }
+  return best;
+}
+
+bool RoomDescription::segmentBlocked(const glm::dvec3& a, const glm::dvec3& b) const {
+  // Slab test on the open parameter range (eps, 1 - eps): endpoints lying on a box face
+  // (a receiver vertex on the desk top) do not count as blocked.
+  constexpr double kEps = 1e-7;
+  const glm::dvec3 d = b - a;
+  for (const Aabb& box : solids) {
+    double t0 = kEps, t1 = 1 - kEps;
+    bool miss = false;
+    for (int k = 0; k < 3 && !miss; ++k) {
+      if (d[k] == 0) {
+        // Parallel to this slab: strictly inside or it misses (touching a face is not
+        // blocking, so a floor point beside the desk still sees the lights).
+        if (!(a[k] > box.min[k] && a[k] < box.max[k])) miss = true;
+        continue;
+      }
+      double ta = (box.min[k] - a[k]) / d[k], tb = (box.max[k] - a[k]) / d[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (!(t0 < t1)) miss = true;
+    }
+    if (!miss) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// Grid coordinates along one quad edge: every region boundary is a grid line, and each
+// interval between boundaries is cut into ceil(length / size) equal steps, where size is
+// the smallest patch size of the regions spanning that interval (else the target).
+std::vector<double> gridLines(const std::vector<std::pair<double, double>>& spans,
+                              const std::vector<double>& spanSizes, double edgeLength,
+                              double targetSize) {
+  std::vector<double> breaks{0.0, 1.0};
+  for (const auto& [a, b] : spans) {
+    breaks.push_back(std::clamp(a, 0.0, 1.0));
+    breaks.push_back(std::clamp(b, 0.0, 1.0));
+  }
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+  std::vector<double> lines{0.0};
+  for (size_t i = 0; i + 1 < breaks.size(); ++i) {
+    const double a = breaks[i], b = breaks[i + 1];
+    const double mid = 0.5 * (a + b);
+    double size = targetSize;
+    for (size_t r = 0; r < spans.size(); ++r) {
+      if (mid > spans[r].first && mid < spans[r].second && spanSizes[r] > 0) {
+        size = std::min(size, spanSizes[r]);
+      }
+    }
+    const double len = (b - a) * edgeLength;
+    // The small tolerance keeps an exact multiple (3 m / 0.5 m) from gaining a sliver.
+    const int n = std::max(1, static_cast<int>(std::ceil(len / size - 1e-9)));
+    for (int k = 1; k < n; ++k) lines.push_back(a + (b - a) * k / n);
+    lines.push_back(b);
+  }
+  lines.back() = 1.0;
+  return lines;
+}
+
+}  // namespace
+
+PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
+  if (!(targetPatchSize > 0)) {
+    throw std::invalid_argument("buildPatchMesh: target patch size must be positive");
+  }
+  PatchMesh mesh;
+  for (uint32_t qi = 0; qi < room.quads.size(); ++qi) {
+    const Quad& q = room.quads[qi];
+    std::vector<std::pair<double, double>> sSpans, tSpans;
+    std::vector<double> sizes;
+    for (const Region& r : q.regions) {
+      sSpans.emplace_back(r.s0, r.s1);
+      tSpans.emplace_back(r.t0, r.t1);
+      sizes.push_back(r.patchSize);
+    }
+    const std::vector<double> ss = gridLines(sSpans, sizes, glm::length(q.edgeU), targetPatchSize);
+    const std::vector<double> ts = gridLines(tSpans, sizes, glm::length(q.edgeV), targetPatchSize);
+    const glm::dvec3 n = q.normal();
+    const double quadArea = q.area();
+    const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+    const uint32_t ns = static_cast<uint32_t>(ss.size());
+    for (double t : ts) {
+      for (double s : ss) {
+        mesh.positions.push_back(q.point(s, t));
+        mesh.normals.push_back(n);
+      }
+    }
+    for (uint32_t j = 0; j + 1 < ts.size(); ++j) {
+      for (uint32_t i = 0; i + 1 < ns; ++i) {
+        const uint32_t v00 = base + j * ns + i, v10 = v00 + 1;
+        const uint32_t v01 = v00 + ns, v11 = v01 + 1;
+        const double sc = 0.5 * (ss[i] + ss[i + 1]), tc = 0.5 * (ts[j] + ts[j + 1]);
+        const Material& m = q.materialAt(sc, tc);
+        Patch p;
+        p.centre = q.point(sc, tc);
+        p.normal = n;
+        p.area = quadArea * (ss[i + 1] - ss[i]) * (ts[j + 1] - ts[j]);
+        p.reflectance = m.reflectance;
+        p.emission = m.emission;
+        p.quad = qi;
+        p.firstTriangle = static_cast<uint32_t>(mesh.triangleCount());
+        const uint32_t patchId = static_cast<uint32_t>(mesh.patches.size());
+        mesh.patches.push_back(p);
+        // Counter-clockwise about n: cross(U, U + V) = cross(U + V, V) = cross(U, V).
+        mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
+        mesh.trianglePatch.push_back(patchId);
+        mesh.trianglePatch.push_back(patchId);
+      }
+    }
+  }
+  return mesh;
+}
+
+raster::Vec3 toVec3(const glm::dvec3& p) {
+  return raster::Vec3{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+}
+
+raster::Mesh PatchMesh::toRasterMesh() const {
+  raster::Mesh out;
+  out.positions.reserve(positions.size());
+  for (const glm::dvec3& p : positions) out.positions.push_back(toVec3(p));
+  out.indices = indices;
+  return out;
+}
+
+double pointToPatchFormFactor(const glm::dvec3& x, const glm::dvec3& nx,
+                              const glm::dvec3& patchCentre, const glm::dvec3& patchNormal,
+                              double patchArea) {
+  const glm::dvec3 d = patchCentre - x;
+  const double r2 = glm::dot(d, d);
+  if (!(r2 > 0)) return 0;
+  const double r = std::sqrt(r2);
+  const double cosI = glm::dot(nx, d) / r;
+  const double cosJ = -glm::dot(patchNormal, d) / r;
+  if (cosI <= 0 || cosJ <= 0) return 0;
+  return cosI * cosJ * patchArea / (std::numbers::pi * r2 + patchArea);
+}
+
+}  // namespace penumbra::scene

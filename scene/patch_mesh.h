@@ -1,0 +1,146 @@
+// The real room as the shadow pipeline sees it: axis-aligned quads and solid boxes with
+// diffuse materials, triangulated into a patch mesh (Gibson 2003 §4–5: the receiver and
+// source sets are patches of a reconstructed scene model carrying a diffuse reflectance
+// and, for light sources, an emitted radiance).
+//
+// Facing convention (used by every function here): a quad's normal is
+// normalize(cross(edgeU, edgeV)) and points into the room's free air, i.e. towards the
+// side from which the camera, the lights and the receivers see it. addRoomShell() makes
+// the six walls of a room face inwards; addSolidBox() makes the faces of a box standing
+// in the room (a desk) face outwards, which is again "into the air". Triangles are wound
+// counter-clockwise about that normal (the rasterizer draws both windings; the winding
+// only documents the side).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+
+namespace penumbra::scene {
+
+struct Material {
+  glm::dvec3 reflectance{0.5};  // diffuse albedo per channel, in [0, 1]
+  glm::dvec3 emission{0.0};     // emitted radiance per channel (relative units)
+  bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+struct Aabb {
+  glm::dvec3 min{0.0}, max{0.0};
+  glm::dvec3 centre() const { return (min + max) * 0.5; }
+  glm::dvec3 size() const { return max - min; }
+  // Grows the box to contain `p`; an empty() box becomes the point.
+  void extend(const glm::dvec3& p);
+  bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+  static Aabb emptyBox();
+};
+
+// A sub-rectangle of a quad with its own material and patch size, in the quad's
+// parametric coordinates (s along edgeU, t along edgeV, both in [0, 1]): a window in a
+// wall, a light panel in a ceiling. Regions of one quad must not overlap.
+struct Region {
+  std::string name;
+  double s0 = 0, s1 = 1, t0 = 0, t1 = 1;
+  Material material;
+  double patchSize = 0;  // metres; 0 = the mesh's target size
+};
+
+// The parallelogram origin + s*edgeU + t*edgeV, s, t in [0, 1] (a rectangle for the
+// axis-aligned rooms built here).
+struct Quad {
+  std::string name;
+  glm::dvec3 origin{0.0}, edgeU{1, 0, 0}, edgeV{0, 1, 0};
+  Material material;
+  std::vector<Region> regions;
+
+  glm::dvec3 normal() const;
+  double area() const;
+  glm::dvec3 point(double s, double t) const { return origin + s * edgeU + t * edgeV; }
+  // The material at (s, t): the first region containing it, else the quad's own.
+  const Material& materialAt(double s, double t) const;
+};
+
+struct RayHit {
+  double t = 0;         // ray parameter (distance if the direction is unit length)
+  uint32_t quad = 0;    // index into RoomDescription::quads
+  double s = 0, u = 0;  // parametric position on the quad (s along edgeU, u along edgeV)
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};  // the quad's normal (facing convention above)
+};
+
+// The room model: quads (drawn, patched, ray-cast) and solid boxes (their faces are
+// quads too; the boxes themselves block shadow rays, as the desk in Gibson 2003 §9).
+class RoomDescription {
+ public:
+  // Adds a quad; returns its index.
+  uint32_t addQuad(Quad quad);
+  // The six inward-facing walls of `room` (y up): floor (y = min.y), ceiling, then the
+  // walls x = min.x, x = max.x, z = min.z, z = max.z. Returns the index of the floor quad;
+  // the others follow in that order. Regions can be added to them afterwards.
+  uint32_t addRoomShell(const Aabb& room, const Material& floor, const Material& walls,
+                        const Material& ceiling);
+  // A solid box standing in the room, faces outward, in the order bottom, top, x = min.x,
+  // x = max.x, z = min.z, z = max.z (the bottom is skipped when `withBottom` is false,
+  // e.g. a box resting on the floor). Returns the index of its first quad.
+  uint32_t addSolidBox(const std::string& name, const Aabb& box, const Material& material,
+                       bool withBottom);
+
+  // Nearest hit with t in (tMin, tMax), either side of a quad.
+  std::optional<RayHit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMin,
+                                  double tMax) const;
+  // True when a solid box blocks the open segment from `a` to `b`. The room shell is
+  // convex, so only the solid boxes can occlude (Gibson 2003 §5: point-to-patch
+  // visibility by ray casting).
+  bool segmentBlocked(const glm::dvec3& a, const glm::dvec3& b) const;
+
+  std::vector<Quad> quads;
+  std::vector<Aabb> solids;
+};
+
+// One patch: a grid cell of a quad, drawn as two triangles.
+struct Patch {
+  glm::dvec3 centre{0.0};
+  glm::dvec3 normal{0.0};
+  double area = 0;
+  glm::dvec3 reflectance{0.0};
+  glm::dvec3 emission{0.0};
+  uint32_t quad = 0;           // source quad in the RoomDescription
+  uint32_t firstTriangle = 0;  // triangles firstTriangle and firstTriangle + 1
+  bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+struct PatchMesh {
+  std::vector<glm::dvec3> positions;    // per vertex, world space
+  std::vector<glm::dvec3> normals;      // per vertex (vertices are shared within a quad only)
+  std::vector<uint32_t> indices;        // 3 per triangle
+  std::vector<uint32_t> trianglePatch;  // per triangle: index into patches
+  std::vector<Patch> patches;
+
+  size_t triangleCount() const { return indices.size() / 3; }
+  // Positions rounded to float once, same indices: the trace's static mesh.
+  raster::Mesh toRasterMesh() const;
+};
+
+// Splits every quad into a grid of patches about `targetPatchSize` metres on a side
+// (each region's own size inside it), two triangles per patch. Grid lines pass through
+// every region boundary so each patch has one material; a region's finer spacing runs
+// across its whole quad as strips, which keeps the grid conforming (no T-junctions).
+PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize);
+
+// Point-to-patch form factor from a receiver point `x` with unit normal `nx` to a
+// patch (centre, unit normal, area): cos_i cos_j A / (pi r^2 + A), each cosine clamped at
+// 0 (Gibson 2003 §5). The "+ A" is the disc approximation of Wallace et al. 1989: it
+// equals the point-to-patch form factor when r^2 >> A but stays below 1 as r -> 0, where
+// the pure 1/r^2 term would blow up for receivers touching an emitter's edge.
+double pointToPatchFormFactor(const glm::dvec3& x, const glm::dvec3& nx,
+                              const glm::dvec3& patchCentre, const glm::dvec3& patchNormal,
+                              double patchArea);
+
+// Converts a double point to the trace's float vector (one rounding).
+raster::Vec3 toVec3(const glm::dvec3& p);
+
+}  // namespace penumbra::scene

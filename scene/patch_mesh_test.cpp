@@ -1,0 +1,149 @@
+#include "scene/patch_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "scene/camera.h"
+
+namespace penumbra::scene {
+namespace {
+
+RoomDescription testRoom() {
+  RoomDescription room;
+  const uint32_t floor = room.addRoomShell(
+      Aabb{glm::dvec3(0), glm::dvec3(6, 3, 5)}, Material{glm::dvec3(0.4), glm::dvec3(0)},
+      Material{glm::dvec3(0.7), glm::dvec3(0)}, Material{glm::dvec3(0.8), glm::dvec3(0)});
+  Quad& ceiling = room.quads[floor + 1];
+  ceiling.regions.push_back(
+      Region{"light", 0.3, 0.4, 0.3, 0.42, Material{glm::dvec3(0), glm::dvec3(10)}, 0.2});
+  room.addSolidBox("desk", Aabb{glm::dvec3(4, 0, 3), glm::dvec3(5.5, 0.75, 4)},
+                   Material{glm::dvec3(0.5), glm::dvec3(0)}, false);
+  return room;
+}
+
+TEST(PatchMesh, ShellNormalsFaceIntoTheRoom) {
+  const RoomDescription room = testRoom();
+  const glm::dvec3 inside(3, 1.5, 2.5);
+  for (size_t i = 0; i < 6; ++i) {
+    const Quad& q = room.quads[i];
+    const glm::dvec3 c = q.point(0.5, 0.5);
+    EXPECT_GT(glm::dot(q.normal(), inside - c), 0) << q.name;
+  }
+  // Desk faces point away from the desk's centre (into the room's air).
+  const glm::dvec3 deskCentre(4.75, 0.375, 3.5);
+  for (size_t i = 6; i < room.quads.size(); ++i) {
+    const Quad& q = room.quads[i];
+    EXPECT_LT(glm::dot(q.normal(), deskCentre - q.point(0.5, 0.5)), 0) << q.name;
+  }
+}
+
+TEST(PatchMesh, PatchAreasSumToQuadAreas) {
+  const RoomDescription room = testRoom();
+  const PatchMesh mesh = buildPatchMesh(room, 0.45);
+  std::vector<double> sums(room.quads.size(), 0.0);
+  for (const Patch& p : mesh.patches) sums[p.quad] += p.area;
+  for (size_t i = 0; i < room.quads.size(); ++i) {
+    EXPECT_NEAR(sums[i], room.quads[i].area(), 1e-9 * room.quads[i].area()) << room.quads[i].name;
+  }
+}
+
+TEST(PatchMesh, TrianglesMatchPatches) {
+  const PatchMesh mesh = buildPatchMesh(testRoom(), 0.45);
+  ASSERT_EQ(mesh.triangleCount(), 2 * mesh.patches.size());
+  ASSERT_EQ(mesh.trianglePatch.size(), mesh.triangleCount());
+  ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+  for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Patch& p = mesh.patches[mesh.trianglePatch[t]];
+    EXPECT_EQ(p.firstTriangle, t - t % 2);
+    const glm::dvec3 a = mesh.positions[mesh.indices[3 * t]];
+    const glm::dvec3 b = mesh.positions[mesh.indices[3 * t + 1]];
+    const glm::dvec3 c = mesh.positions[mesh.indices[3 * t + 2]];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    // Counter-clockwise about the patch normal, and half the patch each.
+    EXPECT_GT(glm::dot(n, p.normal), 0);
+    EXPECT_NEAR(0.5 * glm::length(n), 0.5 * p.area, 1e-12);
+  }
+}
+
+TEST(PatchMesh, PatchSizeAndRegions) {
+  const RoomDescription room = testRoom();
+  const PatchMesh mesh = buildPatchMesh(room, 0.45);
+  double emittingArea = 0;
+  for (const Patch& p : mesh.patches) {
+    if (p.emits()) {
+      emittingArea += p.area;
+      EXPECT_LE(p.area, 0.2 * 0.2 + 1e-12);  // the region's own size
+    } else {
+      EXPECT_LE(p.area, 0.45 * 0.45 + 1e-12);
+    }
+  }
+  // The region (0.6 m x 0.6 m of the 6 x 5 ceiling) is covered exactly by its patches.
+  EXPECT_NEAR(emittingArea, 0.6 * 0.6, 1e-9);
+}
+
+TEST(PatchMesh, RayHitsNearestQuad) {
+  const RoomDescription room = testRoom();
+  // Straight down onto the desk top from above it.
+  auto hit = room.intersect(glm::dvec3(4.5, 2, 3.5), glm::dvec3(0, -1, 0), 0, 100);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->point.y, 0.75, 1e-12);
+  EXPECT_EQ(room.quads[hit->quad].name, "desk_top");
+  // Up into the ceiling light region.
+  hit = room.intersect(glm::dvec3(2.1, 1, 1.8), glm::dvec3(0, 1, 0), 0, 100);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(room.quads[hit->quad].materialAt(hit->s, hit->u).emits());
+  EXPECT_TRUE(room.segmentBlocked(glm::dvec3(4.5, 2, 3.5), glm::dvec3(4.5, 0, 3.5)));
+  EXPECT_FALSE(room.segmentBlocked(glm::dvec3(1, 0, 1), glm::dvec3(2, 3, 2)));
+  // A point on the desk top sees the ceiling.
+  EXPECT_FALSE(room.segmentBlocked(glm::dvec3(4.5, 0.75, 3.5), glm::dvec3(4.5, 3, 3.5)));
+}
+
+TEST(PatchMesh, FormFactorMatchesPointToPatchFarAway) {
+  const glm::dvec3 x(0), n(0, 1, 0);
+  const double f = pointToPatchFormFactor(x, n, glm::dvec3(0, 10, 0), glm::dvec3(0, -1, 0), 0.01);
+  // The disc term changes it by A / (pi r^2) relative: 3e-5 here.
+  EXPECT_NEAR(f, 0.01 / (std::numbers::pi * 100), 1e-4 * f);
+  EXPECT_LE(pointToPatchFormFactor(x, n, glm::dvec3(0, 1e-6, 0), glm::dvec3(0, -1, 0), 1), 1.0);
+  EXPECT_EQ(pointToPatchFormFactor(x, n, glm::dvec3(0, -1, 0), glm::dvec3(0, 1, 0), 1), 0.0);
+}
+
+TEST(Camera, ProjectsTargetToCentreAndDepthRange) {
+  Camera cam;
+  cam.eye = glm::dvec3(1, 2, 3);
+  cam.target = glm::dvec3(4, 1, -2);
+  cam.zNear = 0.5;
+  cam.zFar = 40;
+  const glm::dmat4 vp = cam.viewProj();
+  const glm::dvec4 c = vp * glm::dvec4(cam.target, 1);
+  EXPECT_NEAR(c.x / c.w, 0, 1e-12);
+  EXPECT_NEAR(c.y / c.w, 0, 1e-12);
+  const glm::dvec3 f = glm::normalize(cam.target - cam.eye);
+  const glm::dvec4 pn = vp * glm::dvec4(cam.eye + cam.zNear * f, 1);
+  const glm::dvec4 pf = vp * glm::dvec4(cam.eye + cam.zFar * f, 1);
+  EXPECT_NEAR(pn.z / pn.w, -1, 1e-9);
+  EXPECT_NEAR(pf.z / pf.w, 1, 1e-9);
+  // Row-major export: element (r, c) at m[4r + c].
+  const raster::Mat4 m = toRasterMat4(vp);
+  EXPECT_EQ(m.m[3 * 4 + 2], static_cast<float>(vp[2][3]));
+  EXPECT_EQ(m.m[0 * 4 + 3], static_cast<float>(vp[3][0]));
+}
+
+TEST(Camera, RayDirectionMatchesProjection) {
+  Camera cam;
+  cam.eye = glm::dvec3(0.3, 1.6, 0.3);
+  cam.target = glm::dvec3(3, 0.7, 2.5);
+  cam.aspect = 640.0 / 480.0;
+  const glm::dmat4 vp = cam.viewProj();
+  for (const auto& [xw, yw] : {std::pair{10.5, 20.5}, std::pair{600.0, 470.0}}) {
+    const glm::dvec3 p = cam.eye + 3.0 * cam.rayDirection(xw, yw, 640, 480);
+    const glm::dvec4 c = vp * glm::dvec4(p, 1);
+    EXPECT_NEAR((c.x / c.w) * 320 + 320, xw, 1e-9);
+    EXPECT_NEAR(-(c.y / c.w) * 240 + 240, yw, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::scene

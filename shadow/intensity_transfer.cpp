@@ -1,0 +1,115 @@
+#include "shadow/intensity_transfer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace penumbra::shadow {
+
+ToneCurve ToneCurve::fromSamples(std::span<const Sample> samples) {
+  if (samples.size() < 2) throw std::invalid_argument("ToneCurve: need at least two samples");
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const Sample& s = samples[i];
+    if (!std::isfinite(s.radiance) || !std::isfinite(s.value)) {
+      throw std::invalid_argument("ToneCurve: samples must be finite");
+    }
+    if (i > 0 && (s.radiance < samples[i - 1].radiance || s.value < samples[i - 1].value)) {
+      throw std::invalid_argument("ToneCurve: samples must be non-decreasing");
+    }
+  }
+  ToneCurve curve;
+  const double inf = std::numeric_limits<double>::infinity();
+  size_t seg = 0;
+  for (int k = 1; k <= 255; ++k) {
+    // Code k starts where the interpolated value reaches k - 0.5 (round to nearest).
+    const double level = k - 0.5;
+    if (samples.front().value >= level) {
+      curve.thresholds_[k - 1] = -inf;  // every radiance already reaches code k
+      continue;
+    }
+    while (seg + 1 < samples.size() && samples[seg + 1].value < level) ++seg;
+    if (seg + 1 == samples.size()) {
+      curve.thresholds_[k - 1] = inf;
+      continue;
+    }
+    const Sample& a = samples[seg];
+    const Sample& b = samples[seg + 1];
+    // a.value < level <= b.value, so b.value > a.value and the division is safe.
+    const double f = (level - a.value) / (b.value - a.value);
+    curve.thresholds_[k - 1] = a.radiance + f * (b.radiance - a.radiance);
+  }
+  // Interpolation keeps the table sorted; enforce it against rounding so that the
+  // binary search (and hence T's monotonicity) is exact.
+  for (int k = 1; k < 255; ++k) {
+    curve.thresholds_[k] = std::max(curve.thresholds_[k], curve.thresholds_[k - 1]);
+  }
+  return curve;
+}
+
+ToneCurve ToneCurve::gamma(double exposure, double gamma) {
+  if (!(exposure > 0) || !(gamma > 0)) {
+    throw std::invalid_argument("ToneCurve::gamma: exposure and gamma must be positive");
+  }
+  std::vector<Sample> samples;
+  samples.reserve(511);
+  for (int h = 0; h <= 510; ++h) {
+    const double value = 0.5 * h;
+    samples.push_back({std::pow(value / 255.0, gamma) / exposure, value});
+  }
+  return fromSamples(samples);
+}
+
+uint8_t ToneCurve::operator()(double radiance) const {
+  if (std::isnan(radiance)) return 0;
+  // Number of thresholds <= radiance.
+  const auto it = std::upper_bound(thresholds_.begin(), thresholds_.end(), radiance);
+  return static_cast<uint8_t>(it - thresholds_.begin());
+}
+
+raster::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
+  return raster::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
+}
+
+uint64_t splitmix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+int sourceSet(uint64_t seed, uint64_t sourceId) {
+  // State of a SplitMix64 stream seeded with `seed` after `sourceId` steps: each id draws
+  // an independent, reproducible value.
+  const uint64_t id = splitmix64(seed + sourceId * 0x9E3779B97F4A7C15ull);
+  return (id & 1) == 0 ? 1 : 2;
+}
+
+void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                        std::span<const uint8_t> sets, const ToneCurve& tone,
+                        std::span<raster::Rgb8> out) {
+  if (transfers.size() != sets.size() || transfers.size() != out.size()) {
+    throw std::invalid_argument("intensityTransfers: transfers, sets and out differ in length");
+  }
+  // Gibson 2003 Fig. 4: V1 = V2 = L_i, C1 = C2 = T(L_i); each source subtracts its
+  // transfer from its own set's running radiance and takes the drop in T as S_ij.
+  std::array<glm::dvec3, 2> v = {totalRadiance, totalRadiance};
+  const raster::Rgb8 c0 = tone.map(totalRadiance);
+  std::array<raster::Rgb8, 2> c = {c0, c0};
+  for (size_t j = 0; j < transfers.size(); ++j) {
+    if (sets[j] != 1 && sets[j] != 2) {
+      throw std::invalid_argument("intensityTransfers: set must be 1 or 2");
+    }
+    const int k = sets[j] - 1;
+    v[k] -= glm::max(transfers[j], glm::dvec3(0.0));
+    const raster::Rgb8 next = tone.map(v[k]);
+    // T is monotone and V only decreases, so each difference is in [0, 255].
+    out[j] =
+        raster::Rgb8{static_cast<uint8_t>(c[k].r - next.r), static_cast<uint8_t>(c[k].g - next.g),
+                     static_cast<uint8_t>(c[k].b - next.b)};
+    c[k] = next;
+  }
+}
+
+}  // namespace penumbra::shadow

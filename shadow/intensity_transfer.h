@@ -1,0 +1,70 @@
+// LDR intensity transfers S_ij from HDR radiance transfers L_ij (Gibson 2003 §7.1–7.1.1,
+// Fig. 4), and the camera response T() they are measured through.
+//
+// The frame buffer holds 8-bit colours I = T(L). Subtracting S_ij * M_ij from it must
+// mimic T(L_i - sum_j L_ij M_ij) (§7.1, Eq. 3–4). Because the masks M are unknown before
+// rendering, Fig. 4 assumes the sources fall into two equally likely sets, each occluded
+// as a whole, and makes each set's transfers telescope: within a set,
+// sum_j S_ij = T(L_i) - T(L_i - sum_j L_ij).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+
+namespace penumbra::shadow {
+
+// A monotone camera response: radiance -> 8-bit code (Gibson 2003 §3, "calibrated camera
+// response function T()"). Stored as the 255 radiances at which the code steps up, so a
+// lookup is one binary search over a sorted table: no libm in the per-vertex path, and
+// monotonicity is exact (the telescoping property depends on it).
+class ToneCurve {
+ public:
+  struct Sample {
+    double radiance;  // non-decreasing over the samples
+    double value;     // continuous output in [0, 255], non-decreasing
+  };
+
+  // Piecewise-linear response through `samples` (at least two), constant outside them;
+  // a radiance maps to the code nearest its interpolated value (ties upwards).
+  // Throws std::invalid_argument for fewer than two or non-monotone samples.
+  static ToneCurve fromSamples(std::span<const Sample> samples);
+
+  // An sRGB-like display response: value = 255 * min(1, exposure * L)^(1 / gamma),
+  // sampled at every half code.
+  static ToneCurve gamma(double exposure, double gamma = 2.2);
+
+  // T(L) for one channel. NaN maps to 0.
+  uint8_t operator()(double radiance) const;
+  raster::Rgb8 map(const glm::dvec3& radiance) const;
+
+  // The smallest radiance with code >= k, k in 1..255 (+inf if never reached).
+  double threshold(int code) const { return thresholds_[code - 1]; }
+
+ private:
+  std::array<double, 255> thresholds_{};
+};
+
+// SplitMix64 output function (Steele, Lea & Flood 2014) of the state `x`.
+uint64_t splitmix64(uint64_t x);
+
+// Which of the two occlusion sets of Gibson 2003 §7.1.1 source patch `sourceId` belongs
+// to: 1 for an even pseudo-random id, 2 for an odd one. A counter-based hash of
+// (seed, id) rather than a running generator, so a source keeps its set from frame to
+// frame whatever else is in the source list (the paper's "randomly generated id").
+int sourceSet(uint64_t seed, uint64_t sourceId);
+
+// Fig. 4 for one receiver vertex. `totalRadiance` is L_i (per channel); `transfers` are
+// the L_ij of the contributing sources in the frame's source order (decreasing average
+// transfer, §7.1.1 pre-process); `sets[j]` is 1 or 2 (sourceSet). Writes S_ij to `out`
+// (same length as `transfers`). Negative transfers count as 0. Throws
+// std::invalid_argument on length mismatch or a set other than 1 or 2.
+void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                        std::span<const uint8_t> sets, const ToneCurve& tone,
+                        std::span<raster::Rgb8> out);
+
+}  // namespace penumbra::shadow

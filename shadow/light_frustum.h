@@ -1,0 +1,45 @@
+// Fitting a shadow-map frustum to an occluder, and the conservative receiver test that
+// goes with it (Gibson 2003 §7.2: "initialising the projection and model-view matrices so
+// the synthetic object is contained entirely within the shadow-map, as seen from the
+// source patch").
+#pragma once
+
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+#include "scene/patch_mesh.h"
+
+namespace penumbra::shadow {
+
+struct LightFrustum {
+  glm::dmat4 viewProj{1.0};     // world -> light clip space, GL conventions, double
+  raster::Mat4 rasterViewProj;  // the same, rounded to float once (the trace's matrix)
+  glm::dvec3 sphereCentre{0.0};
+  double sphereRadius = 0;
+  double zNear = 0, zFar = 0;
+  double fovY = 0;  // radians; the map is square (aspect 1)
+};
+
+// Closest distance to the source at which the near plane may sit (1 mm): a closer plane
+// would spend the whole depth range of the map on the first millimetres.
+inline constexpr double kMinLightNear = 1e-3;
+
+// A perspective view-projection from the point `source` looking at the centre of the
+// bounding sphere of `occluderBounds`: the field of view just encloses the sphere, the
+// near plane sits just in front of it (at least kMinLightNear) and the far plane at
+// `farDistance` from the source (pass the room's extent so every receiver is in range).
+// Returns nullopt when the source lies inside the sphere (no frustum can hold the
+// object; the caller skips that source) or the bounds are empty or not finite.
+std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
+                                            const scene::Aabb& occluderBounds, double farDistance);
+
+// Conservative receiver test: false only when all three vertices lie outside one plane of
+// the frustum's clip volume (x, y = ±w, the near plane just in front of the occluder and
+// the far plane). Points behind the source are handled because each test is a half-space
+// in homogeneous coordinates. A true result may still receive no shadow.
+bool triangleMayReceive(const glm::dmat4& lightViewProj, const glm::dvec3& a, const glm::dvec3& b,
+                        const glm::dvec3& c);
+
+}  // namespace penumbra::shadow
