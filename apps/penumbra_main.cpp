@@ -85,14 +85,15 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
   raster::Renderer renderer(trace.view, options);
   std::vector<uint8_t> rgba(size_t{trace.view.width} * trace.view.height * 4);
   renderer.render(trace.frame, rgba);  // warm-up: caches, page faults, thread start
-  std::vector<double> ms, mapsMs, tilesMs;
+  std::vector<double> ms, objectsMs, passesMs, finishMs;
   for (int f = 0; f < frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
     renderer.render(trace.frame, rgba);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());
-    mapsMs.push_back(renderer.lastStats().msShadowMaps);
-    tilesMs.push_back(renderer.lastStats().msTiles);
+    objectsMs.push_back(renderer.lastStats().msObjects);
+    passesMs.push_back(renderer.lastStats().msPasses);
+    finishMs.push_back(renderer.lastStats().msFinish);
   }
   auto median = [](std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -105,17 +106,19 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
               options.threads, options.tileSize, frames);
   std::printf("ms_per_frame median %.3f min %.3f\n", median(ms),
               *std::min_element(ms.begin(), ms.end()));
-  std::printf("stage_ms_median shadow_maps %.3f tiles %.3f\n", median(mapsMs), median(tilesMs));
+  std::printf("stage_ms_median objects %.3f passes %.3f finish %.3f\n", median(objectsMs),
+              median(passesMs), median(finishMs));
   std::printf("pixels shadow_map %llu pass %llu object %llu\n",
               static_cast<unsigned long long>(stats.shadowMapPixels),
               static_cast<unsigned long long>(stats.passPixels),
               static_cast<unsigned long long>(stats.objectPixels));
-  // Cycles per pass pixel, to project the cost to other CPUs (docs/performance.md): all
-  // tile work (copies, object, passes) per receiver pixel, at the nominal clock, per thread.
+  // Cycles per receiver pixel per pass, to project the cost to other CPUs: the whole pass
+  // stage (shadow maps, S, masks) per matched receiver pixel, at the nominal clock, summed
+  // over threads.
   const double hz = nominalCpuHz();
   if (hz > 0 && stats.passPixels > 0) {
-    std::printf("tile_cycles_per_pass_pixel %.2f (at %.0f MHz, %d threads)\n",
-                median(tilesMs) * 1e-3 * hz * options.threads / double(stats.passPixels),
+    std::printf("pass_cycles_per_receiver_pixel %.2f (at %.0f MHz, %d threads)\n",
+                median(passesMs) * 1e-3 * hz * options.threads / double(stats.passPixels),
                 hz * 1e-6, options.threads);
   }
   std::printf("sha256 %s\n", scene::sha256Hex(rgba).c_str());

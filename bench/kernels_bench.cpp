@@ -31,11 +31,10 @@ void BM_ProductU8(benchmark::State& state, simd::Isa isa) {
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(out.size()));
 }
 
-// One 64x4-pixel block of the shading sweep of a pass (spec §6 step 4, §7): every pixel
+// One 64x4-pixel block of the mask sweep of a pass (spec §6 step 4, §7): every pixel
 // marked, each looks up a 256x256 shadow map; `pcf` selects the 2x2 filter.
-void BM_ShadeRows(benchmark::State& state, simd::Isa isa, bool pcf) {
+void BM_AccumulateRows(benchmark::State& state, simd::Isa isa, bool pcf) {
   constexpr int32_t kRows = 4, kWidth = 64;
-  std::vector<uint8_t> rgba(4 * kWidth * kRows, 200);
   std::vector<float> depth(kWidth * kRows, 0.5f);
   std::vector<uint32_t> s(kWidth * kRows);
   std::vector<float> map(256 * 256);
@@ -54,12 +53,13 @@ void BM_ShadeRows(benchmark::State& state, simd::Isa isa, bool pcf) {
   lookup.bias = 0.001f;
   lookup.pcf2x2 = pcf;
   const std::vector<int32_t> xa(kRows, 0), xb(kRows, kWidth);
+  std::vector<uint16_t> acc(3 * kWidth * kRows);
   const raster::SpanKernels& k = raster::spanKernelsFor(isa);
   for (auto _ : state) {
     std::fill(s.begin(), s.end(), 0x141414u);
-    k.shadeRows(rgba.data(), depth.data(), s.data(), kWidth, 0, kRows, xa.data(), xb.data(),
-                lookup);
-    benchmark::DoNotOptimize(rgba.data());
+    k.accumulateRows(depth.data(), s.data(), acc.data(), kWidth * kRows, kWidth, 0, kRows,
+                     xa.data(), xb.data(), lookup);
+    benchmark::DoNotOptimize(acc.data());
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * kWidth * kRows);
 }
@@ -102,8 +102,10 @@ void registerAll() {
     const std::string n = simd::isaName(isa);
     benchmark::RegisterBenchmark(("ProductU8/" + n).c_str(), BM_ProductU8, isa);
     benchmark::RegisterBenchmark(("DepthLess/" + n).c_str(), BM_DepthLess, isa);
-    benchmark::RegisterBenchmark(("ShadeRows/binary/" + n).c_str(), BM_ShadeRows, isa, false);
-    benchmark::RegisterBenchmark(("ShadeRows/pcf2x2/" + n).c_str(), BM_ShadeRows, isa, true);
+    benchmark::RegisterBenchmark(("AccumulateRows/binary/" + n).c_str(), BM_AccumulateRows, isa,
+                                 false);
+    benchmark::RegisterBenchmark(("AccumulateRows/pcf2x2/" + n).c_str(), BM_AccumulateRows, isa,
+                                 true);
     benchmark::RegisterBenchmark(("Frame/" + n).c_str(), BM_Frame, isa)
         ->Arg(1)
         ->Arg(2)

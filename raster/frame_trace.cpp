@@ -209,6 +209,13 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
   for (size_t i = 0; i < frame.occluders.size(); ++i) {
     validateMesh(frame.occluders[i], where, "occluders[" + std::to_string(i) + "]");
   }
+  // Each pass subtracts at most 255 per channel and the renderer sums them in 16 bits
+  // (spec §8): 257 * 255 = 65535.
+  if (frame.passes.size() > kMaxPasses) {
+    fail(where, "passes",
+         std::to_string(frame.passes.size()) + " passes, at most " + std::to_string(kMaxPasses) +
+             " are allowed");
+  }
   for (size_t i = 0; i < frame.passes.size(); ++i) {
     const ShadowPass& pass = frame.passes[i];
     const std::string field = "passes[" + std::to_string(i) + "]";

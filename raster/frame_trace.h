@@ -93,6 +93,7 @@ class TraceError : public std::runtime_error {
 // Limits a valid trace respects (docs/trace-format.md §Limits).
 inline constexpr uint32_t kMaxImageSide = 4096;
 inline constexpr uint32_t kMaxShadowMapSize = 4096;
+inline constexpr size_t kMaxPasses = 257;
 
 // Checks sizes, indices and finiteness; throws TraceError naming `where` and the field.
 void validateTrace(const FrameTrace& trace, const std::string& where);

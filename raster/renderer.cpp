@@ -74,27 +74,9 @@ bool invert(const Mat4d& m, Mat4d& inv) {
   return true;
 }
 
-// A receiver triangle of one pass, ready to draw: which static sub-triangle, its S planes.
-struct PassTriangle {
-  uint32_t staticSub;
-  SpanPlanes s;
-};
-
-struct PassWork {
-  std::vector<float> shadowMap;
-  ShadowLookup lookup{};
-  std::vector<PassTriangle> triangles;
-  uint64_t mapPixels = 0;
-};
-
 struct ObjectTriangle {
   SetupTriangle t;
   SpanPlanes planes;
-};
-
-struct TileItem {
-  uint32_t pass;  // index into passes
-  uint32_t tri;   // index into that pass's triangles
 };
 
 // Draws `t` over rows [y0, y1) and columns [x0, x1): `full` means every pixel is covered.
@@ -102,11 +84,28 @@ template <class Fn>
 void forEachRun(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1, bool full,
                 Fn&& fn) {
   const int32_t rowBegin = std::max(y0, t.minY), rowEnd = std::min(y1, t.maxY);
-  for (int32_t y = rowBegin; y < rowEnd; ++y) {
-    int32_t xa = x0, xb = x1;
-    if (full || rowSpan(t, y, x0, x1, xa, xb)) fn(y, xa, xb);
+  if (full) {
+    for (int32_t y = rowBegin; y < rowEnd; ++y) fn(y, x0, x1);
+    return;
+  }
+  RowWalker walker(t, rowBegin);
+  for (int32_t y = rowBegin; y < rowEnd; ++y, walker.nextRow()) {
+    int32_t xa, xb;
+    if (walker.span(x0, x1, xa, xb)) fn(y, xa, xb);
   }
 }
+
+// What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
+struct Worker {
+  std::vector<float> shadowMap;
+  std::vector<uint32_t> s;                  // packed S of the current pass; zero between passes
+  std::vector<uint16_t> acc;                // r, g, b planes: sum of this thread's per-pass amounts
+  std::vector<int32_t> passBegin, passEnd;  // per row: run of the current pass
+  std::vector<int32_t> touchedBegin, touchedEnd;  // per row: union over this frame
+  std::vector<ClipVertex> clip;
+  std::vector<std::array<SnappedVertex, 3>> fan;
+  uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0;
+};
 
 }  // namespace
 
@@ -115,46 +114,50 @@ struct Renderer::Impl {
   RenderOptions options;
   const SpanKernels* kernels;
   JobPool pool;
-  size_t stride;  // pixels per internal row
-  int32_t tilesX, tilesY;
+  size_t stride;     // pixels per internal row (spec §8)
+  size_t planeSize;  // stride * height
+  int32_t width, height, tilesX, tilesY;
   Mat4d windowToWorld;  // C^-1 V^-1 (spec §7)
 
   // Static cache (spec §6 step 2).
   std::vector<SetupTriangle> staticSubs;
   std::vector<uint32_t> staticSubOwner;      // original triangle index of each sub-triangle
   std::vector<uint32_t> firstSubOfTriangle;  // triangle t -> subs [first[t], first[t+1])
-  std::vector<uint32_t> tileListStart;       // sub s -> tileEntries [start[s], start[s+1])
-  std::vector<uint32_t> tileEntries;         // tile indices
   std::vector<float> staticDepth;
   std::vector<uint32_t> staticId;
-  // Row runs of every static sub-triangle, computed once (spec §4): the camera is fixed, so
-  // passes never divide. Sub-triangle s has rows [minY, maxY) at spanStart[s].
+  // Row runs of every static sub-triangle, computed once (spec §4): the camera is fixed.
+  // Sub-triangle s has rows [minY, maxY) at spanStart[s]; empty runs have xa >= xb.
   std::vector<uint32_t> spanStart;
-  std::vector<std::pair<int32_t, int32_t>> spans;  // [xa, xb); empty runs have xa >= xb
+  std::vector<std::pair<int32_t, int32_t>> spans;
 
-  // Per-frame working state, reused.
+  // Frame buffers. depth and id equal the static cache except in tiles that hold object
+  // pixels; rgba holds a tile's base colours only while the tile is being drawn.
   std::vector<uint8_t> rgba;
   std::vector<float> depth;
   std::vector<uint32_t> id;
-  std::vector<uint32_t> sScratch;  // packed S of the current pass, zero outside it (spec §6)
+  std::vector<uint8_t> tileHasObject, tileHadObject;
   std::vector<ObjectTriangle> objectTriangles;
   std::vector<std::vector<std::pair<uint32_t, bool>>> tileObjects;
-  std::vector<std::vector<TileItem>> tileItems;
-  std::vector<PassWork> passes;
-  std::vector<std::array<uint64_t, 2>> workerCounts;  // object pixels, pass pixels
+  std::vector<Worker> workers;
   FrameStats stats;
 
   Impl(const StaticView& v, const RenderOptions& o);
   void buildStaticCache();
   void prepareObjects(const FrameContent& frame);
-  void preparePass(const FrameContent& frame, size_t index);
-  void bin();
-  void drawTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out, int worker);
+  void compositeObjects(uint32_t tile, const FrameContent& frame, Worker& w);
+  void runPass(const FrameContent& frame, size_t index, Worker& w);
+  void finishTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out);
+  void tileRect(uint32_t tile, int32_t& x0, int32_t& y0, int32_t& x1, int32_t& y1) const {
+    x0 = static_cast<int32_t>(tile % static_cast<uint32_t>(tilesX)) * options.tileSize;
+    y0 = static_cast<int32_t>(tile / static_cast<uint32_t>(tilesX)) * options.tileSize;
+    x1 = std::min(x0 + options.tileSize, width);
+    y1 = std::min(y0 + options.tileSize, height);
+  }
 };
 
 Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
     : view(v), options(o), kernels(nullptr), pool(std::max(1, o.threads)) {
-  if (o.threads < 1) throw std::invalid_argument("threads must be at least 1");
+  if (o.threads < 1 || o.threads > 256) throw std::invalid_argument("threads must be in 1..256");
   if (o.tileSize != 16 && o.tileSize != 32 && o.tileSize != 64) {
     throw std::invalid_argument("tile size must be 16, 32 or 64");
   }
@@ -174,24 +177,37 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
   const double hw = v.width / 2.0, hh = v.height / 2.0;
   const Mat4d viewportInverse = {1.0 / hw, 0, 0, -1, 0, -1.0 / hh, 0, 1, 0, 0, 2, -1, 0, 0, 0, 1};
   windowToWorld = multiply(cameraInverse, viewportInverse);
+  width = static_cast<int32_t>(v.width);
+  height = static_cast<int32_t>(v.height);
   stride = (size_t{v.width} + kRowAlign - 1) / kRowAlign * kRowAlign;
-  tilesX = static_cast<int32_t>((v.width + o.tileSize - 1) / o.tileSize);
-  tilesY = static_cast<int32_t>((v.height + o.tileSize - 1) / o.tileSize);
-  rgba.assign(stride * v.height * 4, 0);
-  depth.assign(stride * v.height, kInfinity);
-  id.assign(stride * v.height, kNoSurface);
-  sScratch.assign(stride * v.height, 0);
-  tileObjects.resize(size_t(tilesX) * tilesY);
-  tileItems.resize(size_t(tilesX) * tilesY);
-  workerCounts.resize(size_t(pool.threads()));
+  planeSize = stride * v.height;
+  tilesX = (width + o.tileSize - 1) / o.tileSize;
+  tilesY = (height + o.tileSize - 1) / o.tileSize;
+  const size_t tiles = size_t(tilesX) * size_t(tilesY);
+  rgba.assign(planeSize * 4, 0);
+  tileHasObject.assign(tiles, 0);
+  tileHadObject.assign(tiles, 0);
+  tileObjects.resize(tiles);
+  workers.resize(size_t(pool.threads()));
+  for (Worker& w : workers) {
+    w.s.assign(planeSize, 0);
+    w.acc.assign(planeSize * 3, 0);
+    w.passBegin.assign(v.height, width);
+    w.passEnd.assign(v.height, 0);
+    w.touchedBegin.assign(v.height, width);
+    w.touchedEnd.assign(v.height, 0);
+  }
   buildStaticCache();
+  depth = staticDepth;
+  id = staticId;
 }
 
 void Renderer::Impl::buildStaticCache() {
   const Mesh& mesh = view.staticMesh;
   std::vector<ClipVertex> clip(mesh.positions.size());
-  for (size_t i = 0; i < clip.size(); ++i)
+  for (size_t i = 0; i < clip.size(); ++i) {
     clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
+  }
   std::vector<std::array<SnappedVertex, 3>> fan;
   const size_t triangles = mesh.triangleCount();
   firstSubOfTriangle.assign(triangles + 1, 0);
@@ -210,59 +226,35 @@ void Renderer::Impl::buildStaticCache() {
   }
   firstSubOfTriangle[triangles] = static_cast<uint32_t>(staticSubs.size());
 
-  // Depth and ids once, in triangle order (spec §6 step 2).
-  staticDepth.assign(stride * view.height, kInfinity);
-  staticId.assign(stride * view.height, kNoSurface);
-  const int32_t width = static_cast<int32_t>(view.width);
+  // Depth, ids and runs once, in triangle order (spec §6 step 2).
+  staticDepth.assign(planeSize, kInfinity);
+  staticId.assign(planeSize, kNoSurface);
+  spanStart.assign(staticSubs.size() + 1, 0);
   for (size_t s = 0; s < staticSubs.size(); ++s) {
     const SetupTriangle& t = staticSubs[s];
+    spanStart[s] = static_cast<uint32_t>(spans.size());
+    spans.resize(spans.size() + size_t(t.maxY - t.minY), {0, 0});
     const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
     forEachRun(t, 0, 0, width, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+      spans[spanStart[s] + size_t(y - t.minY)] = {xa, xb};
       kernels->depthLess(staticDepth.data() + stride * y, staticId.data() + stride * y, xa, xb, y,
                          planes, staticSubOwner[s]);
     });
   }
-
-  spanStart.assign(staticSubs.size() + 1, 0);
-  for (size_t s = 0; s < staticSubs.size(); ++s) {
-    spanStart[s] = static_cast<uint32_t>(spans.size());
-    const SetupTriangle& t = staticSubs[s];
-    for (int32_t y = t.minY; y < t.maxY; ++y) {
-      int32_t xa = 0, xb = 0;
-      if (!rowSpan(t, y, 0, width, xa, xb)) xa = xb = 0;
-      spans.emplace_back(xa, xb);
-    }
-  }
   spanStart[staticSubs.size()] = static_cast<uint32_t>(spans.size());
-
-  // Which tiles each sub-triangle touches (binning with trivial reject/accept, spec §4).
-  const int32_t ts = options.tileSize;
-  tileListStart.assign(staticSubs.size() + 1, 0);
-  for (size_t s = 0; s < staticSubs.size(); ++s) {
-    tileListStart[s] = static_cast<uint32_t>(tileEntries.size());
-    const SetupTriangle& t = staticSubs[s];
-    for (int32_t ty = t.minY / ts; ty <= (t.maxY - 1) / ts; ++ty) {
-      for (int32_t tx = t.minX / ts; tx <= (t.maxX - 1) / ts; ++tx) {
-        const int32_t x0 = tx * ts, y0 = ty * ts;
-        const TileCoverage c = classifyTile(t, x0, y0, std::min(x0 + ts, width),
-                                            std::min(y0 + ts, static_cast<int32_t>(view.height)));
-        if (c == TileCoverage::kNone) continue;
-        tileEntries.push_back(static_cast<uint32_t>(ty * tilesX + tx));
-      }
-    }
-  }
-  tileListStart[staticSubs.size()] = static_cast<uint32_t>(tileEntries.size());
 }
 
 void Renderer::Impl::prepareObjects(const FrameContent& frame) {
   objectTriangles.clear();
+  for (auto& list : tileObjects) list.clear();
   std::vector<ClipVertex> clip;
   std::vector<std::array<SnappedVertex, 3>> fan;
   for (const ShadedMesh& object : frame.objects) {
     const Mesh& mesh = object.mesh;
     clip.resize(mesh.positions.size());
-    for (size_t i = 0; i < clip.size(); ++i)
+    for (size_t i = 0; i < clip.size(); ++i) {
       clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
+    }
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
       const uint32_t* idx = &mesh.indices[3 * t];
       fan.clear();
@@ -282,74 +274,9 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
       }
     }
   }
-}
-
-void Renderer::Impl::preparePass(const FrameContent& frame, size_t index) {
-  const ShadowPass& pass = frame.passes[index];
-  PassWork& work = passes[index];
-  const uint32_t size = pass.shadowMapSize;
-  const int32_t isize = static_cast<int32_t>(size);
-
-  // Shadow map (spec §6 step 1).
-  work.shadowMap.assign(size_t{size} * size, kInfinity);
-  work.mapPixels = 0;
-  const Mesh& occluder = frame.occluders[pass.occluder];
-  std::vector<ClipVertex> clip(occluder.positions.size());
-  for (size_t i = 0; i < clip.size(); ++i)
-    clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
-  std::vector<std::array<SnappedVertex, 3>> fan;
-  for (size_t t = 0; t < occluder.triangleCount(); ++t) {
-    const uint32_t* idx = &occluder.indices[3 * t];
-    fan.clear();
-    clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, size, size, fan);
-    for (const auto& tri : fan) {
-      SetupTriangle s;
-      if (!setupTriangle(tri, size, size, s)) continue;
-      const SpanPlanes planes{s.depth, {}, s.minX, s.minY};
-      forEachRun(s, 0, 0, isize, s.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-        work.mapPixels += kernels->depthLess(work.shadowMap.data() + size_t{size} * y, nullptr, xa,
-                                             xb, y, planes, 0);
-      });
-    }
-  }
-
-  // Camera window space -> light texel space (spec §7).
-  const double half = size / 2.0;
-  const Mat4d toTexel = {half, 0, 0, half, 0, -half, 0, half, 0, 0, 0.5, 0.5, 0, 0, 0, 1};
-  const Mat4d p = multiply(multiply(toTexel, toDouble(pass.lightViewProj)), windowToWorld);
-  for (int i = 0; i < 16; ++i) work.lookup.p[i] = static_cast<float>(p[i]);
-  work.lookup.map = work.shadowMap.data();
-  work.lookup.size = isize;
-  work.lookup.bias = pass.depthBias;
-  work.lookup.pcf2x2 = pass.pcf2x2;
-
-  // Receiver planes: S per channel on every visible sub-triangle.
-  work.triangles.clear();
-  for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
-    const uint32_t t = pass.receiverTriangles[k];
-    const Rgb8 s0 = pass.receiverS[3 * k], s1 = pass.receiverS[3 * k + 1],
-               s2 = pass.receiverS[3 * k + 2];
-    for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
-      const SetupTriangle& st = staticSubs[sub];
-      PassTriangle pt;
-      pt.staticSub = sub;
-      pt.s.depth = st.depth;
-      pt.s.rgb[0] = attributePlane(st, {s0.r, s1.r, s2.r});
-      pt.s.rgb[1] = attributePlane(st, {s0.g, s1.g, s2.g});
-      pt.s.rgb[2] = attributePlane(st, {s0.b, s1.b, s2.b});
-      pt.s.ox = st.minX;
-      pt.s.oy = st.minY;
-      work.triangles.push_back(pt);
-    }
-  }
-}
-
-void Renderer::Impl::bin() {
-  for (auto& list : tileObjects) list.clear();
-  for (auto& list : tileItems) list.clear();
+  // Binning with trivial reject / accept (spec §4), in triangle order.
   const int32_t ts = options.tileSize;
-  const int32_t width = static_cast<int32_t>(view.width),
-                height = static_cast<int32_t>(view.height);
+  std::fill(tileHasObject.begin(), tileHasObject.end(), 0);
   for (size_t o = 0; o < objectTriangles.size(); ++o) {
     const SetupTriangle& t = objectTriangles[o].t;
     for (int32_t ty = t.minY / ts; ty <= (t.maxY - 1) / ts; ++ty) {
@@ -357,102 +284,155 @@ void Renderer::Impl::bin() {
         const int32_t x0 = tx * ts, y0 = ty * ts;
         const TileCoverage c =
             classifyTile(t, x0, y0, std::min(x0 + ts, width), std::min(y0 + ts, height));
-        if (c != TileCoverage::kNone) {
-          tileObjects[size_t(ty) * tilesX + tx].push_back(
-              {static_cast<uint32_t>(o), c == TileCoverage::kFull});
-        }
-      }
-    }
-  }
-  for (size_t p = 0; p < passes.size(); ++p) {
-    const auto& triangles = passes[p].triangles;
-    for (size_t k = 0; k < triangles.size(); ++k) {
-      const uint32_t sub = triangles[k].staticSub;
-      for (uint32_t e = tileListStart[sub]; e < tileListStart[sub + 1]; ++e) {
-        tileItems[tileEntries[e]].push_back({static_cast<uint32_t>(p), static_cast<uint32_t>(k)});
+        if (c == TileCoverage::kNone) continue;
+        const size_t tile = size_t(ty) * size_t(tilesX) + size_t(tx);
+        tileObjects[tile].push_back({static_cast<uint32_t>(o), c == TileCoverage::kFull});
+        tileHasObject[tile] = 1;
       }
     }
   }
 }
 
-void Renderer::Impl::drawTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out,
-                              int worker) {
-  const int32_t ts = options.tileSize;
-  const int32_t x0 = static_cast<int32_t>(tile % tilesX) * ts;
-  const int32_t y0 = static_cast<int32_t>(tile / tilesX) * ts;
-  const int32_t x1 = std::min(x0 + ts, static_cast<int32_t>(view.width));
-  const int32_t y1 = std::min(y0 + ts, static_cast<int32_t>(view.height));
-  // The tile also owns the row padding right of the image (spec §8).
-  const int32_t ownedX1 =
-      x1 == static_cast<int32_t>(view.width) ? static_cast<int32_t>(stride) : x1;
-  const auto& objects = tileObjects[tile];
-  const auto& items = tileItems[tile];
+// Spec §6 step 3 for one tile; also undoes the previous frame's object in it.
+void Renderer::Impl::compositeObjects(uint32_t tile, const FrameContent& frame, Worker& w) {
+  if (!tileHasObject[tile] && !tileHadObject[tile]) return;
+  int32_t x0, y0, x1, y1;
+  tileRect(tile, x0, y0, x1, y1);
+  // The tile owns the row padding right of the image (spec §8).
+  const int32_t ownedX1 = x1 == width ? static_cast<int32_t>(stride) : x1;
+  for (int32_t y = y0; y < y1; ++y) {
+    const size_t row = stride * size_t(y);
+    std::memcpy(&depth[row + x0], &staticDepth[row + x0], sizeof(float) * size_t(ownedX1 - x0));
+    std::memcpy(&id[row + x0], &staticId[row + x0], sizeof(uint32_t) * size_t(ownedX1 - x0));
+  }
+  if (!tileHasObject[tile]) return;
+  for (int32_t y = y0; y < y1; ++y) {
+    std::memcpy(&rgba[4 * (stride * size_t(y) + size_t(x0))],
+                &frame.background[4 * (size_t(width) * size_t(y) + size_t(x0))],
+                4 * size_t(x1 - x0));
+  }
+  for (const auto& [index, full] : tileObjects[tile]) {
+    const ObjectTriangle& o = objectTriangles[index];
+    forEachRun(o.t, x0, y0, x1, y1, full, [&](int32_t y, int32_t xa, int32_t xb) {
+      const size_t row = stride * size_t(y);
+      w.objectPixels +=
+          kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
+    });
+  }
+}
 
-  if (!objects.empty() || !items.empty()) {
-    for (int32_t y = y0; y < y1; ++y) {
-      const size_t row = stride * y;
-      std::memcpy(&rgba[4 * (row + x0)], &frame.background[4 * (size_t{view.width} * y + x0)],
-                  4 * size_t(x1 - x0));
-      std::memcpy(&depth[row + x0], &staticDepth[row + x0], sizeof(float) * size_t(ownedX1 - x0));
-      std::memcpy(&id[row + x0], &staticId[row + x0], sizeof(uint32_t) * size_t(ownedX1 - x0));
-    }
-    uint64_t objectPixels = 0, passPixels = 0;
-    for (const auto& [index, full] : objects) {
-      const ObjectTriangle& o = objectTriangles[index];
-      forEachRun(o.t, x0, y0, x1, y1, full, [&](int32_t y, int32_t xa, int32_t xb) {
-        const size_t row = stride * y;
-        objectPixels +=
-            kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
+// One pass on one thread (spec §6 steps 1 and 4, §7): its shadow map, then S of every
+// receiver run, then one sweep that adds round(S * M / 255) to this thread's sums.
+void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w) {
+  const ShadowPass& pass = frame.passes[index];
+  const uint32_t size = pass.shadowMapSize;
+  const int32_t isize = static_cast<int32_t>(size);
+
+  w.shadowMap.assign(size_t{size} * size, kInfinity);
+  const Mesh& occluder = frame.occluders[pass.occluder];
+  w.clip.resize(occluder.positions.size());
+  for (size_t i = 0; i < w.clip.size(); ++i) {
+    w.clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
+  }
+  for (size_t t = 0; t < occluder.triangleCount(); ++t) {
+    const uint32_t* idx = &occluder.indices[3 * t];
+    w.fan.clear();
+    clipAndSnapTriangle({w.clip[idx[0]], w.clip[idx[1]], w.clip[idx[2]]}, size, size, w.fan);
+    for (const auto& tri : w.fan) {
+      SetupTriangle s;
+      if (!setupTriangle(tri, size, size, s)) continue;
+      const SpanPlanes planes{s.depth, {}, s.minX, s.minY};
+      forEachRun(s, 0, 0, isize, s.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+        w.mapPixels += kernels->depthLess(w.shadowMap.data() + size_t{size} * size_t(y), nullptr,
+                                          xa, xb, y, planes, 0);
       });
     }
-    // Passes in order; within a pass, S of every receiver run into the scratch buffer,
-    // then one shading sweep over the rows the pass touched (spec §6 step 4).
-    std::array<int32_t, 64> runBegin, runEnd;
-    for (size_t first = 0; first < items.size();) {
-      const uint32_t passIndex = items[first].pass;
-      const PassWork& pass = passes[passIndex];
-      runBegin.fill(x1);
-      runEnd.fill(x0);
-      int32_t rowLo = y1, rowHi = y0;
-      size_t i = first;
-      for (; i < items.size() && items[i].pass == passIndex; ++i) {
-        const PassTriangle& pt = pass.triangles[items[i].tri];
-        const SetupTriangle& t = staticSubs[pt.staticSub];
-        const uint32_t owner = staticSubOwner[pt.staticSub];
-        const auto* run = &spans[spanStart[pt.staticSub]];
-        const int32_t ya = std::max(y0, t.minY), yb = std::min(y1, t.maxY);
-        for (int32_t y = ya; y < yb; ++y) {
-          const int32_t xa = std::max(x0, run[y - t.minY].first);
-          const int32_t xb = std::min(x1, run[y - t.minY].second);
-          if (xa >= xb) continue;
-          const size_t row = stride * y;
-          const uint32_t matched =
-              kernels->interpolateS(&sScratch[row], &id[row], xa, xb, y, pt.s, owner);
-          if (matched == 0) continue;
-          passPixels += matched;
-          runBegin[y - y0] = std::min(runBegin[y - y0], xa);
-          runEnd[y - y0] = std::max(runEnd[y - y0], xb);
-          rowLo = std::min(rowLo, y);
-          rowHi = std::max(rowHi, y + 1);
-        }
+  }
+
+  ShadowLookup lookup{};
+  const double half = size / 2.0;
+  const Mat4d toTexel = {half, 0, 0, half, 0, -half, 0, half, 0, 0, 0.5, 0.5, 0, 0, 0, 1};
+  const Mat4d p = multiply(multiply(toTexel, toDouble(pass.lightViewProj)), windowToWorld);
+  for (int i = 0; i < 16; ++i) lookup.p[i] = static_cast<float>(p[i]);
+  lookup.map = w.shadowMap.data();
+  lookup.size = isize;
+  lookup.bias = pass.depthBias;
+  lookup.pcf2x2 = pass.pcf2x2;
+
+  int32_t rowLo = height, rowHi = 0;
+  for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
+    const uint32_t t = pass.receiverTriangles[k];
+    const Rgb8 s0 = pass.receiverS[3 * k], s1 = pass.receiverS[3 * k + 1],
+               s2 = pass.receiverS[3 * k + 2];
+    for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
+      const SetupTriangle& st = staticSubs[sub];
+      const SpanPlanes planes{
+          st.depth,
+          {attributePlane(st, {s0.r, s1.r, s2.r}), attributePlane(st, {s0.g, s1.g, s2.g}),
+           attributePlane(st, {s0.b, s1.b, s2.b})},
+          st.minX,
+          st.minY};
+      const auto* run = &spans[spanStart[sub]];
+      for (int32_t y = st.minY; y < st.maxY; ++y) {
+        const auto [xa, xb] = run[y - st.minY];
+        if (xa >= xb) continue;
+        const size_t row = stride * size_t(y);
+        const uint32_t matched = kernels->interpolateS(&w.s[row], &id[row], xa, xb, y, planes, t);
+        if (matched == 0) continue;
+        w.passPixels += matched;
+        w.passBegin[y] = std::min(w.passBegin[y], xa);
+        w.passEnd[y] = std::max(w.passEnd[y], xb);
+        rowLo = std::min(rowLo, y);
+        rowHi = std::max(rowHi, y + 1);
       }
-      if (rowLo < rowHi) {
-        kernels->shadeRows(rgba.data(), depth.data(), sScratch.data(), stride, rowLo, rowHi,
-                           &runBegin[rowLo - y0], &runEnd[rowLo - y0], pass.lookup);
-      }
-      first = i;
     }
+  }
+  if (rowLo >= rowHi) return;
+  kernels->accumulateRows(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
+                          &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+  for (int32_t y = rowLo; y < rowHi; ++y) {
+    w.touchedBegin[y] = std::min(w.touchedBegin[y], w.passBegin[y]);
+    w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
+    w.passBegin[y] = width;
+    w.passEnd[y] = 0;
+  }
+}
+
+// The tile's base colours (background, or objects over it) minus the summed pass amounts,
+// clamped once (spec §8), written to the output.
+void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out) {
+  int32_t x0, y0, x1, y1;
+  tileRect(tile, x0, y0, x1, y1);
+  auto rowTouched = [&](int32_t y) {
+    for (const Worker& w : workers) {
+      if (w.touchedBegin[y] < x1 && w.touchedEnd[y] > x0) return true;
+    }
+    return false;
+  };
+  bool touched = false;
+  for (int32_t y = y0; y < y1 && !touched; ++y) touched = rowTouched(y);
+  const size_t rowBytes = 4 * size_t(x1 - x0);
+  if (!touched && !tileHasObject[tile]) {
     for (int32_t y = y0; y < y1; ++y) {
-      std::memcpy(&out[4 * (size_t{view.width} * y + x0)], &rgba[4 * (stride * y + x0)],
-                  4 * size_t(x1 - x0));
+      const size_t offset = 4 * (size_t(width) * size_t(y) + size_t(x0));
+      std::memcpy(&out[offset], &frame.background[offset], rowBytes);
     }
-    workerCounts[worker][0] += objectPixels;
-    workerCounts[worker][1] += passPixels;
-  } else {
-    for (int32_t y = y0; y < y1; ++y) {
-      const size_t offset = 4 * (size_t{view.width} * y + x0);
-      std::memcpy(&out[offset], &frame.background[offset], 4 * size_t(x1 - x0));
+    return;
+  }
+  std::array<uint16_t*, 256> acc;
+  const int count = static_cast<int>(workers.size());
+  for (int32_t y = y0; y < y1; ++y) {
+    const size_t row = stride * size_t(y);
+    uint8_t* base = &rgba[4 * row];
+    if (!tileHasObject[tile]) {
+      std::memcpy(base + 4 * x0, &frame.background[4 * (size_t(width) * size_t(y) + size_t(x0))],
+                  rowBytes);
     }
+    if (rowTouched(y)) {
+      for (int i = 0; i < count; ++i) acc[size_t(i)] = workers[size_t(i)].acc.data() + row;
+      kernels->subtractAccumulated(base, base, acc.data(), count, planeSize, x0, x1);
+    }
+    std::memcpy(&out[4 * (size_t(width) * size_t(y) + size_t(x0))], base + 4 * x0, rowBytes);
   }
 }
 
@@ -477,23 +457,29 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   validateFrame(frame, r.view.width, r.view.height, r.view.staticMesh.triangleCount(), "frame");
 
   r.stats = FrameStats{};
-  for (auto& c : r.workerCounts) c = {0, 0};
+  for (Worker& w : r.workers) w.mapPixels = w.passPixels = w.objectPixels = 0;
+  const size_t tiles = size_t(r.tilesX) * size_t(r.tilesY);
   r.prepareObjects(frame);
-  const auto mapsStart = Clock::now();
-  r.passes.resize(frame.passes.size());
-  r.pool.parallelFor(frame.passes.size(), [&](size_t i, int) { r.preparePass(frame, i); });
-  r.stats.msShadowMaps = msSince(mapsStart);
-  for (const PassWork& p : r.passes) r.stats.shadowMapPixels += p.mapPixels;
-  const auto tilesStart = Clock::now();
-  r.bin();
-  r.pool.parallelFor(size_t(r.tilesX) * r.tilesY, [&](size_t tile, int worker) {
-    r.drawTile(static_cast<uint32_t>(tile), frame, rgbaOut, worker);
+  r.pool.parallelFor(tiles, [&](size_t tile, int worker) {
+    r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
   });
-  r.stats.msTiles = msSince(tilesStart);
-  for (const auto& c : r.workerCounts) {
-    r.stats.objectPixels += c[0];
-    r.stats.passPixels += c[1];
+  r.stats.msObjects = msSince(start);
+  const auto passesStart = Clock::now();
+  r.pool.parallelFor(frame.passes.size(),
+                     [&](size_t i, int worker) { r.runPass(frame, i, r.workers[size_t(worker)]); });
+  r.stats.msPasses = msSince(passesStart);
+  const auto finishStart = Clock::now();
+  r.pool.parallelFor(
+      tiles, [&](size_t tile, int) { r.finishTile(static_cast<uint32_t>(tile), frame, rgbaOut); });
+  r.stats.msFinish = msSince(finishStart);
+  for (Worker& w : r.workers) {
+    std::fill(w.touchedBegin.begin(), w.touchedBegin.end(), r.width);
+    std::fill(w.touchedEnd.begin(), w.touchedEnd.end(), 0);
+    r.stats.shadowMapPixels += w.mapPixels;
+    r.stats.passPixels += w.passPixels;
+    r.stats.objectPixels += w.objectPixels;
   }
+  r.tileHadObject = r.tileHasObject;
   r.stats.msTotal = msSince(start);
 }
 

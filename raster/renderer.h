@@ -19,7 +19,7 @@ namespace penumbra::raster {
 
 struct RenderOptions {
   simd::Isa isa = simd::Isa::kScalar;
-  int threads = 1;    // >= 1; the result does not depend on it
+  int threads = 1;    // 1..256; the result does not depend on it
   int tileSize = 32;  // 16, 32 or 64; the result does not depend on it
 };
 
@@ -28,7 +28,9 @@ struct FrameStats {
   uint64_t shadowMapPixels = 0;  // covered shadow-map pixels, all passes
   uint64_t passPixels = 0;       // receiver pixels whose id matched, all passes
   uint64_t objectPixels = 0;     // object pixels that passed the depth test
-  double msShadowMaps = 0, msTiles = 0, msTotal = 0;
+  // Stage times: objects (setup, binning, composite), passes (shadow maps, S, masks),
+  // finish (subtracting the sums, output).
+  double msObjects = 0, msPasses = 0, msFinish = 0, msTotal = 0;
 };
 
 class Renderer {

@@ -204,44 +204,73 @@ uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb
   return static_cast<uint32_t>(matched);
 }
 
-void ShadeRows(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
-               int32_t y1, const int32_t* xaRow, const int32_t* xbRow, const ShadowLookup& lookup) {
+void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
+                    int32_t y0, int32_t y1, const int32_t* xaRow, const int32_t* xbRow,
+                    const ShadowLookup& lookup) {
   const DF df;
   const DI di;
   const DU du;
+  const hn::Rebind<uint16_t, DI> d16;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
   const VU byteMask = hn::Set(du, 0xFFu);
   for (int32_t y = y0; y < y1; ++y) {
     const int32_t xa = xaRow[y - y0], xb = xbRow[y - y0];
     const size_t row = stride * static_cast<size_t>(y);
-    uint32_t* pixels = reinterpret_cast<uint32_t*>(rgba) + row;
     uint32_t* sRow = s + row;
     const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
     for (int32_t x = alignDown(xa); x < xb; x += lanes) {
-      // Outside [xa, xb) s is 0 too (the buffer is kept clean), so no run mask is needed.
+      // Outside [xa, xb) s is 0 too (the scratch is kept clean), so no run mask is needed.
       const VU packed = hn::LoadU(du, sRow + x);
-      const auto active = hn::Ne(packed, hn::Zero(du));
-      if (hn::AllFalse(du, active)) continue;
+      if (hn::AllTrue(du, hn::Eq(packed, hn::Zero(du)))) continue;
       hn::StoreU(hn::Zero(du), du, sRow + x);
       const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
       const VF sx = hn::Add(hn::ConvertTo(df, px), hn::Set(df, 0.5f));
       const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + row + x));
-      const VU old = hn::LoadU(du, pixels + x);
-      VU result = hn::And(old, hn::Set(du, 0xFF000000u));
       for (int ch = 0; ch < 3; ++ch) {
+        uint16_t* plane = acc + planeSize * ch + row + x;
         const VI sValue = hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
-        const VI sub = simd::HWY_NAMESPACE::ProductU8(di, sValue, m);
-        const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), byteMask));
-        const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, sub);
-        result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
+        // Unmarked lanes have S = 0 and add 0. Sums stay <= 65535 (at most 257 passes).
+        const VI sum = hn::Add(hn::PromoteTo(di, hn::LoadU(d16, plane)),
+                               simd::HWY_NAMESPACE::ProductU8(di, sValue, m));
+        hn::StoreU(hn::DemoteTo(d16, sum), d16, plane);
       }
-      hn::StoreU(hn::IfThenElse(active, result, old), du, pixels + x);
     }
   }
 }
 
+void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                         size_t planeSize, int32_t xa, int32_t xb) {
+  const DI di;
+  const DU du;
+  const hn::Rebind<uint16_t, DI> d16;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(di));
+  const VU byteMask = hn::Set(du, 0xFFu);
+  uint32_t* outPixels = reinterpret_cast<uint32_t*>(out);
+  const uint32_t* basePixels = reinterpret_cast<const uint32_t*>(base);
+  for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+    const Chunk c = chunkAt(x, xa, xb);
+    const VU old = hn::LoadU(du, basePixels + x);
+    VU result = hn::And(old, hn::Set(du, 0xFF000000u));
+    for (int ch = 0; ch < 3; ++ch) {
+      VI total = hn::Zero(di);
+      for (int i = 0; i < count; ++i) {
+        uint16_t* plane = acc[i] + planeSize * ch + x;
+        const VI values = hn::PromoteTo(di, hn::LoadU(d16, plane));
+        total = hn::Add(total, values);
+        hn::StoreU(hn::DemoteTo(d16, hn::IfThenZeroElse(c.inRun, values)), d16, plane);
+      }
+      const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), byteMask));
+      const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, total);
+      result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
+    }
+    hn::StoreU(hn::IfThenElse(hn::RebindMask(du, c.inRun), result, hn::LoadU(du, outPixels + x)),
+               du, outPixels + x);
+  }
+}
+
 const SpanKernels* Table() {
-  static const SpanKernels kernels{&DepthLess, &ColourLess, &InterpolateS, &ShadeRows};
+  static const SpanKernels kernels{&DepthLess, &ColourLess, &InterpolateS, &AccumulateRows,
+                                   &SubtractAccumulated};
   return &kernels;
 }
 

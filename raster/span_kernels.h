@@ -41,20 +41,27 @@ struct SpanKernels {
   // z < depth: colour, depth and id = kObjectId (spec §6 step 3). Returns pixels written.
   uint32_t (*colourLess)(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
                          int32_t y, const SpanPlanes& planes);
-  // The mask-and-subtract pass (spec §6 step 4) runs in two kernels per tile and pass:
+  // The mask-and-subtract passes (spec §6 step 4) run as three kernels, using the
+  // composition rule of spec §8 (subtract the per-pass amounts' sum once):
   //
-  // 1. Per receiver run: where id == triangleId, s = S packed as r | g << 8 | b << 16
-  //    (spec §5). Returns how many pixels matched. A pass lists each triangle once
-  //    (validateFrame), so no pixel is written twice in one pass.
+  // 1. Per receiver run of one pass: where id == triangleId, s = S packed as
+  //    r | g << 8 | b << 16 (spec §5). Returns how many pixels matched. A pass lists each
+  //    triangle once (validateFrame), so no pixel is written twice in one pass.
   uint32_t (*interpolateS)(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,
                            const SpanPlanes& planes, uint32_t triangleId);
-  // 2. For rows y0 <= y < y1 and xa[y - y0] <= x < xb[y - y0]: where s != 0,
-  //    rgb = max(rgb - round(S * M / 255), 0) with M from `lookup` (spec §7); then s = 0,
-  //    so the scratch buffer is clean for the next pass. S = 0 subtracts nothing, so
-  //    skipping unmarked pixels is exact. Pointers address pixel (0, 0); rows are `stride`
-  //    pixels apart.
-  void (*shadeRows)(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
-                    int32_t y1, const int32_t* xa, const int32_t* xb, const ShadowLookup& lookup);
+  // 2. Once per pass, for rows y0 <= y < y1 and xa[y - y0] <= x < xb[y - y0]: where s != 0,
+  //    acc_c += round(S_c * M / 255) for c = r, g, b with M from `lookup` (spec §7); then
+  //    s = 0, leaving the scratch clean. S = 0 adds nothing, so skipping unmarked pixels is
+  //    exact. `acc` holds three planes (r, g, b) of `planeSize` u16 each; pointers address
+  //    pixel (0, 0) and rows are `stride` pixels apart.
+  void (*accumulateRows)(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize,
+                         size_t stride, int32_t y0, int32_t y1, const int32_t* xa,
+                         const int32_t* xb, const ShadowLookup& lookup);
+  // 3. Per row run: out = max(base - sum of the `count` accumulators, 0) per colour
+  //    channel, alpha from base; the accumulators are zeroed. Pointers address pixel x = 0
+  //    of the row; acc[i] is accumulator i's r plane at that row.
+  void (*subtractAccumulated)(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                              size_t planeSize, int32_t xa, int32_t xb);
 };
 
 // The kernels of `isa`; the caller checks simd::isSupported(isa).

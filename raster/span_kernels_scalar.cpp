@@ -99,8 +99,9 @@ uint32_t interpolateS(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, i
   return matched;
 }
 
-void shadeRows(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, int32_t y0,
-               int32_t y1, const int32_t* xa, const int32_t* xb, const ShadowLookup& lookup) {
+void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
+                    int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                    const ShadowLookup& lookup) {
   for (int32_t y = y0; y < y1; ++y) {
     const size_t row = stride * static_cast<size_t>(y);
     const float sy = static_cast<float>(y) + 0.5f;
@@ -110,15 +111,32 @@ void shadeRows(uint8_t* rgba, const float* depth, uint32_t* s, size_t stride, in
       s[row + x] = 0;
       const uint8_t m =
           static_cast<uint8_t>(maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[row + x]));
-      uint8_t* px = rgba + 4 * (row + x);
       for (int c = 0; c < 3; ++c) {
-        px[c] = simd::subtractMaskedU8(px[c], static_cast<uint8_t>(packed >> (8 * c)), m);
+        acc[planeSize * c + row + x] =
+            static_cast<uint16_t>(acc[planeSize * c + row + x] +
+                                  simd::productU8(static_cast<uint8_t>(packed >> (8 * c)), m));
       }
     }
   }
 }
 
-const SpanKernels kScalar{&depthLess, &colourLess, &interpolateS, &shadeRows};
+void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                         size_t planeSize, int32_t xa, int32_t xb) {
+  for (int32_t x = xa; x < xb; ++x) {
+    for (int c = 0; c < 3; ++c) {
+      int32_t total = 0;
+      for (int i = 0; i < count; ++i) {
+        total += acc[i][planeSize * c + x];
+        acc[i][planeSize * c + x] = 0;
+      }
+      out[4 * x + c] = static_cast<uint8_t>(std::max(int32_t{base[4 * x + c]} - total, 0));
+    }
+    out[4 * x + 3] = base[4 * x + 3];
+  }
+}
+
+const SpanKernels kScalar{&depthLess, &colourLess, &interpolateS, &accumulateRows,
+                          &subtractAccumulated};
 
 }  // namespace
 

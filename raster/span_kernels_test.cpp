@@ -95,7 +95,7 @@ TEST_P(SpanKernelsOnTarget, InterpolateSMatchesScalar) {
   }
 }
 
-TEST_P(SpanKernelsOnTarget, ShadeRowsMatchesScalar) {
+TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(12);
@@ -103,15 +103,16 @@ TEST_P(SpanKernelsOnTarget, ShadeRowsMatchesScalar) {
   std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
   std::uniform_real_distribution<float> f(-1.0f, 1.0f);
   const int32_t size = 32, rows = 6;
+  const size_t plane = size_t{kRow} * rows;
   std::vector<float> map(size * size);
   for (float& v : map) v = 0.3f + 0.4f * (f(rng) + 1.0f) / 2.0f;
   map[7] = std::numeric_limits<float>::infinity();
   for (int trial = 0; trial < 1500; ++trial) {
-    std::vector<uint8_t> rgbaA(4 * kRow * rows);
-    std::vector<float> depth(kRow * rows);
-    std::vector<uint32_t> sA(kRow * rows, 0);
-    for (auto& v : rgbaA) v = static_cast<uint8_t>(bits(rng));
+    std::vector<float> depth(plane);
+    std::vector<uint32_t> sA(plane, 0);
+    std::vector<uint16_t> accA(3 * plane);
     for (float& v : depth) v = 0.5f + 0.5f * f(rng);
+    for (auto& v : accA) v = static_cast<uint16_t>(bits(rng) % 30000);
     depth[9] = std::numeric_limits<float>::quiet_NaN();
     depth[kRow + 3] = std::numeric_limits<float>::infinity();
     std::vector<int32_t> xa(rows), xb(rows);
@@ -120,13 +121,14 @@ TEST_P(SpanKernelsOnTarget, ShadeRowsMatchesScalar) {
       xb[r] = pos(rng);
       if (xa[r] > xb[r]) std::swap(xa[r], xb[r]);
       for (int32_t x = xa[r]; x < xb[r]; ++x) {
-        // Mostly marked pixels, some unmarked (S = 0), some with one channel zero.
-        if (bits(rng) % 5 != 0)
-          sA[r * kRow + x] = bits(rng) & (bits(rng) % 3 ? 0xFFFFFFu : 0x00FF00u);
+        // Mostly marked pixels, some unmarked (S = 0), some with channels zero.
+        if (bits(rng) % 5 != 0) {
+          sA[size_t(r) * kRow + size_t(x)] = bits(rng) & (bits(rng) % 3 ? 0xFFFFFFu : 0x00FF00u);
+        }
       }
     }
-    std::vector<uint8_t> rgbaB = rgbaA;
     std::vector<uint32_t> sB = sA;
+    std::vector<uint16_t> accB = accA;
     ShadowLookup lookup{};
     // A projective map that sends the rows across (and beyond) the shadow map.
     for (float& v : lookup.p) v = f(rng);
@@ -141,12 +143,44 @@ TEST_P(SpanKernelsOnTarget, ShadeRowsMatchesScalar) {
     lookup.size = size;
     lookup.bias = 0.01f * (f(rng) + 1.0f);
     lookup.pcf2x2 = trial % 2 == 1;
-    ref.shadeRows(rgbaA.data(), depth.data(), sA.data(), kRow, 0, rows, xa.data(), xb.data(),
-                  lookup);
-    k.shadeRows(rgbaB.data(), depth.data(), sB.data(), kRow, 0, rows, xa.data(), xb.data(), lookup);
-    ASSERT_EQ(rgbaA, rgbaB) << "trial " << trial;
+    ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),
+                       xb.data(), lookup);
+    k.accumulateRows(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(),
+                     xb.data(), lookup);
+    ASSERT_EQ(accA, accB) << "trial " << trial;
     ASSERT_EQ(sA, sB) << "trial " << trial;
     for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+  }
+}
+
+TEST_P(SpanKernelsOnTarget, SubtractAccumulatedMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(14);
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFFFu);
+  for (int trial = 0; trial < 1000; ++trial) {
+    const int count = 1 + trial % 4;
+    const size_t plane = kRow;
+    std::vector<std::vector<uint16_t>> accA(size_t(count), std::vector<uint16_t>(3 * plane));
+    for (auto& a : accA) {
+      for (auto& v : a) v = static_cast<uint16_t>(bits(rng) % (trial % 2 ? 300u : 20u));
+    }
+    auto accB = accA;
+    std::vector<uint8_t> baseA(4 * kRow);
+    for (auto& v : baseA) v = static_cast<uint8_t>(bits(rng));
+    std::vector<uint8_t> baseB = baseA;
+    std::vector<uint16_t*> pa, pb;
+    for (int i = 0; i < count; ++i) {
+      pa.push_back(accA[size_t(i)].data());
+      pb.push_back(accB[size_t(i)].data());
+    }
+    int32_t xa = pos(rng), xb = pos(rng);
+    if (xa > xb) std::swap(xa, xb);
+    ref.subtractAccumulated(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb);
+    k.subtractAccumulated(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb);
+    ASSERT_EQ(baseA, baseB) << "trial " << trial;
+    ASSERT_EQ(accA, accB) << "trial " << trial;
   }
 }
 

@@ -215,6 +215,74 @@ bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t&
   return true;
 }
 
+RowWalker::RowWalker(const SetupTriangle& t, int32_t y) : minX_(t.minX), maxX_(t.maxX) {
+  const int64_t yc = int64_t{256} * y + 128;
+  for (const Edge& e : t.edges) {
+    const int64_t k = e.a * 128 + e.b * yc + e.c - e.bias;
+    const int64_t a = e.a * 256;
+    const int64_t step = e.b * 256;  // K(y + 1) - K(y)
+    if (a == 0) {
+      flatK_[flatCount_] = k;
+      flatStep_[flatCount_++] = step;
+      continue;
+    }
+    Bound& b = bounds_[count_++];
+    b.lower = a > 0;
+    b.divisor = b.lower ? a : -a;
+    // Lower bound tracks N = -K = q a - r; upper bound tracks K = q |a| + r.
+    const int64_t n = b.lower ? -k : k;
+    const int64_t d = b.lower ? -step : step;
+    b.dq = floorDiv(d, b.divisor);
+    b.dr = d - b.dq * b.divisor;
+    if (b.lower) {
+      b.q = ceilDiv(n, b.divisor);
+      b.r = b.q * b.divisor - n;
+    } else {
+      b.q = floorDiv(n, b.divisor);
+      b.r = n - b.q * b.divisor;
+    }
+  }
+  for (int i = 0; i < flatCount_; ++i) empty_ = empty_ || flatK_[i] < 0;
+}
+
+void RowWalker::nextRow() {
+  for (int i = 0; i < count_; ++i) {
+    Bound& b = bounds_[i];
+    if (b.lower) {
+      const bool carry = b.dr > b.r;
+      b.q += b.dq + (carry ? 1 : 0);
+      b.r = carry ? b.r + b.divisor - b.dr : b.r - b.dr;
+    } else {
+      b.r += b.dr;
+      const bool carry = b.r >= b.divisor;
+      b.q += b.dq + (carry ? 1 : 0);
+      b.r -= carry ? b.divisor : 0;
+    }
+  }
+  empty_ = false;
+  for (int i = 0; i < flatCount_; ++i) {
+    flatK_[i] += flatStep_[i];
+    empty_ = empty_ || flatK_[i] < 0;
+  }
+}
+
+bool RowWalker::span(int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) const {
+  if (empty_) return false;
+  int64_t lo = std::max(x0, minX_), hi = std::min(x1, maxX_);
+  for (int i = 0; i < count_; ++i) {
+    const Bound& b = bounds_[i];
+    if (b.lower) {
+      lo = std::max(lo, b.q);
+    } else {
+      hi = std::min(hi, b.q + 1);
+    }
+  }
+  if (lo >= hi) return false;
+  xa = static_cast<int32_t>(lo);
+  xb = static_cast<int32_t>(hi);
+  return true;
+}
+
 TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
   if (x1 <= t.minX || x0 >= t.maxX || y1 <= t.minY || y0 >= t.maxY) return TileCoverage::kNone;
   const int64_t cx[2] = {int64_t{256} * x0 + 128, int64_t{256} * (x1 - 1) + 128};

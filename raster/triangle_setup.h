@@ -81,6 +81,35 @@ AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 
 // Covered run of row `y`, clipped to [x0, x1): returns false if empty (spec §4).
 bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa, int32_t& xb);
 
+// The runs of rowSpan() for consecutive rows, stepped exactly with integer
+// quotient/remainder pairs instead of three divisions per row (spec §4: same runs).
+//
+// For an edge with a = 256 A > 0 the run starts at ceil(N / a), N = -K(y); with
+// N = q a - r, 0 <= r < a, and the per-row step d = -256 B = dq a + dr, 0 <= dr < a:
+// N + d = (q + dq) a + (dr - r) with -a < dr - r < a, so the next quotient is q + dq + 1
+// when dr > r (remainder r + a - dr) and q + dq otherwise (remainder r - dr). Edges with
+// a < 0 bound the run's end by floor(K / |a|) and step the same way with the signs flipped.
+class RowWalker {
+ public:
+  RowWalker(const SetupTriangle& t, int32_t y);
+  // The run of the current row clipped to [x0, x1); false if empty.
+  bool span(int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) const;
+  void nextRow();
+
+ private:
+  struct Bound {
+    int64_t q, r, dq, dr, divisor;
+    bool lower;  // a > 0: x >= q; a < 0: x <= q
+  };
+  std::array<Bound, 3> bounds_;
+  int count_ = 0;
+  bool empty_ = false;              // an edge with A = 0 excludes the current row
+  std::array<int64_t, 3> flatK_{};  // K of edges with A = 0, and its per-row step
+  std::array<int64_t, 3> flatStep_{};
+  int flatCount_ = 0;
+  int32_t minX_, maxX_;
+};
+
 // Tile classification against the three edges (spec §4): trivial reject, trivial accept,
 // or partial. Tile covers pixels [x0, x1) x [y0, y1).
 enum class TileCoverage : uint8_t { kNone, kPartial, kFull };

@@ -116,6 +116,30 @@ TEST(Watertight, FanOfSlivers) {
   for (size_t i = 0; i < count.size(); ++i) ASSERT_EQ(count[i], 1) << "pixel " << i;
 }
 
+TEST(Spans, RowWalkerEqualsRowSpanOnEveryRow) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3000; ++trial) {
+    // Mix small, large and far off-screen triangles; many with horizontal edges.
+    const int32_t range = trial % 3 == 0 ? (1 << 22) : (trial % 3 == 1 ? 80 * 256 : 4 * 256);
+    std::uniform_int_distribution<int32_t> coord(-range / 2, range);
+    std::array<SnappedVertex, 3> v{sv(coord(rng), coord(rng)), sv(coord(rng), coord(rng)),
+                                   sv(coord(rng), coord(rng))};
+    if (trial % 5 == 0) v[1].y = v[0].y;
+    SetupTriangle t;
+    if (!setupTriangle(v, 80, 60, t)) continue;
+    RowWalker walker(t, t.minY);
+    for (int32_t y = t.minY; y < t.maxY; ++y, walker.nextRow()) {
+      int32_t xa = -1, xb = -1, wa = -1, wb = -1;
+      const bool expected = rowSpan(t, y, 5, 77, xa, xb);
+      ASSERT_EQ(walker.span(5, 77, wa, wb), expected) << "trial " << trial << " row " << y;
+      if (expected) {
+        ASSERT_EQ(wa, xa);
+        ASSERT_EQ(wb, xb);
+      }
+    }
+  }
+}
+
 TEST(Spans, TileClassificationIsExact) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int32_t> coord(-4000, 70 * 256);
