@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Installs everything Penumbra needs to build, test and benchmark on Debian 12 (bookworm).
+#
+#   bash .ci/install-deps.sh            native amd64 (or arm64) toolchain and libraries
+#   bash .ci/install-deps.sh --cross    + the aarch64 cross toolchain, qemu and arm64 libraries
+#
+# Idempotent: packages already installed are left alone. Runs apt-get update once.
+# Uses sudo when not root.
+set -euo pipefail
+
+cross=0
+for arg in "$@"; do
+  case "$arg" in
+    --cross) cross=1 ;;
+    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    *) echo "install-deps.sh: unknown argument '$arg'" >&2; exit 2 ;;
+  esac
+done
+
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+
+# Retries transient mirror/network failures (and a held dpkg lock) a few times.
+retry() {
+  local n=1 max=4
+  until "$@"; do
+    if (( n >= max )); then
+      echo "install-deps.sh: '$*' failed $max times" >&2
+      return 1
+    fi
+    echo "install-deps.sh: '$*' failed (attempt $n/$max), retrying in $((n * 10)) s" >&2
+    sleep $((n * 10))
+    n=$((n + 1))
+  done
+}
+
+apt_opts=(-y -q -o Dpkg::Use-Pty=0 -o DPkg::Lock::Timeout=300 -o Acquire::Retries=3
+          --no-install-recommends)
+
+native=(
+  build-essential cmake ninja-build pkg-config git file clang-format
+  libhwy-dev libglm-dev nlohmann-json3-dev libcli11-dev
+  libpng-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  python3-matplotlib
+)
+cross_pkgs=(
+  g++-aarch64-linux-gnu qemu-user
+  libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64
+)
+# Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (docs/design.md §6).
+
+if (( cross )) && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  if [[ $(dpkg --print-architecture) != arm64 ]]; then
+    $SUDO dpkg --add-architecture arm64
+  fi
+fi
+
+retry $SUDO apt-get update -q
+pkgs=("${native[@]}")
+if (( cross )); then pkgs+=("${cross_pkgs[@]}"); fi
+retry $SUDO apt-get install "${apt_opts[@]}" "${pkgs[@]}"
+
+echo "install-deps.sh: done ($(cmake --version | head -n1), $(g++ --version | head -n1))"
