@@ -79,30 +79,16 @@ struct ObjectTriangle {
   SpanPlanes planes;
 };
 
-// Draws `t` over rows [y0, y1) and columns [x0, x1): `full` means every pixel is covered.
-template <class Fn>
-void forEachRun(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1, bool full,
-                Fn&& fn) {
-  const int32_t rowBegin = std::max(y0, t.minY), rowEnd = std::min(y1, t.maxY);
-  if (full) {
-    for (int32_t y = rowBegin; y < rowEnd; ++y) fn(y, x0, x1);
-    return;
-  }
-  RowWalker walker(t, rowBegin);
-  for (int32_t y = rowBegin; y < rowEnd; ++y, walker.nextRow()) {
-    int32_t xa, xb;
-    if (walker.span(x0, x1, xa, xb)) fn(y, xa, xb);
-  }
-}
-
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
 struct Worker {
   std::vector<float> shadowMap;
   std::vector<uint32_t> s;                  // packed S of the current pass; zero between passes
   std::vector<uint16_t> acc;                // r, g, b planes: sum of this thread's per-pass amounts
   std::vector<int32_t> passBegin, passEnd;  // per row: run of the current pass
-  std::vector<int32_t> touchedBegin, touchedEnd;  // per row: union over this frame
+  std::vector<int32_t> touchedBegin, touchedEnd;       // per row: union over this frame
+  int32_t mapX0 = 0, mapY0 = 0, mapX1 = 0, mapY1 = 0;  // what the last pass wrote
   std::vector<ClipVertex> clip;
+  std::vector<SnappedVertex> snapped;
   std::vector<std::array<SnappedVertex, 3>> fan;
   uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0;
 };
@@ -328,25 +314,52 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   const uint32_t size = pass.shadowMapSize;
   const int32_t isize = static_cast<int32_t>(size);
 
-  w.shadowMap.assign(size_t{size} * size, kInfinity);
+  // The map is +inf outside the rectangle the previous pass on this thread wrote, so only
+  // that rectangle needs clearing (and the whole map when the size changes).
+  if (w.shadowMap.size() != size_t{size} * size) {
+    w.shadowMap.assign(size_t{size} * size, kInfinity);
+  } else {
+    for (int32_t y = w.mapY0; y < w.mapY1; ++y) {
+      std::fill_n(&w.shadowMap[size_t{size} * size_t(y) + size_t(w.mapX0)], w.mapX1 - w.mapX0,
+                  kInfinity);
+    }
+  }
+  w.mapX0 = w.mapY0 = isize;
+  w.mapX1 = w.mapY1 = 0;
   const Mesh& occluder = frame.occluders[pass.occluder];
   w.clip.resize(occluder.positions.size());
+  bool allInside = true;
   for (size_t i = 0; i < w.clip.size(); ++i) {
     w.clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
+    allInside = allInside && insideClipVolume(w.clip[i]);
   }
+  // Usually the light frustum encloses the whole occluder (Gibson 2003 §7.2): then every
+  // triangle is drawn unclipped and each vertex snaps once, exactly as clipAndSnapTriangle
+  // would snap it (the corner weights do not matter for depth).
+  if (allInside) {
+    w.snapped.resize(w.clip.size());
+    for (size_t i = 0; i < w.clip.size(); ++i) {
+      w.snapped[i] = snapVertex(w.clip[i], size, size, {65536, 0, 0});
+    }
+  }
+  auto draw = [&](const std::array<SnappedVertex, 3>& tri) {
+    SetupTriangle s;
+    if (!setupTriangle(tri, size, size, s)) return;
+    w.mapPixels += kernels->depthTriangle(w.shadowMap.data(), nullptr, size, s, 0);
+    w.mapX0 = std::min(w.mapX0, s.minX);
+    w.mapY0 = std::min(w.mapY0, s.minY);
+    w.mapX1 = std::max(w.mapX1, s.maxX);
+    w.mapY1 = std::max(w.mapY1, s.maxY);
+  };
   for (size_t t = 0; t < occluder.triangleCount(); ++t) {
     const uint32_t* idx = &occluder.indices[3 * t];
+    if (allInside) {
+      draw({w.snapped[idx[0]], w.snapped[idx[1]], w.snapped[idx[2]]});
+      continue;
+    }
     w.fan.clear();
     clipAndSnapTriangle({w.clip[idx[0]], w.clip[idx[1]], w.clip[idx[2]]}, size, size, w.fan);
-    for (const auto& tri : w.fan) {
-      SetupTriangle s;
-      if (!setupTriangle(tri, size, size, s)) continue;
-      const SpanPlanes planes{s.depth, {}, s.minX, s.minY};
-      forEachRun(s, 0, 0, isize, s.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-        w.mapPixels += kernels->depthLess(w.shadowMap.data() + size_t{size} * size_t(y), nullptr,
-                                          xa, xb, y, planes, 0);
-      });
-    }
+    for (const auto& tri : w.fan) draw(tri);
   }
 
   ShadowLookup lookup{};

@@ -89,6 +89,18 @@ uint32_t DepthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y
   return static_cast<uint32_t>(passed);
 }
 
+uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
+                       uint32_t triangleId) {
+  const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
+  uint32_t passed = 0;
+  forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+    const size_t row = stride * static_cast<size_t>(y);
+    passed +=
+        DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
+  });
+  return passed;
+}
+
 uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
                     const SpanPlanes& planes) {
   const DF df;
@@ -269,8 +281,8 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
 }
 
 const SpanKernels* Table() {
-  static const SpanKernels kernels{&DepthLess, &ColourLess, &InterpolateS, &AccumulateRows,
-                                   &SubtractAccumulated};
+  static const SpanKernels kernels{&DepthLess,    &DepthTriangle,  &ColourLess,
+                                   &InterpolateS, &AccumulateRows, &SubtractAccumulated};
   return &kernels;
 }
 

@@ -38,6 +38,11 @@ struct SpanKernels {
   // Returns how many pixels passed.
   uint32_t (*depthLess)(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
                         const SpanPlanes& planes, uint32_t triangleId);
+  // depthLess over every covered run of `t` (rows are `stride` pixels apart, pointers
+  // address pixel (0, 0)): one call per triangle keeps the per-row cost to the exact row
+  // stepping of RowWalker. Returns how many pixels passed.
+  uint32_t (*depthTriangle)(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
+                            uint32_t triangleId);
   // z < depth: colour, depth and id = kObjectId (spec §6 step 3). Returns pixels written.
   uint32_t (*colourLess)(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
                          int32_t y, const SpanPlanes& planes);

@@ -65,6 +65,18 @@ uint32_t depthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y
   return passed;
 }
 
+uint32_t depthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
+                       uint32_t triangleId) {
+  const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
+  uint32_t passed = 0;
+  forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+    const size_t row = stride * static_cast<size_t>(y);
+    passed +=
+        depthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
+  });
+  return passed;
+}
+
 uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
                     const SpanPlanes& planes) {
   uint32_t passed = 0;
@@ -135,8 +147,8 @@ void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
   }
 }
 
-const SpanKernels kScalar{&depthLess, &colourLess, &interpolateS, &accumulateRows,
-                          &subtractAccumulated};
+const SpanKernels kScalar{&depthLess,    &depthTriangle,  &colourLess,
+                          &interpolateS, &accumulateRows, &subtractAccumulated};
 
 }  // namespace
 

@@ -78,6 +78,32 @@ TEST_P(SpanKernelsOnTarget, DepthAndColourMatchScalar) {
   }
 }
 
+TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(15);
+  std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256);
+  std::uniform_real_distribution<float> z(0.0f, 1.0f);
+  std::vector<float> a(64 * 64, 0.6f), b = a;
+  std::vector<uint32_t> ida(64 * 64, 0), idb = ida;
+  for (int trial = 0; trial < 500; ++trial) {
+    std::array<SnappedVertex, 3> v;
+    for (auto& p : v) {
+      p.x = coord(rng);
+      p.y = coord(rng);
+      p.z = z(rng);
+    }
+    SetupTriangle t;
+    if (!setupTriangle(v, 64, 64, t)) continue;
+    uint32_t* idA = trial % 2 ? ida.data() : nullptr;
+    uint32_t* idB = trial % 2 ? idb.data() : nullptr;
+    ASSERT_EQ(ref.depthTriangle(a.data(), idA, 64, t, uint32_t(trial)),
+              k.depthTriangle(b.data(), idB, 64, t, uint32_t(trial)));
+    ASSERT_EQ(std::memcmp(a.data(), b.data(), 4 * a.size()), 0) << trial;
+    ASSERT_EQ(ida, idb) << trial;
+  }
+}
+
 TEST_P(SpanKernelsOnTarget, InterpolateSMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());

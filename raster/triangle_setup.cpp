@@ -75,6 +75,23 @@ SnappedVertex snap(const ClippedVertex& v, uint32_t width, uint32_t height) {
 
 }  // namespace
 
+bool insideClipVolume(const ClipVertex& v) {
+  for (int p = 0; p < kPlaneCount; ++p) {
+    if (!(planeDistance(p, v) >= 0.0f)) return false;
+  }
+  return true;
+}
+
+SnappedVertex snapVertex(const ClipVertex& v, uint32_t width, uint32_t height,
+                         const std::array<int32_t, 3>& weights) {
+  ClippedVertex c;
+  c.clip = v;
+  c.bary = {0.0f, 0.0f, 0.0f};
+  SnappedVertex s = snap(c, width, height);
+  s.w = weights;
+  return s;
+}
+
 ClipVertex transformPoint(const Mat4& m, const Vec3& p) {
   const auto& a = m.m;
   return {((a[0] * p.x + a[1] * p.y) + a[2] * p.z) + a[3],
@@ -243,44 +260,6 @@ RowWalker::RowWalker(const SetupTriangle& t, int32_t y) : minX_(t.minX), maxX_(t
     }
   }
   for (int i = 0; i < flatCount_; ++i) empty_ = empty_ || flatK_[i] < 0;
-}
-
-void RowWalker::nextRow() {
-  for (int i = 0; i < count_; ++i) {
-    Bound& b = bounds_[i];
-    if (b.lower) {
-      const bool carry = b.dr > b.r;
-      b.q += b.dq + (carry ? 1 : 0);
-      b.r = carry ? b.r + b.divisor - b.dr : b.r - b.dr;
-    } else {
-      b.r += b.dr;
-      const bool carry = b.r >= b.divisor;
-      b.q += b.dq + (carry ? 1 : 0);
-      b.r -= carry ? b.divisor : 0;
-    }
-  }
-  empty_ = false;
-  for (int i = 0; i < flatCount_; ++i) {
-    flatK_[i] += flatStep_[i];
-    empty_ = empty_ || flatK_[i] < 0;
-  }
-}
-
-bool RowWalker::span(int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) const {
-  if (empty_) return false;
-  int64_t lo = std::max(x0, minX_), hi = std::min(x1, maxX_);
-  for (int i = 0; i < count_; ++i) {
-    const Bound& b = bounds_[i];
-    if (b.lower) {
-      lo = std::max(lo, b.q);
-    } else {
-      hi = std::min(hi, b.q + 1);
-    }
-  }
-  if (lo >= hi) return false;
-  xa = static_cast<int32_t>(lo);
-  xb = static_cast<int32_t>(hi);
-  return true;
 }
 
 TileCoverage classifyTile(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {

@@ -5,6 +5,7 @@
 // evaluate the planes set up here over spans computed here.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -36,6 +37,15 @@ struct SnappedVertex {
 
 // Transform of a world-space point (spec §2).
 ClipVertex transformPoint(const Mat4& m, const Vec3& p);
+
+// True when the point is inside all seven clip planes (spec §3): a triangle of three such
+// vertices is drawn unclipped.
+bool insideClipVolume(const ClipVertex& v);
+
+// Snaps a clip-space vertex to a `width` x `height` viewport (spec §2), with `weights` as
+// its corner weights.
+SnappedVertex snapVertex(const ClipVertex& v, uint32_t width, uint32_t height,
+                         const std::array<int32_t, 3>& weights);
 
 // Clips one triangle (spec §3) and snaps the resulting fan to a `width` x `height`
 // viewport (spec §2). Appends 0, 1 or up to 5 triangles (3 vertices each) to `out`.
@@ -93,8 +103,42 @@ class RowWalker {
  public:
   RowWalker(const SetupTriangle& t, int32_t y);
   // The run of the current row clipped to [x0, x1); false if empty.
-  bool span(int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) const;
-  void nextRow();
+  bool span(int32_t x0, int32_t x1, int32_t& xa, int32_t& xb) const {
+    if (empty_) return false;
+    int64_t lo = std::max(x0, minX_), hi = std::min(x1, maxX_);
+    for (int i = 0; i < count_; ++i) {
+      const Bound& b = bounds_[i];
+      if (b.lower) {
+        lo = std::max(lo, b.q);
+      } else {
+        hi = std::min(hi, b.q + 1);
+      }
+    }
+    if (lo >= hi) return false;
+    xa = static_cast<int32_t>(lo);
+    xb = static_cast<int32_t>(hi);
+    return true;
+  }
+  void nextRow() {
+    for (int i = 0; i < count_; ++i) {
+      Bound& b = bounds_[i];
+      if (b.lower) {
+        const bool carry = b.dr > b.r;
+        b.q += b.dq + (carry ? 1 : 0);
+        b.r = carry ? b.r + b.divisor - b.dr : b.r - b.dr;
+      } else {
+        b.r += b.dr;
+        const bool carry = b.r >= b.divisor;
+        b.q += b.dq + (carry ? 1 : 0);
+        b.r -= carry ? b.divisor : 0;
+      }
+    }
+    empty_ = false;
+    for (int i = 0; i < flatCount_; ++i) {
+      flatK_[i] += flatStep_[i];
+      empty_ = empty_ || flatK_[i] < 0;
+    }
+  }
 
  private:
   struct Bound {
@@ -109,6 +153,23 @@ class RowWalker {
   int flatCount_ = 0;
   int32_t minX_, maxX_;
 };
+
+// Calls fn(y, xa, xb) for every covered run of `t` in rows [y0, y1) and columns [x0, x1);
+// `full` (a trivially accepted tile) means every pixel there is covered.
+template <class Fn>
+void forEachRun(const SetupTriangle& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1, bool full,
+                Fn&& fn) {
+  const int32_t rowBegin = std::max(y0, t.minY), rowEnd = std::min(y1, t.maxY);
+  if (full) {
+    for (int32_t y = rowBegin; y < rowEnd; ++y) fn(y, x0, x1);
+    return;
+  }
+  RowWalker walker(t, rowBegin);
+  for (int32_t y = rowBegin; y < rowEnd; ++y, walker.nextRow()) {
+    int32_t xa, xb;
+    if (walker.span(x0, x1, xa, xb)) fn(y, xa, xb);
+  }
+}
 
 // Tile classification against the three edges (spec §4): trivial reject, trivial accept,
 // or partial. Tile covers pixels [x0, x1) x [y0, y1).
