@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "raster/renderer.h"
+#include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
 #include "simd/u8_ops.h"
 #include "tests/test_scenes.h"
@@ -37,10 +38,13 @@ void BM_AccumulateRows(benchmark::State& state, simd::Isa isa, bool pcf) {
   constexpr int32_t kRows = 4, kWidth = 64;
   std::vector<float> depth(kWidth * kRows, 0.5f);
   std::vector<uint32_t> s(kWidth * kRows);
-  std::vector<float> map(256 * 256);
+  raster::ShadowMap map;
+  map.reset(256);
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> d(0.3f, 0.7f);
-  for (float& v : map) v = d(rng);
+  for (int32_t j = 0; j < 256; ++j) {
+    for (int32_t i = 0; i < 256; ++i) map.origin()[j * map.stride() + i] = d(rng);
+  }
   raster::ShadowLookup lookup{};
   lookup.p[0] = 0.9f;
   lookup.p[5] = 0.9f;
@@ -48,8 +52,9 @@ void BM_AccumulateRows(benchmark::State& state, simd::Isa isa, bool pcf) {
   lookup.p[7] = 40.0f;
   lookup.p[10] = 1.0f;
   lookup.p[15] = 1.0f;
-  lookup.map = map.data();
+  lookup.map = map.origin();
   lookup.size = 256;
+  lookup.stride = map.stride();
   lookup.bias = 0.001f;
   lookup.pcf2x2 = pcf;
   const std::vector<int32_t> xa(kRows, 0), xb(kRows, kWidth);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "raster/job_pool.h"
+#include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
 #include "raster/triangle_setup.h"
 
@@ -81,7 +82,7 @@ struct ObjectTriangle {
 
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
 struct Worker {
-  std::vector<float> shadowMap;
+  ShadowMap shadowMap;
   std::vector<uint32_t> s;                  // packed S of the current pass; zero between passes
   std::vector<uint16_t> acc;                // r, g, b planes: sum of this thread's per-pass amounts
   std::vector<int32_t> passBegin, passEnd;  // per row: run of the current pass
@@ -316,13 +317,10 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
 
   // The map is +inf outside the rectangle the previous pass on this thread wrote, so only
   // that rectangle needs clearing (and the whole map when the size changes).
-  if (w.shadowMap.size() != size_t{size} * size) {
-    w.shadowMap.assign(size_t{size} * size, kInfinity);
+  if (w.shadowMap.size() != isize) {
+    w.shadowMap.reset(isize);
   } else {
-    for (int32_t y = w.mapY0; y < w.mapY1; ++y) {
-      std::fill_n(&w.shadowMap[size_t{size} * size_t(y) + size_t(w.mapX0)], w.mapX1 - w.mapX0,
-                  kInfinity);
-    }
+    w.shadowMap.clear(w.mapX0, w.mapY0, w.mapX1, w.mapY1);
   }
   w.mapX0 = w.mapY0 = isize;
   w.mapX1 = w.mapY1 = 0;
@@ -345,7 +343,8 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   auto draw = [&](const std::array<SnappedVertex, 3>& tri) {
     SetupTriangle s;
     if (!setupTriangle(tri, size, size, s)) return;
-    w.mapPixels += kernels->depthTriangle(w.shadowMap.data(), nullptr, size, s, 0);
+    w.mapPixels +=
+        kernels->depthTriangle(w.shadowMap.origin(), nullptr, size_t(w.shadowMap.stride()), s, 0);
     w.mapX0 = std::min(w.mapX0, s.minX);
     w.mapY0 = std::min(w.mapY0, s.minY);
     w.mapX1 = std::max(w.mapX1, s.maxX);
@@ -367,8 +366,9 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   const Mat4d toTexel = {half, 0, 0, half, 0, -half, 0, half, 0, 0, 0.5, 0.5, 0, 0, 0, 1};
   const Mat4d p = multiply(multiply(toTexel, toDouble(pass.lightViewProj)), windowToWorld);
   for (int i = 0; i < 16; ++i) lookup.p[i] = static_cast<float>(p[i]);
-  lookup.map = w.shadowMap.data();
+  lookup.map = w.shadowMap.origin();
   lookup.size = isize;
+  lookup.stride = w.shadowMap.stride();
   lookup.bias = pass.depthBias;
   lookup.pcf2x2 = pass.pcf2x2;
 

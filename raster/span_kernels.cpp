@@ -4,6 +4,9 @@
 // the reference's bytes. tests/span_kernels_test.cpp compares them pixel by pixel.
 #include "raster/span_kernels.h"
 
+#include <algorithm>
+#include <array>
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "raster/span_kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -89,15 +92,76 @@ uint32_t DepthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y
   return static_cast<uint32_t>(passed);
 }
 
+// Small triangles (most of an occluder proxy in a 256x256 map cover a few dozen pixels)
+// test the three edges per pixel in int32 lanes instead of stepping exact runs per row.
+//
+// Why int32 is exact here: when the snapped vertices span at most 64 pixels in x and in y,
+// |A|, |B| <= 64 * 256 = 2^14, and every pixel centre of the bounding box (or of the
+// aligned vector around it, at most 15 pixels further) lies within 2^14 + 2^12 sub-pixel
+// units of each vertex, so |E| <= 2 * 2^14 * (2^14 + 2^12) < 2^30. The row value is
+// computed in int64 and narrowed exactly; adding A * 256 * dx (|dx| < 80) stays < 2^31.
+// The test E - bias >= 0 is then the same as spec §4's, pixel for pixel.
+constexpr int32_t kSmallTriangleSpan = 64 * 256;
+
+HWY_INLINE bool isSmall(const SetupTriangle& t) {
+  const int32_t x0 = std::min({t.v[0].x, t.v[1].x, t.v[2].x});
+  const int32_t x1 = std::max({t.v[0].x, t.v[1].x, t.v[2].x});
+  const int32_t y0 = std::min({t.v[0].y, t.v[1].y, t.v[2].y});
+  const int32_t y1 = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
+  return x1 - x0 <= kSmallTriangleSpan && y1 - y0 <= kSmallTriangleSpan;
+}
+
 uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
                        uint32_t triangleId) {
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
   uint32_t passed = 0;
-  forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+  if (!isSmall(t)) {
+    forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+      const size_t row = stride * static_cast<size_t>(y);
+      passed +=
+          DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
+    });
+    return passed;
+  }
+  const DF df;
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const int32_t xStart = alignDown(t.minX);
+  std::array<VI, 3> step;  // E(x + 1) - E(x) = 256 A
+  for (int i = 0; i < 3; ++i) step[i] = hn::Set(di, static_cast<int32_t>(t.edges[i].a * 256));
+  const VI lane = hn::Iota(di, 0);
+  const int64_t xc = int64_t{256} * xStart + 128;
+  for (int32_t y = t.minY; y < t.maxY; ++y) {
+    const int64_t yc = int64_t{256} * y + 128;
+    std::array<VI, 3> e;
+    for (int i = 0; i < 3; ++i) {
+      const Edge& g = t.edges[i];
+      e[i] = hn::Add(hn::Set(di, static_cast<int32_t>(g.a * xc + g.b * yc + g.c - g.bias)),
+                     hn::Mul(step[i], lane));
+    }
     const size_t row = stride * static_cast<size_t>(y);
-    passed +=
-        DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
-  });
+    const float fy = static_cast<float>(y - planes.oy);
+    for (int32_t x = xStart; x < t.maxX; x += lanes) {
+      const Chunk c = chunkAt(x, t.minX, t.maxX);
+      const MI covered =
+          hn::And(c.inRun, hn::And(GeI(e[0], hn::Zero(di)),
+                                   hn::And(GeI(e[1], hn::Zero(di)), GeI(e[2], hn::Zero(di)))));
+      const VI advance = hn::Set(di, lanes);
+      for (int i = 0; i < 3; ++i) e[i] = hn::Add(e[i], hn::Mul(step[i], advance));
+      if (hn::AllFalse(di, covered)) continue;
+      const VF z = depthAt(planes.depth, c.px, planes.ox, fy);
+      const VF old = hn::LoadU(df, depth + row + x);
+      const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
+      hn::StoreU(hn::IfThenElse(pass, z, old), df, depth + row + x);
+      if (id != nullptr) {
+        const VU oldId = hn::LoadU(du, id + row + x);
+        hn::StoreU(hn::IfThenElse(hn::RebindMask(du, pass), hn::Set(du, triangleId), oldId), du,
+                   id + row + x);
+      }
+      passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+    }
+  }
   return passed;
 }
 
@@ -133,16 +197,15 @@ uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32
   return static_cast<uint32_t>(passed);
 }
 
-// Does texel (i, j) occlude depth d? Lanes outside the map read texel 0 and answer false.
+// Does texel (i, j) occlude depth d? Valid lanes have -1 <= i, j <= size, where the map's
+// +inf border answers false as spec §7 requires (see ShadowMap); invalid lanes read texel
+// (0, 0) and are masked.
 HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
   const DF df;
   const DI di;
-  const VI size = hn::Set(di, s.size);
-  const MI inside = hn::And(hn::And(valid, hn::And(GeI(i, hn::Zero(di)), hn::Lt(i, size))),
-                            hn::And(GeI(j, hn::Zero(di)), hn::Lt(j, size)));
-  const VI index = hn::IfThenElseZero(inside, hn::Add(hn::Mul(j, size), i));
+  const VI index = hn::IfThenElseZero(valid, hn::Add(hn::Mul(j, hn::Set(di, s.stride)), i));
   const VF texel = hn::GatherIndex(df, s.map, index);
-  return hn::And(inside, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
+  return hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
 }
 
 // The mask M of spec §7 as int32 lanes in [0, 255].

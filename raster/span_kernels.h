@@ -20,8 +20,9 @@ inline constexpr uint32_t kObjectId = 0xFFFFFFFFu;   // id of pixels a synthetic
 // Where a pixel's receiver point falls in one pass's shadow map (spec §7).
 struct ShadowLookup {
   float p[16];       // camera window space -> light texel space, row-major
-  const float* map;  // size*size depths, row 0 first
+  const float* map;  // texel (0, 0); texel (i, j) at map[j * stride + i] (see ShadowMap)
   int32_t size;
+  int32_t stride;
   float bias;
   bool pcf2x2;
 };

@@ -20,7 +20,7 @@ uint8_t attributeAt(const AttributePlane& p, uint32_t fx, uint32_t fy) {
 
 bool occludes(const ShadowLookup& s, int32_t i, int32_t j, float d) {
   return i >= 0 && i < s.size && j >= 0 && j < s.size &&
-         d > s.map[static_cast<size_t>(j) * s.size + i] + s.bias;
+         d > s.map[ptrdiff_t{j} * s.stride + i] + s.bias;
 }
 
 // The occlusion mask M in [0, 255] of spec §7.

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "raster/shadow_map.h"
 #include "tests/isa_params.h"
 
 namespace penumbra::raster {
@@ -82,15 +83,17 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(15);
-  std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256);
+  // Half the triangles span at most 64 pixels (the int32 half-space path), half are larger.
+  std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256), offset(-40 * 256, 40 * 256);
   std::uniform_real_distribution<float> z(0.0f, 1.0f);
   std::vector<float> a(64 * 64, 0.6f), b = a;
   std::vector<uint32_t> ida(64 * 64, 0), idb = ida;
   for (int trial = 0; trial < 500; ++trial) {
     std::array<SnappedVertex, 3> v;
+    const int32_t cx = coord(rng), cy = coord(rng);
     for (auto& p : v) {
-      p.x = coord(rng);
-      p.y = coord(rng);
+      p.x = trial % 2 ? coord(rng) : cx + offset(rng) / 2;
+      p.y = trial % 2 ? coord(rng) : cy + offset(rng) / 2;
       p.z = z(rng);
     }
     SetupTriangle t;
@@ -130,9 +133,14 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
   std::uniform_real_distribution<float> f(-1.0f, 1.0f);
   const int32_t size = 32, rows = 6;
   const size_t plane = size_t{kRow} * rows;
-  std::vector<float> map(size * size);
-  for (float& v : map) v = 0.3f + 0.4f * (f(rng) + 1.0f) / 2.0f;
-  map[7] = std::numeric_limits<float>::infinity();
+  ShadowMap map;
+  map.reset(size);
+  for (int32_t j = 0; j < size; ++j) {
+    for (int32_t i = 0; i < size; ++i) {
+      map.origin()[j * map.stride() + i] = 0.3f + 0.4f * (f(rng) + 1.0f) / 2.0f;
+    }
+  }
+  map.origin()[7] = std::numeric_limits<float>::infinity();
   for (int trial = 0; trial < 1500; ++trial) {
     std::vector<float> depth(plane);
     std::vector<uint32_t> sA(plane, 0);
@@ -165,8 +173,9 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
     lookup.p[12] = 0.001f * f(rng);
     lookup.p[13] = 0.001f * f(rng);
     lookup.p[15] = 1.0f + 0.2f * f(rng);
-    lookup.map = map.data();
+    lookup.map = map.origin();
     lookup.size = size;
+    lookup.stride = map.stride();
     lookup.bias = 0.01f * (f(rng) + 1.0f);
     lookup.pcf2x2 = trial % 2 == 1;
     ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),

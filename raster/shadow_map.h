@@ -1,0 +1,41 @@
+// A square shadow map (spec §6 step 1) stored with a one-texel border of +inf on every side.
+//
+// A lookup one texel outside the map then reads "no occluder" by itself, which is what spec
+// §7 asks for texels outside [0, size), so the SIMD 2x2 filter needs no per-texel bounds
+// test. The allocation also leaves room for a SIMD vector (16 floats) past the last texel.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace penumbra::raster {
+
+class ShadowMap {
+ public:
+  // Every texel (and the border) to +inf, at a new size.
+  void reset(int32_t size) {
+    size_ = size;
+    texels_.assign(size_t(stride()) * size_t(stride()) + kVectorSlack, kInfinity);
+  }
+  // Texels [x0, x1) x [y0, y1) back to +inf.
+  void clear(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    for (int32_t y = y0; y < y1; ++y)
+      std::fill(origin() + rowOffset(y) + x0, origin() + rowOffset(y) + x1, kInfinity);
+  }
+  int32_t size() const { return size_; }
+  int32_t stride() const { return size_ + 2; }
+  // Texel (0, 0); texel (i, j) is at origin()[j * stride() + i] for -1 <= i, j <= size.
+  float* origin() { return texels_.data() + stride() + 1; }
+  const float* origin() const { return texels_.data() + stride() + 1; }
+
+ private:
+  static constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  static constexpr size_t kVectorSlack = 16;
+  ptrdiff_t rowOffset(int32_t y) const { return ptrdiff_t(y) * stride(); }
+  std::vector<float> texels_;
+  int32_t size_ = 0;
+};
+
+}  // namespace penumbra::raster
