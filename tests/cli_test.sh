@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Command-line behaviour of `penumbra`: help on every subcommand, hashes of a bundled trace,
+# and for malformed traces a clear error naming the file and the field, a non-zero exit and
+# no output file.
+#   tests/cli_test.sh PENUMBRA DATA_DIR GOLDEN_FILE [EMULATOR...]
+set -uo pipefail
+penumbra="$1" data="$2" golden="$3"
+shift 3
+run=("$@" "$penumbra")
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+check() {  # check NAME CONDITION-EXIT-CODE
+  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
+}
+
+for sub in "" replay isas bench-replay; do
+  "${run[@]}" $sub --help >"$tmp/help" 2>&1
+  check "help: penumbra $sub --help" $?
+done
+
+want="$(awk '$1 == "tiny.json" {print $2}' "$golden")"
+got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)"
+[[ "$got" == "sha256 $want" ]]
+check "replay --hash matches tests/golden_hashes.txt" $?
+
+# expect_error NAME TRACE FIELD: exit 1, message names the file and the field, no PNG.
+expect_error() {
+  local name="$1" trace="$2" field="$3"
+  "${run[@]}" replay "$trace" --out "$tmp/out.png" >"$tmp/stdout" 2>"$tmp/stderr"
+  local rc=$?
+  [[ $rc == 1 ]] && grep -q "$(basename "$trace")" "$tmp/stderr" && grep -q -- "$field" "$tmp/stderr" \
+    && [[ ! -e "$tmp/out.png" ]]
+  check "malformed ($name): exit $rc, $(head -c 200 "$tmp/stderr")" $?
+}
+
+cp "$data/traces/tiny.bin" "$tmp/tiny.bin"
+sed 's/"width"/"wide"/' "$data/traces/tiny.json" >"$tmp/missing-width.json"
+sed 's/"buffer": "tiny.bin"/"buffer": "tiny.bin", "unused": 0/' "$data/traces/tiny.json" >"$tmp/tiny.json"
+python3 - "$tmp" <<'PY'
+import json, sys, os
+d = sys.argv[1]
+doc = json.load(open(os.path.join(d, "tiny.json")))
+def write(name, mutate):
+    x = json.loads(json.dumps(doc)); mutate(x)
+    json.dump(x, open(os.path.join(d, name), "w"))
+write("bad-index.json", lambda x: x["passes"][0].__setitem__("occluder", 7))
+write("bad-size.json", lambda x: x["passes"][0].__setitem__("shadow_map_size", 100))
+write("bad-view.json", lambda x: x["static_mesh"]["indices"].__setitem__("count", 10**7))
+write("not-finite.json", lambda x: x["camera_view_proj"].__setitem__(0, "nan"))
+PY
+expect_error "missing width" "$tmp/missing-width.json" "width"
+expect_error "occluder out of range" "$tmp/bad-index.json" "passes\[0\].occluder"
+expect_error "shadow map size" "$tmp/bad-size.json" "shadow_map_size"
+expect_error "view past the end" "$tmp/bad-view.json" "static_mesh.indices"
+expect_error "matrix not a number" "$tmp/not-finite.json" "camera_view_proj"
+head -c 1000 "$data/traces/tiny.bin" >"$tmp/tiny.bin"
+expect_error "truncated buffer" "$tmp/tiny.json" "runs past the end"
+printf '{ not json' >"$tmp/garbage.json"
+expect_error "not JSON" "$tmp/garbage.json" "not valid JSON"
+
+"${run[@]}" replay "$data/traces/tiny.json" --isa no-such-isa >/dev/null 2>"$tmp/stderr"
+[[ $? != 0 ]] && grep -q "no-such-isa" "$tmp/stderr"
+check "unknown --isa is refused" $?
+
+echo "$((14 - failures)) passed, $failures failed"
+exit $((failures > 0))
