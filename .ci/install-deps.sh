@@ -49,7 +49,7 @@ cross_pkgs=(
   g++-aarch64-linux-gnu qemu-user
   libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64
 )
-# Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (docs/design.md §6).
+# Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (../shared/design.md §6).
 
 if (( cross )) && ! dpkg --print-foreign-architectures | grep -qx arm64; then
   if [[ $(dpkg --print-architecture) != arm64 ]]; then

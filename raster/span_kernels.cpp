@@ -128,27 +128,36 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
   const DU du;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
   const int32_t xStart = alignDown(t.minX);
-  std::array<VI, 3> step;  // E(x + 1) - E(x) = 256 A
-  for (int i = 0; i < 3; ++i) step[i] = hn::Set(di, static_cast<int32_t>(t.edges[i].a * 256));
+  // Vectors stay in named locals: std::array<Vec> would construct them outside Highway's
+  // target attributes, which NEON builds reject.
+  const Edge& g0 = t.edges[0];
+  const Edge& g1 = t.edges[1];
+  const Edge& g2 = t.edges[2];
+  const VI step0 = hn::Set(di, static_cast<int32_t>(g0.a * 256));  // E(x + 1) - E(x)
+  const VI step1 = hn::Set(di, static_cast<int32_t>(g1.a * 256));
+  const VI step2 = hn::Set(di, static_cast<int32_t>(g2.a * 256));
   const VI lane = hn::Iota(di, 0);
+  const VI advance = hn::Set(di, lanes);
   const int64_t xc = int64_t{256} * xStart + 128;
+  auto rowStart = [&](const Edge& g, int64_t yc, VI step) {
+    return hn::Add(hn::Set(di, static_cast<int32_t>(g.a * xc + g.b * yc + g.c - g.bias)),
+                   hn::Mul(step, lane));
+  };
   for (int32_t y = t.minY; y < t.maxY; ++y) {
     const int64_t yc = int64_t{256} * y + 128;
-    std::array<VI, 3> e;
-    for (int i = 0; i < 3; ++i) {
-      const Edge& g = t.edges[i];
-      e[i] = hn::Add(hn::Set(di, static_cast<int32_t>(g.a * xc + g.b * yc + g.c - g.bias)),
-                     hn::Mul(step[i], lane));
-    }
+    VI e0 = rowStart(g0, yc, step0);
+    VI e1 = rowStart(g1, yc, step1);
+    VI e2 = rowStart(g2, yc, step2);
     const size_t row = stride * static_cast<size_t>(y);
     const float fy = static_cast<float>(y - planes.oy);
     for (int32_t x = xStart; x < t.maxX; x += lanes) {
       const Chunk c = chunkAt(x, t.minX, t.maxX);
-      const MI covered =
-          hn::And(c.inRun, hn::And(GeI(e[0], hn::Zero(di)),
-                                   hn::And(GeI(e[1], hn::Zero(di)), GeI(e[2], hn::Zero(di)))));
-      const VI advance = hn::Set(di, lanes);
-      for (int i = 0; i < 3; ++i) e[i] = hn::Add(e[i], hn::Mul(step[i], advance));
+      const MI covered = hn::And(
+          c.inRun,
+          hn::And(GeI(e0, hn::Zero(di)), hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
+      e0 = hn::Add(e0, hn::Mul(step0, advance));
+      e1 = hn::Add(e1, hn::Mul(step1, advance));
+      e2 = hn::Add(e2, hn::Mul(step2, advance));
       if (hn::AllFalse(di, covered)) continue;
       const VF z = depthAt(planes.depth, c.px, planes.ox, fy);
       const VF old = hn::LoadU(df, depth + row + x);
