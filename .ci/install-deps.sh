@@ -43,6 +43,7 @@ native=(
   libhwy-dev libglm-dev nlohmann-json3-dev libcli11-dev
   libpng-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libembree-dev libmeshoptimizer-dev
   python3-matplotlib
 )
 cross_pkgs=(
