@@ -4,9 +4,22 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace penumbra::shadow {
+
+ToneCurve ToneCurve::fromThresholds(const std::array<double, 255>& thresholds) {
+  for (size_t k = 1; k < thresholds.size(); ++k) {
+    if (!(thresholds[k] >= thresholds[k - 1])) {
+      throw std::invalid_argument("tone curve: thresholds must be non-decreasing (code " +
+                                  std::to_string(k + 1) + ")");
+    }
+  }
+  ToneCurve curve;
+  curve.thresholds_ = thresholds;
+  return curve;
+}
 
 ToneCurve ToneCurve::fromSamples(std::span<const Sample> samples) {
   if (samples.size() < 2) throw std::invalid_argument("ToneCurve: need at least two samples");

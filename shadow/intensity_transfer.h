@@ -38,6 +38,11 @@ class ToneCurve {
   // sampled at every half code.
   static ToneCurve gamma(double exposure, double gamma = 2.2);
 
+  // The curve with these code thresholds (as returned by threshold(1..255)), e.g. read
+  // back from a scene bundle. Throws std::invalid_argument unless non-decreasing.
+  static ToneCurve fromThresholds(const std::array<double, 255>& thresholds);
+  std::array<double, 255> thresholds() const { return thresholds_; }
+
   // T(L) for one channel. NaN maps to 0.
   uint8_t operator()(double radiance) const;
   raster::Rgb8 map(const glm::dvec3& radiance) const;

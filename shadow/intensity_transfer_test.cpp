@@ -110,3 +110,18 @@ TEST(IntensityTransfer, SingleSetRemovesAllLight) {
 
 }  // namespace
 }  // namespace penumbra::shadow
+
+namespace penumbra::shadow {
+namespace {
+
+TEST(ToneCurveThresholds, RoundTripAndValidation) {
+  const ToneCurve tone = ToneCurve::gamma(1.5, 2.2);
+  const ToneCurve back = ToneCurve::fromThresholds(tone.thresholds());
+  for (double l = 0.0; l < 1.0; l += 0.0137) EXPECT_EQ(back(l), tone(l)) << l;
+  auto bad = tone.thresholds();
+  bad[100] = bad[99] - 1.0;
+  EXPECT_THROW(ToneCurve::fromThresholds(bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra::shadow

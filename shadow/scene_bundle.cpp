@@ -1,0 +1,177 @@
+#include "shadow/scene_bundle.h"
+
+#include <cmath>
+
+#include "scene/bundle_io.h"
+
+namespace penumbra::shadow {
+namespace {
+
+using scene::BundleReader;
+using scene::BundleWriter;
+
+void addMesh(BundleWriter& w, const std::string& name, const raster::Mesh& mesh) {
+  w.add<raster::Vec3>(name + ".positions", mesh.positions);
+  w.add<uint32_t>(name + ".indices", mesh.indices);
+}
+
+raster::Mesh readMesh(const BundleReader& r, const std::string& name) {
+  raster::Mesh m;
+  m.positions = r.get<raster::Vec3>(name + ".positions");
+  m.indices = r.get<uint32_t>(name + ".indices");
+  if (m.indices.size() % 3 != 0) r.fail(name + ".indices", "count is not a multiple of 3");
+  for (uint32_t i : m.indices) {
+    if (i >= m.positions.size()) r.fail(name + ".indices", "index out of range");
+  }
+  for (const raster::Vec3& p : m.positions) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      r.fail(name + ".positions", "non-finite position");
+    }
+  }
+  return m;
+}
+
+// Product names are stored as one character array with a length per product.
+void addNames(BundleWriter& w, const std::vector<ProductModel>& products) {
+  std::vector<char> chars;
+  std::vector<uint32_t> lengths;
+  for (const ProductModel& p : products) {
+    chars.insert(chars.end(), p.name.begin(), p.name.end());
+    lengths.push_back(static_cast<uint32_t>(p.name.size()));
+  }
+  w.add<char>("products.names", chars);
+  w.add<uint32_t>("products.name_lengths", lengths);
+}
+
+}  // namespace
+
+void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
+  BundleWriter w(kBundleVersion);
+  w.addValue<uint32_t>("view.width", b.view.width);
+  w.addValue<uint32_t>("view.height", b.view.height);
+  w.addValue<raster::Mat4>("view.camera", b.view.cameraViewProj);
+  addMesh(w, "view.static_mesh", b.view.staticMesh);
+  w.add<uint8_t>("background", b.background);
+  w.add<uint32_t>("triangle_patch", b.trianglePatch);
+  w.add<PatchRecord>("patches", b.patches);
+  const std::array<double, 255> thresholds = b.tone.thresholds();
+  w.add<double>("tone.thresholds", thresholds);
+  w.add<uint32_t>("sets.sources", b.sets.sources);
+  w.add<uint32_t>("sets.receivers", b.sets.receivers);
+  w.addValue<double>("sets.power_share", b.sets.powerShare);
+  const RadianceTransfers& t = b.transfers;
+  w.add<uint32_t>("transfers.receiver_vertices", t.receiverVertices);
+  w.add<glm::vec3>("transfers.vertex_radiance", t.vertexRadiance);
+  w.add<uint32_t>("transfers.source_start", t.sourceStart);
+  w.add<uint32_t>("transfers.entry_vertex", t.entryVertex);
+  w.add<glm::vec3>("transfers.entry_transfer", t.entryTransfer);
+  w.add<float>("transfers.source_average", t.sourceAverage);
+  w.addValue<uint32_t>("products.count", static_cast<uint32_t>(b.products.size()));
+  addNames(w, b.products);
+  for (size_t i = 0; i < b.products.size(); ++i) {
+    const std::string p = "products." + std::to_string(i);
+    addMesh(w, p + ".mesh", b.products[i].mesh);
+    addMesh(w, p + ".proxy", b.products[i].proxy);
+    w.addValue<glm::vec3>(p + ".reflectance", b.products[i].reflectance);
+  }
+  w.addValue<ProductPose>("start_pose", b.startPose);
+  w.addValue<float>("room.floor_y", b.roomFloorY);
+  w.write(path);
+}
+
+SceneBundle loadBundle(const std::filesystem::path& path) {
+  const BundleReader r(path, kBundleVersion);
+  SceneBundle b;
+  b.view.width = r.getValue<uint32_t>("view.width");
+  b.view.height = r.getValue<uint32_t>("view.height");
+  b.view.cameraViewProj = r.getValue<raster::Mat4>("view.camera");
+  b.view.staticMesh = readMesh(r, "view.static_mesh");
+  b.background = r.get<uint8_t>("background");
+  b.trianglePatch = r.get<uint32_t>("triangle_patch");
+  b.patches = r.get<PatchRecord>("patches");
+  const std::vector<double> thresholds = r.get<double>("tone.thresholds");
+  if (thresholds.size() != 255) r.fail("tone.thresholds", "needs 255 values");
+  std::array<double, 255> t{};
+  std::copy(thresholds.begin(), thresholds.end(), t.begin());
+  try {
+    b.tone = ToneCurve::fromThresholds(t);
+  } catch (const std::invalid_argument& e) {
+    r.fail("tone.thresholds", e.what());
+  }
+  b.sets.sources = r.get<uint32_t>("sets.sources");
+  b.sets.receivers = r.get<uint32_t>("sets.receivers");
+  b.sets.powerShare = r.getValue<double>("sets.power_share");
+  RadianceTransfers& x = b.transfers;
+  x.receiverVertices = r.get<uint32_t>("transfers.receiver_vertices");
+  x.vertexRadiance = r.get<glm::vec3>("transfers.vertex_radiance");
+  x.sourceStart = r.get<uint32_t>("transfers.source_start");
+  x.entryVertex = r.get<uint32_t>("transfers.entry_vertex");
+  x.entryTransfer = r.get<glm::vec3>("transfers.entry_transfer");
+  x.sourceAverage = r.get<float>("transfers.source_average");
+  const uint32_t productCount = r.getValue<uint32_t>("products.count");
+  const std::vector<char> names = r.get<char>("products.names");
+  const std::vector<uint32_t> lengths = r.get<uint32_t>("products.name_lengths");
+  if (lengths.size() != productCount) r.fail("products.name_lengths", "count mismatch");
+  size_t at = 0;
+  for (uint32_t i = 0; i < productCount; ++i) {
+    const std::string p = "products." + std::to_string(i);
+    ProductModel m;
+    if (lengths[i] > names.size() - at) r.fail("products.names", "too short");
+    m.name.assign(names.begin() + std::ptrdiff_t(at),
+                  names.begin() + std::ptrdiff_t(at + lengths[i]));
+    at += lengths[i];
+    m.mesh = readMesh(r, p + ".mesh");
+    m.proxy = readMesh(r, p + ".proxy");
+    m.reflectance = r.getValue<glm::vec3>(p + ".reflectance");
+    b.products.push_back(std::move(m));
+  }
+  b.startPose = r.getValue<ProductPose>("start_pose");
+  b.roomFloorY = r.getValue<float>("room.floor_y");
+
+  // Cross-checks: every index the per-frame path follows must be in range.
+  const size_t triangles = b.view.staticMesh.triangleCount();
+  if (b.background.size() != size_t{b.view.width} * b.view.height * 4) {
+    r.fail("background", "size does not match the view");
+  }
+  if (b.trianglePatch.size() != triangles) r.fail("triangle_patch", "one entry per triangle");
+  for (uint32_t p : b.trianglePatch) {
+    if (p >= b.patches.size()) r.fail("triangle_patch", "patch index out of range");
+  }
+  for (const PatchRecord& p : b.patches) {
+    if (size_t{p.firstTriangle} + 1 >= triangles) r.fail("patches", "triangle index out of range");
+  }
+  for (uint32_t s : b.sets.sources) {
+    if (s >= b.patches.size()) r.fail("sets.sources", "patch index out of range");
+  }
+  for (uint32_t s : b.sets.receivers) {
+    if (s >= b.patches.size()) r.fail("sets.receivers", "patch index out of range");
+  }
+  if (x.vertexRadiance.size() != x.receiverVertices.size()) {
+    r.fail("transfers.vertex_radiance", "one entry per receiver vertex");
+  }
+  for (uint32_t v : x.receiverVertices) {
+    if (v >= b.view.staticMesh.positions.size()) {
+      r.fail("transfers.receiver_vertices", "vertex index out of range");
+    }
+  }
+  if (x.sourceStart.size() != b.sets.sources.size() + 1 || x.sourceStart.front() != 0 ||
+      x.sourceStart.back() != x.entryVertex.size()) {
+    r.fail("transfers.source_start", "does not match the sources and entries");
+  }
+  for (size_t s = 1; s < x.sourceStart.size(); ++s) {
+    if (x.sourceStart[s] < x.sourceStart[s - 1]) r.fail("transfers.source_start", "decreasing");
+  }
+  if (x.entryTransfer.size() != x.entryVertex.size()) {
+    r.fail("transfers.entry_transfer", "one entry per transfer");
+  }
+  for (uint32_t v : x.entryVertex) {
+    if (v >= x.receiverVertices.size()) r.fail("transfers.entry_vertex", "out of range");
+  }
+  if (x.sourceAverage.size() != b.sets.sources.size()) {
+    r.fail("transfers.source_average", "one entry per source");
+  }
+  if (b.startPose.product >= b.products.size()) r.fail("start_pose", "product out of range");
+  return b;
+}
+
+}  // namespace penumbra::shadow

@@ -1,0 +1,65 @@
+// Everything `penumbra precompute` derives from a showroom once, as one checksummed file
+// (scene/bundle_io.h) that `penumbra render` and the kiosk load in milliseconds: the
+// calibrated view and its background photograph, the room's patch mesh, the camera
+// response T(), the light transport of Gibson 2003 §4–5, and the products.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+#include "shadow/intensity_transfer.h"
+#include "shadow/light_transport.h"
+
+namespace penumbra::shadow {
+
+inline constexpr uint32_t kBundleVersion = 1;
+
+// A patch as the per-frame pipeline needs it (scene::Patch in float).
+struct PatchRecord {
+  glm::vec3 centre, normal;
+  float area;
+  glm::vec3 reflectance, emission;
+  uint32_t firstTriangle;  // triangles firstTriangle and firstTriangle + 1
+};
+
+// A product: its display mesh (standing on y = 0, centred on the origin at yaw 0), its
+// shadow proxy of 100–500 triangles (Gibson 2003 §7.2) and a diffuse reflectance.
+struct ProductModel {
+  std::string name;
+  raster::Mesh mesh;
+  raster::Mesh proxy;
+  glm::vec3 reflectance{0.6f};
+};
+
+// Where a product stands: on the floor at (x, z), turned by yaw about +y.
+struct ProductPose {
+  uint32_t product = 0;
+  float x = 0, z = 0, yawDegrees = 0;
+};
+
+struct SceneBundle {
+  raster::StaticView view;              // image size, camera, the room's triangles
+  std::vector<uint8_t> background;      // RGBA8 "photograph" of the empty room
+  std::vector<uint32_t> trianglePatch;  // per static triangle: index into patches
+  std::vector<PatchRecord> patches;
+  ToneCurve tone;
+  SourceReceiverSets sets;
+  RadianceTransfers transfers;
+  std::vector<ProductModel> products;
+  ProductPose startPose;
+  float roomFloorY = 0;
+};
+
+// Throws scene::BundleError naming the file.
+void saveBundle(const SceneBundle& bundle, const std::filesystem::path& path);
+// Reads and validates (sizes, indices, finite numbers); throws scene::BundleError naming
+// the file and the section.
+SceneBundle loadBundle(const std::filesystem::path& path);
+
+}  // namespace penumbra::shadow
