@@ -1,0 +1,282 @@
+#include "scene/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+
+namespace penumbra::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The bundled models, found beside this source file when the build does not say where
+// data/ is.
+fs::path dataDir() {
+#ifdef PENUMBRA_DATA_DIR
+  return PENUMBRA_DATA_DIR;
+#else
+  return fs::path(__FILE__).parent_path().parent_path() / "data";
+#endif
+}
+
+// A fresh folder per test, removed afterwards.
+class MeshIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("penumbra_mesh_io_" + std::string(info->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& bytes) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+// The MeshError message of `f`, or "" when it does not throw one.
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const MeshError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectError(const std::function<void()>& f, std::initializer_list<const char*> parts) {
+  const std::string msg = errorOf(f);
+  ASSERT_FALSE(msg.empty()) << "no MeshError";
+  for (const char* part : parts) EXPECT_NE(msg.find(part), std::string::npos) << msg;
+}
+
+// Binary little-endian body builder.
+struct Bytes {
+  std::string data;
+  template <typename T>
+  Bytes& put(T v) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    data.append(b, sizeof(T));
+    return *this;
+  }
+};
+
+TEST_F(MeshIo, ObjPolygonsBecomeFansAndNegativeIndicesCountBack) {
+  const fs::path p = write("shape.obj",
+                           "# a square and a triangle\r\n"
+                           "mtllib shape.mtl\n"
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0   # trailing comment\nv 0 1 0\n"
+                           "vt 0 0\nvn 0 0 1\n"
+                           "o square\nusemtl red\ns off\n"
+                           "f 1/1/1 2/1/1 3/1/1 4/1/1\n"
+                           "v 0 0 +2.5e0 1.0\n"
+                           "f -5//1 -4//1 -1//1\n");
+  const TriangleMesh m = loadMesh(p);
+  ASSERT_EQ(m.positions.size(), 5u);
+  EXPECT_EQ(m.positions[4], glm::dvec3(0, 0, 2.5));
+  EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 1, 4}));
+  EXPECT_EQ(m.triangleCount(), 3u);
+}
+
+TEST_F(MeshIo, ObjErrorsNameFileLineAndProblem) {
+  const std::string v3 = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expectError([&] { loadMesh(write("zero.obj", v3 + "f 0 1 2\n")); },
+              {"zero.obj", "line 4", "vertex index 0 out of range"});
+  expectError([&] { loadMesh(write("big.obj", v3 + "f 1 2 4\n")); },
+              {"big.obj", "line 4", "vertex index 4 out of range", "3 vertices"});
+  expectError([&] { loadMesh(write("neg.obj", v3 + "f -1 -2 -4\n")); },
+              {"line 4", "vertex index -4 out of range"});
+  expectError([&] { loadMesh(write("nan.obj", "v 0 nan 0\n")); },
+              {"nan.obj", "line 1", "non-finite coordinate"});
+  expectError([&] { loadMesh(write("inf.obj", "v 0 0 -inf\n")); }, {"non-finite coordinate"});
+  expectError([&] { loadMesh(write("num.obj", "v 0 0x1 0\n")); }, {"line 1", "bad number"});
+  expectError([&] { loadMesh(write("short.obj", "v 0 1\n")); },
+              {"line 1", "vertex needs x, y and z"});
+  expectError([&] { loadMesh(write("two.obj", v3 + "f 1 2\n")); },
+              {"line 4", "at least 3 vertices"});
+  expectError([&] { loadMesh(write("idx.obj", v3 + "f 1 two 3\n")); },
+              {"line 4", "bad vertex index 'two'"});
+  expectError([&] { loadMesh(write("empty.obj", v3)); }, {"empty.obj", "no faces"});
+}
+
+TEST_F(MeshIo, UnknownFormatAndMissingFile) {
+  expectError([&] { loadMesh(write("model.stl", "solid x\n")); },
+              {"model.stl", "unknown mesh format '.stl'"});
+  expectError([&] { loadMesh(dir_ / "absent.ply"); }, {"absent.ply", "cannot open"});
+  expectError([&] { loadMesh(write("fake.ply", "solid x\n")); }, {"fake.ply", "not a PLY"});
+}
+
+const char* const kAsciiHeader =
+    "ply\r\n"
+    "format ascii 1.0\r\n"
+    "comment written by hand\r\n"
+    "element vertex 4\r\n"
+    "property double x\r\nproperty double y\r\nproperty double z\r\n"
+    "property uchar red\r\n"
+    "element face 2\r\n"
+    "property list uchar int vertex_indices\r\n"
+    "property float quality\r\n"
+    "element edge 1\r\n"
+    "property int vertex1\r\nproperty int vertex2\r\n"
+    "end_header\r\n";
+
+TEST_F(MeshIo, AsciiPlyWithExtraPropertiesAndElements) {
+  const TriangleMesh m = loadMesh(write("a.PLY", std::string(kAsciiHeader) +
+                                                     "0 0 0 255\n1 0 0 0\n\n1 1 0 0\n0 1 1.5 7\n"
+                                                     "4 0 1 2 3 0.5\n3 3 2 1 1\n"
+                                                     "0 1\n"));
+  ASSERT_EQ(m.positions.size(), 4u);
+  EXPECT_EQ(m.positions[3], glm::dvec3(0, 1, 1.5));
+  EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 3, 2, 1}));
+}
+
+TEST_F(MeshIo, AsciiPlyErrors) {
+  const std::string h = kAsciiHeader;  // 15 header lines
+  const std::string verts = "0 0 0 1\n1 0 0 1\n1 1 0 1\n0 1 0 1\n";
+  expectError([&] { loadMesh(write("i.ply", h + verts + "3 0 1 9 0\n3 0 1 2 0\n0 1\n")); },
+              {"i.ply", "face 0", "vertex index 9 out of range (4 vertices)"});
+  expectError([&] { loadMesh(write("n.ply", h + "0 0 0 1\n1 nan 0 1\n")); },
+              {"n.ply", "line 17", "vertex 1", "non-finite coordinate"});
+  expectError([&] { loadMesh(write("f.ply", h + "0 0 0 1\n1 0 0\n")); },
+              {"line 17", "too few values"});
+  expectError([&] { loadMesh(write("x.ply", h + verts + "3 0 1 2 0 5\n")); },
+              {"line 20", "face 0", "extra value"});
+  expectError([&] { loadMesh(write("t.ply", h + verts + "3 0 1 2 0\n")); },
+              {"face 1", "unexpected end of file"});
+  expectError([&] { loadMesh(write("c.ply", h + verts + "3 0 1.5 2 0\n")); },
+              {"face 0", "bad integer '1.5'"});
+  expectError([&] { loadMesh(write("l.ply", h + verts + "2 0 1 0\n")); },
+              {"face 0", "at least 3 vertices"});
+  expectError([&] { loadMesh(write("z.ply", h + verts + "3 0 1 2 0\n3 0 1 2 0\n0 1\nmore\n")); },
+              {"unexpected content after the last element"});
+}
+
+TEST_F(MeshIo, PlyHeaderErrors) {
+  expectError([&] { loadMesh(write("be.ply", "ply\nformat binary_big_endian 1.0\nend_header\n")); },
+              {"be.ply", "line 2", "unsupported format 'binary_big_endian'"});
+  expectError([&] { loadMesh(write("eh.ply", "ply\nformat ascii 1.0\nelement vertex 0\n")); },
+              {"no end_header"});
+  expectError([&] { loadMesh(write("nf.ply", "ply\nelement vertex 0\nend_header\n")); },
+              {"no format line"});
+  expectError(
+      [&] {
+        loadMesh(write("nv.ply",
+                       "ply\nformat ascii 1.0\nelement face 0\n"
+                       "property list uchar int vertex_indices\nend_header\n"));
+      },
+      {"no vertex element"});
+  expectError(
+      [&] {
+        loadMesh(write("ny.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
+                       "property float z\nend_header\n"));
+      },
+      {"vertex", "no property y"});
+  expectError(
+      [&] {
+        loadMesh(write("ty.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 1\n"
+                       "property float128 x\nend_header\n"));
+      },
+      {"line 4", "unknown property type 'float128'"});
+  expectError([&] { loadMesh(write("kw.ply", "ply\nformat ascii 1.0\nbogus\nend_header\n")); },
+              {"line 3", "unknown header keyword 'bogus'"});
+}
+
+std::string binaryHeader(int vertices, int faces, const char* coordType, const char* listTypes) {
+  return std::string("ply\nformat binary_little_endian 1.0\nelement vertex ") +
+         std::to_string(vertices) + "\nproperty " + coordType + " x\nproperty " + coordType +
+         " y\nproperty " + coordType + " z\nelement face " + std::to_string(faces) +
+         "\nproperty list " + listTypes + " vertex_indices\nend_header\n";
+}
+
+TEST_F(MeshIo, BinaryPlyFloatAndDouble) {
+  Bytes f;
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.25f}) f.put(v);
+  f.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
+  const TriangleMesh a =
+      loadMesh(write("f.ply", binaryHeader(3, 1, "float", "uchar int") + f.data));
+  EXPECT_EQ(a.positions[2], glm::dvec3(0, 1, 0.25));
+  EXPECT_EQ(a.indices, (std::vector<uint32_t>{0, 1, 2}));
+
+  Bytes d;
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.1, 0.0, 1.0, 0.0}) d.put(v);
+  d.put<uint8_t>(4).put<uint32_t>(0).put<uint32_t>(1).put<uint32_t>(2).put<uint32_t>(3);
+  const TriangleMesh b =
+      loadMesh(write("d.ply", binaryHeader(4, 1, "double", "uint8 uint32") + d.data));
+  EXPECT_EQ(b.positions[2], glm::dvec3(1, 1, 0.1));  // doubles are kept exactly
+  EXPECT_EQ(b.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+}
+
+TEST_F(MeshIo, BinaryPlyErrors) {
+  Bytes verts;
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) verts.put(v);
+  const std::string h = binaryHeader(3, 1, "float", "uchar int");
+  Bytes face;
+  face.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
+  const std::string good = h + verts.data + face.data;
+  expectError([&] { loadMesh(write("t.ply", good.substr(0, good.size() - 2))); },
+              {"t.ply", "face 0", "truncated binary data"});
+  expectError([&] { loadMesh(write("tv.ply", h + verts.data.substr(0, 20))); },
+              {"vertex 1", "truncated binary data"});
+  expectError([&] { loadMesh(write("x.ply", good + "junk")); },
+              {"x.ply", "4 unexpected bytes after the last element"});
+  Bytes bad;
+  bad.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(-1).put<int32_t>(2);
+  expectError([&] { loadMesh(write("i.ply", h + verts.data + bad.data)); },
+              {"i.ply", "face 0", "vertex index -1 out of range"});
+  Bytes nanVerts;
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, std::numeric_limits<float>::infinity(), 0.f}) {
+    nanVerts.put(v);
+  }
+  expectError([&] { loadMesh(write("n.ply", h + nanVerts.data + face.data)); },
+              {"n.ply", "vertex 2", "non-finite coordinate"});
+  expectError(
+      [&] { loadMesh(write("z.ply", binaryHeader(3, 0, "float", "uchar int") + verts.data)); },
+      {"z.ply", "no faces"});
+  expectError([&] { loadMesh(write("lf.ply", binaryHeader(0, 0, "float", "float int"))); },
+              {"line 8", "list count type must be an integer"});
+}
+
+TEST_F(MeshIo, SaveObjRoundTripsExactly) {
+  TriangleMesh m;
+  m.positions = {glm::dvec3(0.1, -2.0 / 3.0, 1e-9), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)};
+  m.indices = {0, 1, 2};
+  const fs::path p = dir_ / "out.obj";
+  saveObj(m, p);
+  const TriangleMesh back = loadMesh(p);
+  EXPECT_EQ(back.positions, m.positions);
+  EXPECT_EQ(back.indices, m.indices);
+}
+
+// The bundled models (data/models/NOTICE.md) load with the counts of their sources.
+TEST(BundledModels, LoadWithTheirTriangleCounts) {
+  const fs::path models = dataDir() / "models";
+  const TriangleMesh bunny = loadMesh(models / "bunny.ply");
+  EXPECT_EQ(bunny.positions.size(), 1839u);
+  EXPECT_EQ(bunny.triangleCount(), 3674u);
+  const TriangleMesh teapot = loadMesh(models / "teapot.ply");
+  EXPECT_EQ(teapot.positions.size(), 792u);
+  EXPECT_EQ(teapot.triangleCount(), 992u);
+  const TriangleMesh chair = loadMesh(models / "chair.obj");
+  EXPECT_EQ(chair.triangleCount(), 216u);
+}
+
+}  // namespace
+}  // namespace penumbra::scene

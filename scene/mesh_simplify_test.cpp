@@ -1,0 +1,69 @@
+// Shadow proxies by quadric simplification (meshoptimizer), Gibson 2003 §7.2.
+#include "scene/mesh_simplify.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <utility>
+#include <vector>
+
+#include "scene/mesh_io.h"
+
+namespace penumbra::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dataDir() {
+#ifdef PENUMBRA_DATA_DIR
+  return PENUMBRA_DATA_DIR;
+#else
+  return fs::path(__FILE__).parent_path().parent_path() / "data";
+#endif
+}
+
+TEST(MeshSimplify, WeldMergesEqualPositionsAndDropsCollapsedTriangles) {
+  TriangleMesh m;
+  m.positions = {glm::dvec3(0),       glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0),
+                 glm::dvec3(1, 0, 0), glm::dvec3(1, 1, 0), glm::dvec3(5)};
+  m.indices = {0, 1, 2, 3, 4, 2, 1, 3, 4};  // the last one collapses after welding
+  const TriangleMesh w = weldVertices(m);
+  EXPECT_EQ(w.positions.size(), 4u);
+  EXPECT_EQ(w.indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+}
+
+// Gibson 2003 §7.2: 100-500 triangle proxies that keep the object's extent, since the
+// shadow's reach depends on it. Within 2% from 300 triangles up (the scene default);
+// the coarsest proxies may lose a few percent at the tips of the ears.
+TEST(MeshSimplify, BunnyProxyKeepsItsBounds) {
+  const TriangleMesh bunny = loadMesh(dataDir() / "models" / "bunny.ply");
+  for (const auto& [target, tolerance] :
+       std::vector<std::pair<size_t, double>>{{100, 0.05}, {300, 0.02}, {500, 0.02}}) {
+    const TriangleMesh proxy = simplifyForShadows(bunny, target);
+    EXPECT_LE(proxy.triangleCount(), target);
+    EXPECT_GE(proxy.triangleCount(), target / 2);
+    const Aabb a = bunny.bounds(), b = proxy.bounds();
+    const glm::dvec3 size = a.size();
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(std::abs(a.min[k] - b.min[k]), tolerance * size[k]) << target << " axis " << k;
+      EXPECT_LE(std::abs(a.max[k] - b.max[k]), tolerance * size[k]) << target << " axis " << k;
+    }
+    for (uint32_t i : proxy.indices) ASSERT_LT(i, proxy.positions.size());
+  }
+}
+
+TEST(MeshSimplify, DeterministicAndWithinTargetForEveryModel) {
+  for (const char* name : {"bunny.ply", "teapot.ply", "chair.obj"}) {
+    const TriangleMesh m = loadMesh(dataDir() / "models" / name);
+    const TriangleMesh a = simplifyForShadows(m, 300), b = simplifyForShadows(m, 300);
+    EXPECT_LE(a.triangleCount(), 300u) << name;
+    EXPECT_GT(a.triangleCount(), 0u) << name;
+    EXPECT_EQ(a.positions, b.positions) << name;
+    EXPECT_EQ(a.indices, b.indices) << name;
+  }
+  EXPECT_THROW(simplifyForShadows(TriangleMesh{}, 3), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra::scene

@@ -1,0 +1,205 @@
+#include "scene/scene_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/patch_mesh.h"
+
+namespace penumbra::scene {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path dataDir() {
+#ifdef PENUMBRA_DATA_DIR
+  return PENUMBRA_DATA_DIR;
+#else
+  return fs::path(__FILE__).parent_path().parent_path() / "data";
+#endif
+}
+
+fs::path showroomPath() {
+  return dataDir() / "showroom" / "showroom.json";
+}
+
+json showroomJson() {
+  std::ifstream in(showroomPath());
+  return json::parse(in);
+}
+
+// Parses `doc` as if it were data/showroom/showroom.json (so its model paths resolve).
+SceneDescription parse(const json& doc) {
+  return parseSceneFile(doc.dump(), showroomPath());
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const SceneFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Applies `edit` to the bundled showroom and expects an error naming the file and
+// mentioning each of `parts`.
+void expectError(const std::function<void(json&)>& edit, std::initializer_list<const char*> parts) {
+  json doc = showroomJson();
+  edit(doc);
+  const std::string msg = errorOf([&] { parse(doc); });
+  ASSERT_FALSE(msg.empty()) << "no SceneFileError for " << doc.dump();
+  EXPECT_NE(msg.find("showroom.json: "), std::string::npos) << msg;
+  for (const char* part : parts) EXPECT_NE(msg.find(part), std::string::npos) << msg;
+}
+
+TEST(SceneFile, LoadsTheBundledShowroom) {
+  const SceneDescription s = loadSceneFile(showroomPath());
+  EXPECT_EQ(s.width, 640u);
+  EXPECT_EQ(s.height, 480u);
+  EXPECT_EQ(s.camera.eye, glm::dvec3(0.35, 1.6, 0.35));
+  EXPECT_DOUBLE_EQ(s.camera.aspect, 640.0 / 480.0);
+  EXPECT_EQ(s.camera.zFar, 15);
+  // Shell (6 quads) + desk without bottom (5); four panels and the window.
+  ASSERT_EQ(s.room.quads.size(), 11u);
+  EXPECT_EQ(s.room.solids.size(), 1u);
+  EXPECT_EQ(s.room.quads[1].name, "ceiling");
+  EXPECT_EQ(s.room.quads[1].regions.size(), 4u);
+  ASSERT_EQ(s.room.quads[5].regions.size(), 1u);
+  const Region& window = s.room.quads[5].regions[0];
+  EXPECT_DOUBLE_EQ(window.s0, 0.3);  // 0.9 m up a 3 m wall
+  EXPECT_DOUBLE_EQ(window.t1, 4.3 / 6.0);
+  EXPECT_EQ(window.material.emission, glm::dvec3(5.0, 6.0, 7.5));
+  EXPECT_EQ(s.room.quads[0].materialAt(0.5, 0.5).reflectance, glm::dvec3(0.45, 0.38, 0.30));
+
+  // The radiosity mesh stays in the 1,000-2,000 patch range the pre-process is sized for.
+  const PatchMesh mesh = buildPatchMesh(s.room, s.patchSize);
+  EXPECT_GE(mesh.patches.size(), 1000u);
+  EXPECT_LE(mesh.patches.size(), 2000u);
+
+  ASSERT_EQ(s.products.size(), 3u);
+  for (const Product& p : s.products) {
+    const Aabb b = p.mesh.bounds();
+    EXPECT_NEAR(b.min.y, 0.0, 1e-12) << p.name;  // rest_on_floor
+    EXPECT_NEAR(b.centre().x, 0.0, 1e-12) << p.name;
+    EXPECT_NEAR(b.centre().z, 0.0, 1e-12) << p.name;
+    EXPECT_LE(p.proxy.triangleCount(), p.proxyTriangles) << p.name;
+    EXPECT_GE(p.proxy.triangleCount(), 100u) << p.name;
+    EXPECT_TRUE(p.model.is_absolute() || p.model.has_parent_path()) << p.name;
+  }
+  EXPECT_EQ(s.products[0].name, "chair");
+  EXPECT_NEAR(s.products[0].mesh.bounds().max.y, 0.95, 1e-9);
+  EXPECT_NEAR(s.products[1].mesh.bounds().size().y, 0.04 * 9.657897, 1e-4);
+  EXPECT_EQ(s.startPose.product, 0u);
+  EXPECT_EQ(s.startPose.x, 3.0);
+}
+
+TEST(SceneFile, ScaleAndRotationPlaceTheModel) {
+  json doc = showroomJson();
+  doc["products"][0]["scale"] = 2.0;
+  doc["products"][0]["rotate_y_deg"] = 90;
+  const SceneDescription s = parse(doc);
+  const Aabb b = s.products[0].mesh.bounds();
+  EXPECT_NEAR(b.size().y, 1.9, 1e-9);
+  // The back (towards +z in the model) turns to +x... a quarter turn about +y maps +z
+  // to +x, so the footprint stays square but the back posts now lie at max x.
+  EXPECT_NEAR(b.size().x, 0.96, 1e-9);
+  EXPECT_NEAR(b.centre().x, 0.0, 1e-12);
+}
+
+TEST(SceneFile, MissingFieldsAreNamed) {
+  expectError([](json& d) { d.erase("camera"); }, {"camera: missing"});
+  expectError([](json& d) { d["camera"].erase("fov_y_deg"); }, {"camera.fov_y_deg: missing"});
+  expectError([](json& d) { d["image"].erase("height"); }, {"image.height: missing"});
+  expectError([](json& d) { d["products"][1].erase("model"); }, {"products[1].model: missing"});
+  expectError([](json& d) { d["room"]["regions"][4].erase("material"); },
+              {"room.regions[4].material: missing"});
+  expectError([](json& d) { d["room"]["shell"].erase("walls"); }, {"room.shell.walls: missing"});
+  expectError([](json& d) { d.erase("start_pose"); }, {"start_pose: missing"});
+  expectError([](json& d) { d["tone"].erase("gamma"); }, {"tone.gamma: missing"});
+}
+
+TEST(SceneFile, BadValuesAreNamed) {
+  expectError([](json& d) { d["format"] = "obj"; }, {"format: must be"});
+  expectError([](json& d) { d["version"] = 2; }, {"version: unsupported"});
+  expectError([](json& d) { d["image"]["width"] = -640; }, {"image.width: must be an integer in"});
+  expectError([](json& d) { d["image"]["width"] = 640.5; }, {"image.width: must be an integer"});
+  expectError([](json& d) { d["camera"]["eye"][1] = "high"; },
+              {"camera.eye[1]: must be a number, got string"});
+  expectError(
+      [](json& d) {
+        d["camera"]["eye"] = json::array({1, 2});
+      },
+      {"camera.eye: must be an array of 3 numbers"});
+  expectError([](json& d) { d["camera"]["far"] = 0.01; }, {"camera.far: must be greater"});
+  expectError([](json& d) { d["camera"]["target"] = d["camera"]["eye"]; }, {"camera: "});
+  expectError([](json& d) { d["camera"]["fov_y_deg"] = 180; }, {"camera.fov_y_deg"});
+  expectError([](json& d) { d["patch_size"] = 0; }, {"patch_size: must be positive"});
+  expectError([](json& d) { d["tone"]["exposure"] = -1; }, {"tone.exposure: must be positive"});
+  expectError([](json& d) { d["products"][2]["scale"] = "big"; },
+              {"products[2].scale: must be a number"});
+  expectError([](json& d) { d["products"][0]["colour"][2] = 1.5; },
+              {"products[0].colour[2]: must be in [0, 1]"});
+  expectError([](json& d) { d["products"][0]["proxy_triangles"] = 2; },
+              {"products[0].proxy_triangles"});
+  expectError([](json& d) { d["products"][0]["rest_on_floor"] = 1; },
+              {"products[0].rest_on_floor: must be true or false"});
+  expectError([](json& d) { d["start_pose"]["product"] = 3; }, {"start_pose.product"});
+  expectError([](json& d) { d["materials"]["window"]["emission"][0] = -5; },
+              {"materials.window.emission[0]: must not be negative"});
+  expectError([](json& d) { d["materials"]["desk"] = json::object(); },
+              {"materials.desk: needs reflectance or emission"});
+  expectError([](json& d) { d["room"]["boxes"][0]["material"] = "marble"; },
+              {"room.boxes[0].material: no material named \"marble\""});
+  expectError([](json& d) { d["room"]["boxes"][0]["max"][1] = 0; },
+              {"room.boxes[0].max: must exceed min"});
+  expectError([](json& d) { d["room"]["regions"][0]["quad"] = "roof"; },
+              {"room.regions[0].quad: no quad named \"roof\""});
+  expectError(
+      [](json& d) {
+        d["room"]["regions"][4]["u"] = json::array({0.9, 3.5});
+      },
+      {"room.regions[4].u: must lie within [0, 3"});
+  expectError(
+      [](json& d) {
+        d["room"]["regions"][1]["v"] = json::array({1.5, 2.5});
+      },
+      {"room.regions[1]: overlaps region \"light0\""});
+  expectError(
+      [](json& d) {
+        d["room"]["quads"] = json::array({json{{"name", "floor"},
+                                               {"origin", {0, 0, 0}},
+                                               {"edge_u", {1, 0, 0}},
+                                               {"edge_v", {0, 0, 1}},
+                                               {"material", "floor"}}});
+      },
+      {"room: two quads are named \"floor\""});
+  expectError([](json& d) { d["camera"]["fov"] = 60; }, {"camera.fov: unknown field"});
+  expectError([](json& d) { d["products"] = json::array(); }, {"products: must be a non-empty"});
+}
+
+TEST(SceneFile, ModelProblemsNameTheProduct) {
+  expectError([](json& d) { d["products"][1]["model"] = "../models/missing.ply"; },
+              {"products[1].model: ", "missing.ply", "cannot open"});
+  expectError([](json& d) { d["products"][1]["model"] = "../showroom/README.md"; },
+              {"products[1].model: ", "unknown mesh format"});
+}
+
+TEST(SceneFile, FileLevelErrors) {
+  const std::string missing = errorOf([] { loadSceneFile(dataDir() / "showroom" / "nope.json"); });
+  EXPECT_NE(missing.find("nope.json: cannot open"), std::string::npos) << missing;
+  const std::string syntax = errorOf([] { parseSceneFile("{\"format\": ", "bad.json"); });
+  EXPECT_NE(syntax.find("bad.json: not valid JSON"), std::string::npos) << syntax;
+  const std::string notObject = errorOf([] { parseSceneFile("[1, 2]", "arr.json"); });
+  EXPECT_NE(notObject.find("arr.json: must be an object"), std::string::npos) << notObject;
+}
+
+}  // namespace
+}  // namespace penumbra::scene

@@ -1,0 +1,86 @@
+#include "shadow/clock.h"
+
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace penumbra::shadow {
+namespace {
+
+constexpr int64_t kInt64Max = std::numeric_limits<int64_t>::max();
+
+// a * b for non-negative operands, clamped to INT64_MAX instead of wrapping (a cost model
+// fed absurd inputs must give an absurdly large cost, never a negative one).
+int64_t mulSat(int64_t a, int64_t b) {
+  int64_t out = 0;
+  return __builtin_mul_overflow(a, b, &out) ? kInt64Max : out;
+}
+
+int64_t addSat(int64_t a, int64_t b) {
+  int64_t out = 0;
+  return __builtin_add_overflow(a, b, &out) ? kInt64Max : out;
+}
+
+}  // namespace
+
+int64_t SteadyClock::nowNanoseconds() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+VirtualClock::VirtualClock(int64_t startNs) : nowNs_(startNs) {}
+
+void VirtualClock::advance(int64_t ns) {
+  if (ns < 0) {
+    throw std::invalid_argument("VirtualClock::advance: ns must be >= 0 (got " +
+                                std::to_string(ns) + "); a clock never runs backwards");
+  }
+  if (nowNs_ > kInt64Max - ns) throw std::overflow_error("VirtualClock::advance: overflow");
+  nowNs_ += ns;
+}
+
+CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
+    : params_(params), loadSteps_(std::move(loadSteps)) {
+  if (params_.fixedNs < 0 || params_.perPassNs < 0 || params_.perTexelPs < 0 ||
+      params_.perPixelPs < 0) {
+    throw std::invalid_argument("CostModel: costs must be >= 0");
+  }
+  for (size_t i = 0; i < loadSteps_.size(); ++i) {
+    if (loadSteps_[i].permille == 0) {
+      throw std::invalid_argument("CostModel: load step " + std::to_string(i) +
+                                  " has a zero factor");
+    }
+    if (i > 0 && loadSteps_[i].atNs <= loadSteps_[i - 1].atNs) {
+      throw std::invalid_argument("CostModel: load steps must be in strictly increasing time");
+    }
+  }
+}
+
+uint32_t CostModel::loadPermilleAt(int64_t nowNs) const {
+  uint32_t permille = 1000;
+  for (const LoadStep& s : loadSteps_) {
+    if (s.atNs > nowNs) break;
+    permille = s.permille;
+  }
+  return permille;
+}
+
+int64_t CostModel::frameNs(int64_t nowNs, uint32_t passes, uint64_t shadowedPixels,
+                           uint32_t shadowMapSize) const {
+  const int64_t texels = mulSat(shadowMapSize, shadowMapSize);
+  // Picoseconds are summed before the single division by 1000, so the rounding happens once
+  // and does not depend on how the work is split between terms.
+  const int64_t perPassPs =
+      addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels));
+  const int64_t pixels = shadowedPixels > static_cast<uint64_t>(kInt64Max)
+                             ? kInt64Max
+                             : static_cast<int64_t>(shadowedPixels);
+  const int64_t variablePs = addSat(mulSat(perPassPs, passes), mulSat(params_.perPixelPs, pixels));
+  const int64_t variableNs = mulSat(variablePs / 1000, loadPermilleAt(nowNs)) / 1000;
+  return addSat(params_.fixedNs, variableNs);
+}
+
+}  // namespace penumbra::shadow
