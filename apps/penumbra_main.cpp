@@ -2,6 +2,7 @@
 //   replay TRACE        render one frame trace (docs/trace-format.md), write PNG / hash
 //   isas                list compiled and supported SIMD targets
 //   bench-replay TRACE  median and min ms per frame over repeated renders
+//   precompute, render, profile   the showroom pipeline (apps/scene_commands.h)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "apps/render_flags.h"
+#include "apps/scene_commands.h"
 #include "raster/frame_trace.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
@@ -21,41 +24,9 @@
 namespace {
 
 using namespace penumbra;
-
-struct RenderFlags {
-  std::string isa = "best";
-  int threads = 1;
-  int tile = 32;
-};
-
-void addRenderFlags(CLI::App* app, RenderFlags& flags) {
-  app->add_option("--isa", flags.isa, "SIMD target: scalar|sse4|avx2|avx512|neon|best")
-      ->capture_default_str();
-  app->add_option("--threads", flags.threads, "worker threads (bytes do not depend on it)")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
-  app->add_option("--tile", flags.tile, "tile side in pixels: 16, 32 or 64")
-      ->check(CLI::IsMember({16, 32, 64}))
-      ->capture_default_str();
-}
-
-raster::RenderOptions toOptions(const RenderFlags& flags) {
-  raster::RenderOptions options;
-  if (flags.isa == "best") {
-    options.isa = simd::bestIsa();
-  } else {
-    const auto isa = simd::parseIsa(flags.isa);
-    if (!isa) throw std::invalid_argument("unknown --isa '" + flags.isa + "'");
-    if (!simd::isSupported(*isa)) {
-      throw std::invalid_argument("--isa " + flags.isa +
-                                  " is not supported here (see `penumbra isas`)");
-    }
-    options.isa = *isa;
-  }
-  options.threads = flags.threads;
-  options.tileSize = flags.tile;
-  return options;
-}
+using apps::addRenderFlags;
+using apps::RenderFlags;
+using apps::toOptions;
 
 int replay(const std::string& tracePath, const RenderFlags& flags, const std::string& outPath,
            bool printHash) {
@@ -153,8 +124,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
 
+  const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
+
   CLI11_PARSE(app, argc, argv);
   try {
+    for (const apps::Command& c : sceneCommands) {
+      if (c.app->parsed()) return c.run();
+    }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
     if (benchCmd->parsed()) return benchReplay(benchTrace, benchFlags, benchFrames);
     for (simd::Isa isa : simd::compiledIsas()) {

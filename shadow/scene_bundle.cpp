@@ -45,6 +45,30 @@ void addNames(BundleWriter& w, const std::vector<ProductModel>& products) {
 
 }  // namespace
 
+scene::PatchMesh patchMeshOf(const SceneBundle& b) {
+  scene::PatchMesh m;
+  for (const raster::Vec3& p : b.view.staticMesh.positions) m.positions.emplace_back(p.x, p.y, p.z);
+  m.indices = b.view.staticMesh.indices;
+  m.trianglePatch = b.trianglePatch;
+  m.normals.assign(m.positions.size(), glm::dvec3(0.0));
+  for (const PatchRecord& r : b.patches) {
+    scene::Patch p;
+    p.centre = glm::dvec3(r.centre);
+    p.normal = glm::dvec3(r.normal);
+    p.area = r.area;
+    p.reflectance = glm::dvec3(r.reflectance);
+    p.emission = glm::dvec3(r.emission);
+    p.firstTriangle = r.firstTriangle;
+    m.patches.push_back(p);
+  }
+  // Vertices are shared within a quad only, so every triangle of a vertex has its normal.
+  for (size_t t = 0; t < m.triangleCount(); ++t) {
+    for (int c = 0; c < 3; ++c)
+      m.normals[m.indices[3 * t + size_t(c)]] = m.patches[m.trianglePatch[t]].normal;
+  }
+  return m;
+}
+
 void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   BundleWriter w(kBundleVersion);
   w.addValue<uint32_t>("view.width", b.view.width);

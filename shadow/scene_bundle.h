@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "raster/frame_trace.h"
+#include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
 #include "shadow/light_transport.h"
 
@@ -55,6 +56,10 @@ struct SceneBundle {
   ProductPose startPose;
   float roomFloorY = 0;
 };
+
+// The room's patch mesh as stored in the bundle (float data widened to double): what the
+// shaft hierarchy is built from at load, so precompute and render agree exactly.
+scene::PatchMesh patchMeshOf(const SceneBundle& bundle);
 
 // Throws scene::BundleError naming the file.
 void saveBundle(const SceneBundle& bundle, const std::filesystem::path& path);

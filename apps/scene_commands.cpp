@@ -1,0 +1,283 @@
+#include "apps/scene_commands.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "apps/render_flags.h"
+#include "raster/renderer.h"
+#include "scene/image_io.h"
+#include "scene/sha256.h"
+#include "shadow/clock.h"
+#include "shadow/frame_compositor.h"
+#include "shadow/frame_rate_controller.h"
+#include "shadow/scene_bundle.h"
+#ifdef PENUMBRA_HAVE_LIGHTING
+#include "lighting/precompute.h"
+#include "scene/scene_file.h"
+#endif
+
+namespace penumbra::apps {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// "X,Z" or "X,Z,YAW" (metres, metres, degrees).
+shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
+  std::vector<float> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stof(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--pose: '" + item + "' is not a number");
+    }
+  }
+  if (values.size() < 2 || values.size() > 3) {
+    throw std::invalid_argument("--pose needs X,Z or X,Z,YAW (got '" + text + "')");
+  }
+  return {product, values[0], values[1], values.size() == 3 ? values[2] : 0.0f};
+}
+
+struct SceneFlags {
+  std::string bundle;
+  std::string pose;  // empty: the bundle's start pose
+  int product = -1;  // -1: the pose's product
+  RenderFlags render;
+};
+
+void addSceneFlags(CLI::App* cmd, SceneFlags& f) {
+  cmd->add_option("BUNDLE", f.bundle, "scene bundle (penumbra precompute)")->required();
+  cmd->add_option("--pose", f.pose, "product position on the floor: X,Z[,YAW_DEGREES]");
+  cmd->add_option("--product", f.product, "product index (default: the start pose's)");
+  addRenderFlags(cmd, f.render);
+}
+
+shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
+  shadow::ProductPose pose = b.startPose;
+  if (!f.pose.empty()) pose = parsePose(f.pose, pose.product);
+  if (f.product >= 0) pose.product = static_cast<uint32_t>(f.product);
+  if (pose.product >= b.products.size()) {
+    throw std::invalid_argument("--product " + std::to_string(pose.product) + ": the bundle has " +
+                                std::to_string(b.products.size()) + " products");
+  }
+  return pose;
+}
+
+// --- render ------------------------------------------------------------------------------
+
+struct RenderCommand {
+  SceneFlags scene;
+  int passes = 0;
+  double fps = 0;
+  std::string out, trace;
+  bool hash = false;
+
+  int run() const {
+    const shadow::SceneBundle bundle = shadow::loadBundle(scene.bundle);
+    const shadow::ProductPose pose = poseOf(scene, bundle);
+    shadow::FrameCompositor compositor(bundle, {});
+    raster::Renderer renderer(bundle.view, toOptions(scene.render));
+    raster::FrameContent frame;
+    shadow::CompositeStats stats;
+    std::vector<uint8_t> rgba(bundle.background.size());
+    uint32_t n = static_cast<uint32_t>(passes);
+    double msFrame = 0;
+    if (fps > 0) {
+      // Frame-rate control (Gibson 2003 §8): let the controller settle on this machine,
+      // then keep its last frame.
+      shadow::FrameRateController::Options o;
+      o.targetFrameNs = static_cast<int64_t>(1e9 / fps);
+      o.minPasses = 1;
+      o.maxPasses = 200;
+      o.initialPasses = 8;
+      shadow::FrameRateController controller(o);
+      shadow::SteadyClock clock;
+      for (uint32_t f = 1; f <= 40; ++f) {
+        n = controller.next().passes;
+        const int64_t t0 = clock.nowNanoseconds();
+        compositor.compose(pose, n, f, frame, stats);
+        renderer.render(frame, rgba);
+        const int64_t dt = clock.nowNanoseconds() - t0;
+        controller.report(dt, n, renderer.lastStats().passPixels);
+        msFrame = double(dt) * 1e-6;
+      }
+    } else {
+      const auto t0 = Clock::now();
+      compositor.compose(pose, n, 1, frame, stats);
+      renderer.render(frame, rgba);
+      msFrame = msSince(t0);
+    }
+    std::printf("product %s at (%.3f, %.3f) yaw %.1f\n", bundle.products[pose.product].name.c_str(),
+                double(pose.x), double(pose.z), double(pose.yawDegrees));
+    std::printf("passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u\n",
+                stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited);
+    std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
+                stats.msTraversal, stats.msClusters, stats.msTransfers,
+                renderer.lastStats().msTotal);
+    if (!trace.empty()) raster::saveTrace({bundle.view, frame}, trace);
+    if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, rgba);
+    if (hash) std::printf("sha256 %s\n", scene::sha256Hex(rgba).c_str());
+    return 0;
+  }
+};
+
+// --- profile -----------------------------------------------------------------------------
+
+struct ProfileCommand {
+  SceneFlags scene;
+  std::vector<int> passes{1, 5, 10, 20, 50, 100, 200};
+  int frames = 20;
+  std::string csv, plot;
+
+  int run() const {
+    const shadow::SceneBundle bundle = shadow::loadBundle(scene.bundle);
+    const shadow::ProductPose pose = poseOf(scene, bundle);
+    shadow::FrameCompositor compositor(bundle, {});
+    raster::Renderer renderer(bundle.view, toOptions(scene.render));
+    raster::FrameContent frame;
+    shadow::CompositeStats stats;
+    std::vector<uint8_t> rgba(bundle.background.size());
+    std::ofstream out(csv);
+    if (!out) throw std::runtime_error(csv + ": cannot write");
+    out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
+           "ms_total,ms_traversal,ms_clusters,ms_transfers,ms_objects,ms_shadow_passes,"
+           "ms_finish\n";
+    std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "total",
+                "travers", "cluster", "transfer", "shadows", "finish");
+    uint32_t frameNumber = 1;
+    for (int asked : passes) {
+      std::vector<double> total, trav, clus, xfer, obj, pass, fin;
+      for (int f = 0; f < frames + 1; ++f) {
+        // The product slides a little every frame, as on the kiosk, so nothing is cached.
+        shadow::ProductPose p = pose;
+        p.x += 0.01f * float(f % 7);
+        const auto t0 = Clock::now();
+        compositor.compose(p, size_t(asked), frameNumber++, frame, stats);
+        renderer.render(frame, rgba);
+        if (f == 0) continue;  // warm-up
+        total.push_back(msSince(t0));
+        trav.push_back(stats.msTraversal);
+        clus.push_back(stats.msClusters);
+        xfer.push_back(stats.msTransfers + stats.msObject);
+        obj.push_back(renderer.lastStats().msObjects);
+        pass.push_back(renderer.lastStats().msPasses);
+        fin.push_back(renderer.lastStats().msFinish);
+      }
+      const raster::FrameStats& rs = renderer.lastStats();
+      out << asked << ',' << stats.passes << ',' << stats.occludedSources << ','
+          << stats.receiverPatches << ',' << stats.shaftsVisited << ',' << rs.passPixels << ','
+          << median(total) << ',' << median(trav) << ',' << median(clus) << ',' << median(xfer)
+          << ',' << median(obj) << ',' << median(pass) << ',' << median(fin) << '\n';
+      std::printf("%6d %6u %9llu %9.3f %9.4f %9.4f %9.3f %9.3f %9.3f\n", asked, stats.passes,
+                  static_cast<unsigned long long>(rs.passPixels), median(total), median(trav),
+                  median(clus), median(xfer), median(pass), median(fin));
+    }
+    out.close();
+    if (!plot.empty()) {
+      // A chart people already know how to read, drawn by matplotlib (design §4).
+      const std::string command = "/usr/bin/python3 '" PENUMBRA_SOURCE_DIR
+                                  "/bench/plot_profile.py' '" +
+                                  csv + "' '" + plot + "'";
+      if (std::system(command.c_str()) != 0) {
+        throw std::runtime_error("plotting failed (python3 with matplotlib is needed): " + command);
+      }
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+std::vector<Command> addSceneCommands(CLI::App& app) {
+  std::vector<Command> commands;
+
+#ifdef PENUMBRA_HAVE_LIGHTING
+  auto precompute = std::make_shared<std::pair<std::string, std::string>>();
+  auto precomputeOptions = std::make_shared<lighting::PrecomputeOptions>();
+  CLI::App* pre = app.add_subcommand("precompute", "Scene file -> scene bundle (Gibson 2003 §4-5)");
+  pre->add_option("SCENE", precompute->first, "scene description (.json)")->required();
+  pre->add_option("-o,--out", precompute->second, "bundle to write")->required();
+  pre->add_option("--power-share", precomputeOptions->powerShare,
+                  "share of emitted power in the source set (§4)")
+      ->check(CLI::Range(0.01, 1.0))
+      ->capture_default_str();
+  pre->add_option("--samples", precomputeOptions->samplesPerSide,
+                  "visibility samples per source patch side (§5)")
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
+  pre->add_option("--threads", precomputeOptions->threads, "threads")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  commands.push_back(
+      {pre, [precompute, precomputeOptions] {
+         const auto t0 = Clock::now();
+         const scene::SceneDescription scene = scene::loadSceneFile(precompute->first);
+         std::vector<lighting::StageTiming> timings;
+         const shadow::SceneBundle bundle = lighting::precomputeBundle(
+             scene, *precomputeOptions, timings,
+             [](const std::string& stage, int index, int count) {
+               std::fprintf(stderr, "[%d/%d] %s ...\n", index + 1, count, stage.c_str());
+             });
+         shadow::saveBundle(bundle, precompute->second);
+         for (const auto& t : timings) {
+           std::printf("stage %-22s %9.1f ms\n", t.stage.c_str(), t.ms);
+         }
+         std::printf("patches %zu sources %zu receivers %zu transfer_entries %zu\n",
+                     bundle.patches.size(), bundle.sets.sources.size(),
+                     bundle.sets.receivers.size(), bundle.transfers.entryVertex.size());
+         std::printf("total %.1f ms -> %s\n", msSince(t0), precompute->second.c_str());
+         return 0;
+       }});
+#endif
+
+  auto render = std::make_shared<RenderCommand>();
+  CLI::App* r = app.add_subcommand("render", "One frame of a product in the showroom");
+  addSceneFlags(r, render->scene);
+  auto* passOpt = r->add_option("--passes", render->passes, "blending passes (source clusters)")
+                      ->check(CLI::Range(1, 257));
+  auto* fpsOpt = r->add_option("--fps", render->fps, "let the frame-rate controller pick passes")
+                     ->check(CLI::Range(1.0, 1000.0));
+  passOpt->excludes(fpsOpt);
+  r->add_option("--out", render->out, "write the frame as PNG");
+  r->add_option("--trace", render->trace, "write the frame trace (docs/trace-format.md)");
+  r->add_flag("--hash", render->hash, "print `sha256 <hex>` of the RGBA8 frame");
+  commands.push_back({r, [render, passOpt, fpsOpt] {
+                        if (passOpt->count() == 0 && fpsOpt->count() == 0) {
+                          throw std::invalid_argument("render needs --passes N or --fps F");
+                        }
+                        return render->run();
+                      }});
+
+  auto profile = std::make_shared<ProfileCommand>();
+  CLI::App* p = app.add_subcommand("profile", "Time per stage against the number of passes");
+  addSceneFlags(p, profile->scene);
+  p->add_option("--passes", profile->passes, "pass counts, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 257));
+  p->add_option("--frames", profile->frames, "timed frames per pass count")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  p->add_option("--csv", profile->csv, "CSV output")->required();
+  p->add_option("--plot", profile->plot, "PNG chart (matplotlib)");
+  commands.push_back({p, [profile] { return profile->run(); }});
+  return commands;
+}
+
+}  // namespace penumbra::apps

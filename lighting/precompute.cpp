@@ -1,0 +1,112 @@
+#include "lighting/precompute.h"
+
+#include <chrono>
+
+#include "lighting/embree_scene.h"
+#include "lighting/radiance_transfer.h"
+#include "raster/renderer.h"
+#include "shadow/source_receiver_sets.h"
+
+namespace penumbra::lighting {
+namespace {
+
+raster::Mesh toRaster(const scene::TriangleMesh& m) {
+  raster::Mesh out;
+  for (const glm::dvec3& p : m.positions) out.positions.push_back(scene::toVec3(p));
+  out.indices = m.indices;
+  return out;
+}
+
+// The background "photograph" of the empty room: every receiver vertex shows T(L_i), the
+// radiance the transfers say it reflects (Gouraud between vertices); vertices no camera
+// ray reaches stay black. Drawn by the project's own rasterizer as a shaded object over
+// black, so it is bit-exact like every frame.
+std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
+  raster::ShadedMesh room;
+  room.mesh = b.view.staticMesh;
+  room.colours.assign(room.mesh.positions.size(), raster::Rgb8{0, 0, 0});
+  const shadow::RadianceTransfers& t = b.transfers;
+  for (size_t i = 0; i < t.receiverVertices.size(); ++i) {
+    room.colours[t.receiverVertices[i]] = b.tone.map(glm::dvec3(t.vertexRadiance[i]));
+  }
+  raster::FrameContent frame;
+  frame.background.assign(size_t{b.view.width} * b.view.height * 4, 0);
+  for (size_t i = 3; i < frame.background.size(); i += 4) frame.background[i] = 255;
+  frame.objects.push_back(std::move(room));
+  raster::StaticView empty{b.view.width, b.view.height, b.view.cameraViewProj, {}};
+  raster::Renderer renderer(empty, {simd::bestIsa(), 2, 32});
+  std::vector<uint8_t> out(frame.background.size());
+  renderer.render(frame, out);
+  return out;
+}
+
+}  // namespace
+
+shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options,
+                                     std::vector<StageTiming>& timings,
+                                     const ProgressCallback& progress) {
+  constexpr int kStages = 5;
+  int stage = 0;
+  auto start = std::chrono::steady_clock::now();
+  auto begin = [&](const char* name) {
+    start = std::chrono::steady_clock::now();
+    if (progress) progress(name, stage, kStages);
+    timings.push_back({name, 0});
+    ++stage;
+  };
+  auto end = [&] {
+    timings.back().ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  shadow::SceneBundle b;
+  begin("patch mesh");
+  const scene::PatchMesh mesh = scene::buildPatchMesh(scene.room, scene.patchSize);
+  b.view.width = scene.width;
+  b.view.height = scene.height;
+  b.view.cameraViewProj = scene.camera.rasterViewProj();
+  b.view.staticMesh = mesh.toRasterMesh();
+  b.trianglePatch = mesh.trianglePatch;
+  for (const scene::Patch& p : mesh.patches) {
+    b.patches.push_back({glm::vec3(p.centre), glm::vec3(p.normal), static_cast<float>(p.area),
+                         glm::vec3(p.reflectance), glm::vec3(p.emission), p.firstTriangle});
+  }
+  b.tone = shadow::ToneCurve::gamma(scene.tone.exposure, scene.tone.gamma);
+  end();
+
+  // Everything downstream is computed from the bundle's own (float) mesh, exactly what
+  // `penumbra render` rebuilds at load.
+  const scene::PatchMesh stored = shadow::patchMeshOf(b);
+  begin("visibility and sets");
+  const EmbreeScene embree(stored);
+  const std::vector<uint8_t> visible =
+      patchesVisibleFromCamera(stored, embree, scene.camera.viewProj(), scene.width, scene.height);
+  b.sets = shadow::selectSourcesAndReceivers(stored, visible, options.powerShare);
+  end();
+
+  begin("radiance transfers");
+  TransferOptions transferOptions;
+  transferOptions.samplesPerSide = options.samplesPerSide;
+  transferOptions.seed = options.seed;
+  transferOptions.threads = options.threads;
+  b.transfers = computeRadianceTransfers(stored, b.sets, embree, transferOptions);
+  end();
+
+  begin("background");
+  b.background = renderBackground(b);
+  end();
+
+  begin("products");
+  for (const scene::Product& p : scene.products) {
+    b.products.push_back({p.name, toRaster(p.mesh), toRaster(p.proxy), glm::vec3(p.reflectance)});
+  }
+  b.startPose = {static_cast<uint32_t>(scene.startPose.product),
+                 static_cast<float>(scene.startPose.x), static_cast<float>(scene.startPose.z),
+                 static_cast<float>(scene.startPose.yawDegrees)};
+  b.roomFloorY = 0.0f;  // poses stand products on y = 0 (scene/scene_file.h)
+  end();
+  return b;
+}
+
+}  // namespace penumbra::lighting

@@ -1,0 +1,40 @@
+// `penumbra precompute`: a showroom description to a scene bundle (design §1, offline).
+//
+// Stages, each timed: patch mesh (Gibson 2003 §4), camera visibility and the source and
+// receiver sets (§4), radiance transfers with ray-cast visibility (§5), the background
+// "photograph" (the room as the transfers light it, through T()), and the products with
+// their shadow proxies (§7.2). The shaft hierarchy is rebuilt from the bundle at load
+// (milliseconds, deterministic), so it is not stored.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "scene/patch_mesh.h"
+#include "scene/scene_file.h"
+#include "shadow/scene_bundle.h"
+
+namespace penumbra::lighting {
+
+struct PrecomputeOptions {
+  double powerShare = 0.7;  // §4: share of the emitted power the source set holds
+  int samplesPerSide = 4;   // visibility samples per source patch side (§5)
+  unsigned threads = 2;
+  uint64_t seed = 1;
+};
+
+struct StageTiming {
+  std::string stage;
+  double ms;
+};
+
+// Called at the start of each stage with its name, its index and the stage count.
+using ProgressCallback = std::function<void(const std::string& stage, int index, int count)>;
+
+shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options,
+                                     std::vector<StageTiming>& timings,
+                                     const ProgressCallback& progress = {});
+
+}  // namespace penumbra::lighting

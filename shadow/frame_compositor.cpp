@@ -1,0 +1,213 @@
+#include "shadow/frame_compositor.h"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "shadow/intensity_transfer.h"
+#include "shadow/light_frustum.h"
+
+namespace penumbra::shadow {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOptions& options)
+    : bundle_(bundle),
+      options_(options),
+      mesh_(patchMeshOf(bundle)),
+      hierarchy_(mesh_, bundle.sets, bundle.transfers, options.shafts) {
+  if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
+  receiverVertexOf_.assign(mesh_.positions.size(), kNoIndex);
+  const RadianceTransfers& t = bundle.transfers;
+  for (size_t i = 0; i < t.receiverVertices.size(); ++i) {
+    receiverVertexOf_[t.receiverVertices[i]] = static_cast<uint32_t>(i);
+  }
+  vertexSlot_.assign(t.receiverVertices.size(), 0);
+  vertexSlotFrame_.assign(t.receiverVertices.size(), kNoIndex);
+}
+
+// The product in world space: turned by yaw about +y, then moved to (x, floor, z).
+void FrameCompositor::placeProduct(const ProductPose& pose) {
+  if (pose.product >= bundle_.products.size()) {
+    throw std::invalid_argument("product " + std::to_string(pose.product) + " does not exist (" +
+                                std::to_string(bundle_.products.size()) + " products)");
+  }
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.z) || !std::isfinite(pose.yawDegrees)) {
+    throw std::invalid_argument("product pose is not finite");
+  }
+  const ProductModel& model = bundle_.products[pose.product];
+  const double yaw = pose.yawDegrees * std::numbers::pi / 180.0;
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  auto place = [&](const raster::Mesh& in, raster::Mesh& out) {
+    out.indices = in.indices;
+    out.positions.resize(in.positions.size());
+    for (size_t i = 0; i < in.positions.size(); ++i) {
+      const raster::Vec3& p = in.positions[i];
+      out.positions[i] = {static_cast<float>(c * p.x + s * p.z + pose.x),
+                          static_cast<float>(p.y + bundle_.roomFloorY),
+                          static_cast<float>(-s * p.x + c * p.z + pose.z)};
+    }
+  };
+  place(model.mesh, placedMesh_);
+  place(model.proxy, placedProxy_);
+  productBounds_ = scene::Aabb::emptyBox();
+  for (const raster::Vec3& p : placedMesh_.positions) productBounds_.extend({p.x, p.y, p.z});
+  placedPose_ = pose;
+  shadeProduct();
+}
+
+// A flat diffuse material lit by every emitting patch of the room, unshadowed: each
+// vertex reflects reflectance x sum_j L_j F(x, n -> j), the same point-to-patch transfer
+// as the room's receivers (Gibson 2003 §5), through T(). (The irradiance volume of the
+// capture pipeline replaces this when present.)
+void FrameCompositor::shadeProduct() {
+  const raster::Mesh& m = placedMesh_;
+  std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t < m.triangleCount(); ++t) {
+    const raster::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                       &c = m.positions[m.indices[3 * t + 2]];
+    const glm::dvec3 n = glm::cross(glm::dvec3(b.x - a.x, b.y - a.y, b.z - a.z),
+                                    glm::dvec3(c.x - a.x, c.y - a.y, c.z - a.z));
+    for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted
+  }
+  const glm::dvec3 reflectance(bundle_.products[placedPose_.product].reflectance);
+  productColours_.resize(m.positions.size());
+  for (size_t v = 0; v < m.positions.size(); ++v) {
+    const double length = glm::length(normals[v]);
+    const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
+    const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+    glm::dvec3 radiance(0.0);
+    for (const scene::Patch& p : mesh_.patches) {
+      if (!p.emits()) continue;
+      radiance += p.emission * scene::pointToPatchFormFactor(x, n, p.centre, p.normal, p.area);
+    }
+    productColours_[v] = bundle_.tone.map(reflectance * radiance);
+  }
+}
+
+void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
+                              raster::FrameContent& out, CompositeStats& stats) {
+  stats = CompositeStats{};
+  auto t0 = Clock::now();
+  if (pose.product != placedPose_.product || pose.x != placedPose_.x || pose.z != placedPose_.z ||
+      pose.yawDegrees != placedPose_.yawDegrees) {
+    placeProduct(pose);
+  }
+  stats.msObject = msSince(t0);
+
+  // §6.1: sources the product may block, and the receivers that may see it happen.
+  t0 = Clock::now();
+  hierarchy_.traverse(productBounds_, frame, traversal_);
+  stats.msTraversal = msSince(t0);
+  stats.occludedSources = static_cast<uint32_t>(traversal_.sources.size());
+  stats.receiverPatches = static_cast<uint32_t>(traversal_.receivers.size());
+  stats.shaftsVisited = static_cast<uint32_t>(traversal_.shaftsVisited);
+
+  // §8: at most `passes` clusters covering every blocked source exactly once.
+  t0 = Clock::now();
+  selectSourceClusters(hierarchy_, traversal_.sources, frame, passes, selection_);
+  const size_t clusters = selection_.clusters.size();
+  stats.clusters = static_cast<uint32_t>(clusters);
+  stats.msClusters = msSince(t0);
+
+  // The frame's receiver vertices, each given a slot.
+  t0 = Clock::now();
+  frameVertices_.clear();
+  for (uint32_t patch : traversal_.receivers) {
+    const uint32_t first = mesh_.patches[patch].firstTriangle;
+    for (uint32_t t = first; t < first + 2; ++t) {
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t rv = receiverVertexOf_[mesh_.indices[3 * size_t(t) + size_t(c)]];
+        if (rv == kNoIndex || vertexSlotFrame_[rv] == frame) continue;
+        vertexSlotFrame_[rv] = frame;
+        vertexSlot_[rv] = static_cast<uint32_t>(frameVertices_.size());
+        frameVertices_.push_back(rv);
+      }
+    }
+  }
+  stats.receiverVertices = static_cast<uint32_t>(frameVertices_.size());
+
+  // Each cluster's transfer to each slot: the sum of its blocked sources' L_ij (§8: the
+  // cluster stands for exactly those sources, so all blocked energy is accounted for).
+  const RadianceTransfers& tr = bundle_.transfers;
+  clusterTransfer_.assign(frameVertices_.size() * clusters, glm::dvec3(0.0));
+  for (size_t k = 0; k < clusters; ++k) {
+    const SourceCluster& cl = selection_.clusters[k];
+    for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+      const uint32_t s = selection_.sources[i];
+      for (uint32_t e = tr.sourceStart[s]; e < tr.sourceStart[s + 1]; ++e) {
+        const uint32_t rv = tr.entryVertex[e];
+        if (vertexSlotFrame_[rv] != frame) continue;
+        clusterTransfer_[vertexSlot_[rv] * clusters + k] += glm::dvec3(tr.entryTransfer[e]);
+      }
+    }
+  }
+  // §7.1.1, Fig. 4 per receiver vertex, clusters in decreasing transfer (selection order),
+  // each in the set of its representative patch's stable id.
+  setsScratch_.resize(clusters);
+  for (size_t k = 0; k < clusters; ++k) {
+    const uint32_t patch = bundle_.sets.sources[selection_.clusters[k].representative];
+    setsScratch_[k] = static_cast<uint8_t>(sourceSet(options_.setSeed, patch));
+  }
+  clusterS_.resize(frameVertices_.size() * clusters);
+  for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
+    intensityTransfers(glm::dvec3(tr.vertexRadiance[frameVertices_[slot]]),
+                       std::span<const glm::dvec3>(&clusterTransfer_[slot * clusters], clusters),
+                       setsScratch_, bundle_.tone,
+                       std::span<raster::Rgb8>(&clusterS_[slot * clusters], clusters));
+  }
+  stats.msTransfers = msSince(t0);
+
+  // The frame description (Fig. 2): background, product, proxy, one pass per cluster.
+  out.background = bundle_.background;
+  out.objects.resize(1);
+  out.objects[0].mesh = placedMesh_;
+  out.objects[0].colours = productColours_;
+  out.occluders.resize(1);
+  out.occluders[0] = placedProxy_;
+  out.passes.resize(clusters);
+  size_t used = 0;
+  const double farDistance = 2.0 * glm::length(hierarchy_.receiverNodes()[0].bounds.size()) + 1.0;
+  for (size_t k = 0; k < clusters; ++k) {
+    const uint32_t patch = bundle_.sets.sources[selection_.clusters[k].representative];
+    const auto frustum =
+        fitLightFrustum(glm::dvec3(bundle_.patches[patch].centre), productBounds_, farDistance);
+    if (!frustum) continue;  // the light sits inside the product's bounding sphere
+    raster::ShadowPass& pass = out.passes[used];
+    pass.lightViewProj = frustum->rasterViewProj;
+    pass.shadowMapSize = options_.shadowMapSize;
+    pass.depthBias = options_.depthBias;
+    pass.pcf2x2 = options_.pcf2x2;
+    pass.occluder = 0;
+    pass.receiverTriangles.clear();
+    pass.receiverS.clear();
+    for (uint32_t p : traversal_.receivers) {
+      const uint32_t first = mesh_.patches[p].firstTriangle;
+      for (uint32_t t = first; t < first + 2; ++t) {
+        std::array<raster::Rgb8, 3> s{};
+        bool any = false;
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t rv = receiverVertexOf_[mesh_.indices[3 * size_t(t) + size_t(c)]];
+          if (rv == kNoIndex) continue;
+          s[size_t(c)] = clusterS_[vertexSlot_[rv] * clusters + k];
+          any = any || s[size_t(c)].r != 0 || s[size_t(c)].g != 0 || s[size_t(c)].b != 0;
+        }
+        if (!any) continue;  // nothing to subtract on this triangle for this cluster
+        pass.receiverTriangles.push_back(t);
+        pass.receiverS.insert(pass.receiverS.end(), s.begin(), s.end());
+      }
+    }
+    ++used;
+  }
+  out.passes.resize(used);
+  stats.passes = static_cast<uint32_t>(used);
+}
+
+}  // namespace penumbra::shadow
