@@ -1,0 +1,122 @@
+// The showroom pipeline end to end (Gibson 2003 §4–8): data/showroom/showroom.json through
+// precompute, the frame compositor and the renderer.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "lighting/precompute.h"
+#include "raster/renderer.h"
+#include "scene/scene_file.h"
+#include "scene/sha256.h"
+#include "shadow/frame_compositor.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+const shadow::SceneBundle& showroom() {
+  static const shadow::SceneBundle bundle = [] {
+    const scene::SceneDescription scene =
+        scene::loadSceneFile(fs::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.json");
+    std::vector<lighting::StageTiming> timings;
+    return lighting::precomputeBundle(scene, {}, timings);
+  }();
+  return bundle;
+}
+
+std::vector<uint8_t> renderPose(const shadow::ProductPose& pose, size_t passes,
+                                const raster::RenderOptions& options,
+                                shadow::CompositeStats* statsOut = nullptr) {
+  shadow::FrameCompositor compositor(showroom(), {});
+  raster::FrameContent frame;
+  shadow::CompositeStats stats;
+  compositor.compose(pose, passes, 1, frame, stats);
+  if (statsOut != nullptr) *statsOut = stats;
+  raster::Renderer renderer(showroom().view, options);
+  std::vector<uint8_t> rgba(showroom().background.size());
+  renderer.render(frame, rgba);
+  return rgba;
+}
+
+std::vector<uint8_t> fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(Showroom, PrecomputeIsDeterministicAcrossThreadCounts) {
+  const scene::SceneDescription scene =
+      scene::loadSceneFile(fs::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.json");
+  std::vector<lighting::StageTiming> timings;
+  lighting::PrecomputeOptions one, two;
+  one.threads = 1;
+  two.threads = 3;
+  const fs::path a = fs::temp_directory_path() / "penumbra-showroom-1.bundle";
+  const fs::path b = fs::temp_directory_path() / "penumbra-showroom-3.bundle";
+  shadow::saveBundle(lighting::precomputeBundle(scene, one, timings), a);
+  shadow::saveBundle(lighting::precomputeBundle(scene, two, timings), b);
+  EXPECT_EQ(fileBytes(a), fileBytes(b));
+  const shadow::SceneBundle loaded = shadow::loadBundle(a);
+  EXPECT_EQ(loaded.view, showroom().view);
+  EXPECT_GE(loaded.patches.size(), 1000u);
+  EXPECT_GT(loaded.sets.sources.size(), 10u);
+  fs::remove(a);
+  fs::remove(b);
+}
+
+TEST(Showroom, ProductFarFromEverythingLeavesTheBackground) {
+  shadow::CompositeStats stats;
+  const auto frame = renderPose({0, 100.0f, 100.0f, 0.0f}, 50, {simd::bestIsa(), 2, 32}, &stats);
+  EXPECT_EQ(stats.occludedSources, 0u);
+  EXPECT_EQ(stats.passes, 0u);
+  EXPECT_EQ(frame, showroom().background);
+}
+
+TEST(Showroom, TheChairDarkensItsSurroundings) {
+  shadow::CompositeStats stats;
+  const shadow::ProductPose pose = showroom().startPose;
+  const auto frame = renderPose(pose, 50, {simd::bestIsa(), 2, 32}, &stats);
+  EXPECT_GT(stats.passes, 10u);
+  EXPECT_GT(stats.receiverPatches, 0u);
+  // Outside the product, a shadow only removes light.
+  const auto noProduct = renderPose({pose.product, 100.0f, 100.0f, 0.0f}, 50, {});
+  size_t darker = 0;
+  for (size_t i = 0; i < frame.size(); i += 4) {
+    for (int c = 0; c < 3; ++c) darker += frame[i + size_t(c)] < noProduct[i + size_t(c)];
+  }
+  EXPECT_GT(darker, 5000u);
+}
+
+TEST(Showroom, FramesAreIdenticalOnEveryTargetAndThreadCount) {
+  const shadow::ProductPose pose{1, 2.5f, 2.0f, 30.0f};  // the bunny, turned
+  const std::string reference = scene::sha256Hex(renderPose(pose, 20, {simd::Isa::kScalar, 1, 32}));
+  for (simd::Isa isa : simd::supportedIsas()) {
+    for (int threads : {1, 2, 4}) {
+      EXPECT_EQ(scene::sha256Hex(renderPose(pose, 20, {isa, threads, 16})), reference)
+          << simd::isaName(isa) << " threads " << threads;
+    }
+  }
+}
+
+TEST(Showroom, EnoughPassesGiveOneClusterPerBlockedSource) {
+  shadow::CompositeStats few, all;
+  renderPose(showroom().startPose, 5, {}, &few);
+  renderPose(showroom().startPose, 257, {}, &all);
+  EXPECT_EQ(few.clusters, 5u);
+  EXPECT_EQ(all.clusters, all.occludedSources);  // §8: n = all leaves is the per-patch case
+  EXPECT_EQ(few.occludedSources, all.occludedSources);
+}
+
+TEST(Showroom, ComposingAgainGivesTheSameFrame) {
+  shadow::FrameCompositor compositor(showroom(), {});
+  raster::FrameContent a, b;
+  shadow::CompositeStats stats;
+  compositor.compose(showroom().startPose, 30, 1, a, stats);
+  compositor.compose({0, 1.0f, 1.0f, 45.0f}, 30, 2, b, stats);  // elsewhere in between
+  compositor.compose(showroom().startPose, 30, 3, b, stats);
+  EXPECT_EQ(a, b);
+}
+
+}  // namespace
+}  // namespace penumbra
