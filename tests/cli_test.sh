@@ -10,6 +10,7 @@ run=("$@" "$penumbra")
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 failures=0
+total=14
 check() {  # check NAME CONDITION-EXIT-CODE
   if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
 }
@@ -63,5 +64,28 @@ expect_error "not JSON" "$tmp/garbage.json" "not valid JSON"
 [[ $? != 0 ]] && grep -q "no-such-isa" "$tmp/stderr"
 check "unknown --isa is refused" $?
 
-echo "$((14 - failures)) passed, $failures failed"
+# The showroom commands, where this build has them (precompute needs Embree + meshoptimizer).
+if "${run[@]}" precompute --help >/dev/null 2>&1; then
+  total=$((total + 6))
+  "${run[@]}" precompute "$data/showroom/showroom.json" -o "$tmp/showroom.bundle" >"$tmp/stdout" 2>&1
+  check "precompute the showroom" $?
+  "${run[@]}" render "$tmp/showroom.bundle" --passes 20 --threads 2 --out "$tmp/frame.png" --hash \
+    >"$tmp/stdout" 2>&1 && grep -q "^sha256 " "$tmp/stdout" && [[ -s "$tmp/frame.png" ]]
+  check "render 20 passes, PNG and hash" $?
+  "${run[@]}" render "$tmp/showroom.bundle" --pose 1,nope --passes 5 >/dev/null 2>"$tmp/stderr"
+  [[ $? == 1 ]] && grep -q "nope" "$tmp/stderr"
+  check "render: a bad --pose is named" $?
+  "${run[@]}" render "$tmp/showroom.bundle" >/dev/null 2>"$tmp/stderr"
+  [[ $? == 1 ]] && grep -q -- "--passes" "$tmp/stderr"
+  check "render: --passes or --fps is required" $?
+  head -c 5000 "$tmp/showroom.bundle" >"$tmp/cut.bundle"
+  "${run[@]}" render "$tmp/cut.bundle" --passes 5 --out "$tmp/cut.png" >/dev/null 2>"$tmp/stderr"
+  [[ $? == 1 ]] && grep -q "cut.bundle" "$tmp/stderr" && [[ ! -e "$tmp/cut.png" ]]
+  check "render: a truncated bundle is refused, no PNG ($(head -c 150 "$tmp/stderr"))" $?
+  "${run[@]}" precompute "$tmp/absent.json" -o "$tmp/x.bundle" >/dev/null 2>"$tmp/stderr"
+  [[ $? == 1 ]] && grep -q "absent.json" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
+  check "precompute: a missing scene file is named" $?
+fi
+
+echo "$((total - failures)) passed, $failures failed"
 exit $((failures > 0))
