@@ -72,4 +72,17 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
                         std::span<const uint8_t> sets, const ToneCurve& tone,
                         std::span<raster::Rgb8> out);
 
+// Beyond Fig. 4, whose fixed 50/50 split is wrong when most sources are occluded (the
+// paper's Fig. 3; docs/fig3.md measures it): each source's drop is taken at the point the
+// frame buffer is expected to have reached when that source is subtracted,
+//   S_ij = T(L_i - q B_j) - T(L_i - q B_j - L_ij),   B_j = sum_{k<j} L_ik,
+// with q the expected occluded share of the sources (e.g. the previous frame's measured
+// occlusion). q = 1 is Fig. 4 with one set, exact when every source is occluded; q = 0 is
+// each source's drop alone, exact when one is; for a random occluded set of share p the
+// sum over it tracks T(L) - T(L - sum L_occluded) best with q near p. Same inputs as
+// intensityTransfers() except the sets; throws std::invalid_argument unless 0 <= q <= 1.
+void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
+                                    std::span<const glm::dvec3> transfers, double q,
+                                    const ToneCurve& tone, std::span<raster::Rgb8> out);
+
 }  // namespace penumbra::shadow

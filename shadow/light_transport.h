@@ -33,8 +33,8 @@ struct RadianceTransfers {
   // Source s (index into SourceReceiverSets::sources) has entries
   // [sourceStart[s], sourceStart[s + 1]) of entryVertex / entryTransfer.
   std::vector<uint32_t> sourceStart;
-  std::vector<uint32_t> entryVertex;      // receiver vertex index i
-  std::vector<glm::vec3> entryTransfer;   // L_ij = reflectance x form factor x visibility x L_j
+  std::vector<uint32_t> entryVertex;     // receiver vertex index i
+  std::vector<glm::vec3> entryTransfer;  // L_ij = reflectance x form factor x visibility x L_j
   // Mean over receiver vertices of L_ij's luminance, per source: the order of §7.1.1.
   std::vector<float> sourceAverage;
 
