@@ -96,7 +96,7 @@ struct RenderCommand {
     raster::Renderer renderer(bundle.view, toOptions(scene.render));
     raster::FrameContent frame;
     shadow::CompositeStats stats;
-    std::vector<uint8_t> rgba(bundle.background.size());
+    std::vector<uint8_t> rgba(bundle.background.size()), masks;
     uint32_t n = static_cast<uint32_t>(passes);
     double msFrame = 0;
     if (fps > 0) {
@@ -113,21 +113,29 @@ struct RenderCommand {
         n = controller.next().passes;
         const int64_t t0 = clock.nowNanoseconds();
         compositor.compose(pose, n, f, frame, stats);
-        renderer.render(frame, rgba);
+        renderer.render(frame, rgba, compositor.probes(), masks);
+        compositor.observe(masks);
         const int64_t dt = clock.nowNanoseconds() - t0;
         controller.report(dt, n, renderer.lastStats().passPixels);
         msFrame = double(dt) * 1e-6;
       }
     } else {
-      const auto t0 = Clock::now();
-      compositor.compose(pose, n, 1, frame, stats);
-      renderer.render(frame, rgba);
-      msFrame = msSince(t0);
+      // Two frames of the still product: the first measures where it blocks the light, the
+      // second takes its intensity transfers at those occluded shares (docs/fig3.md).
+      for (uint32_t f = 1; f <= 2; ++f) {
+        const auto t0 = Clock::now();
+        compositor.compose(pose, n, f, frame, stats);
+        renderer.render(frame, rgba, compositor.probes(), masks);
+        compositor.observe(masks);
+        msFrame = msSince(t0);
+      }
     }
     std::printf("product %s at (%.3f, %.3f) yaw %.1f\n", bundle.products[pose.product].name.c_str(),
                 double(pose.x), double(pose.z), double(pose.yawDegrees));
-    std::printf("passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u\n",
-                stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited);
+    std::printf(
+        "passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u graded %u/%u\n",
+        stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited,
+        stats.gradedVertices, stats.receiverVertices);
     std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
                 stats.msTraversal, stats.msClusters, stats.msTransfers,
                 renderer.lastStats().msTotal);
@@ -153,7 +161,7 @@ struct ProfileCommand {
     raster::Renderer renderer(bundle.view, toOptions(scene.render));
     raster::FrameContent frame;
     shadow::CompositeStats stats;
-    std::vector<uint8_t> rgba(bundle.background.size());
+    std::vector<uint8_t> rgba(bundle.background.size()), masks;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
@@ -170,7 +178,8 @@ struct ProfileCommand {
         p.x += 0.01f * float(f % 7);
         const auto t0 = Clock::now();
         compositor.compose(p, size_t(asked), frameNumber++, frame, stats);
-        renderer.render(frame, rgba);
+        renderer.render(frame, rgba, compositor.probes(), masks);
+        compositor.observe(masks);
         if (f == 0) continue;  // warm-up
         total.push_back(msSince(t0));
         trav.push_back(stats.msTraversal);

@@ -133,6 +133,9 @@ struct Renderer::Impl {
   void prepareObjects(const FrameContent& frame);
   void compositeObjects(uint32_t tile, const FrameContent& frame, Worker& w);
   void runPass(const FrameContent& frame, size_t index, Worker& w);
+  void probePass(const ShadowPass& pass, const Worker& w, size_t index);
+  std::span<const Vec3> probes;  // this frame's occlusion probes (may be empty)
+  std::vector<uint8_t>* probeMasks = nullptr;
   void finishTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out);
   void tileRect(uint32_t tile, int32_t& x0, int32_t& y0, int32_t& x1, int32_t& y1) const {
     x0 = static_cast<int32_t>(tile % static_cast<uint32_t>(tilesX)) * options.tileSize;
@@ -366,6 +369,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   const Mat4d toTexel = {half, 0, 0, half, 0, -half, 0, half, 0, 0, 0.5, 0.5, 0, 0, 0, 1};
   const Mat4d p = multiply(multiply(toTexel, toDouble(pass.lightViewProj)), windowToWorld);
   for (int i = 0; i < 16; ++i) lookup.p[i] = static_cast<float>(p[i]);
+  if (!probes.empty()) probePass(pass, w, index);
   lookup.map = w.shadowMap.origin();
   lookup.size = isize;
   lookup.stride = w.shadowMap.stride();
@@ -408,6 +412,29 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
     w.passBegin[y] = width;
     w.passEnd[y] = 0;
+  }
+}
+
+// Occlusion at the probes for one pass: each probe's light clip position from world space
+// (spec §2, §7 binary test, fixed order), written to its own slots only.
+void Renderer::Impl::probePass(const ShadowPass& pass, const Worker& w, size_t index) {
+  const size_t passes = probeMasks->size() / probes.size();
+  const float half = static_cast<float>(pass.shadowMapSize) * 0.5f;
+  const float size = static_cast<float>(pass.shadowMapSize);
+  for (size_t p = 0; p < probes.size(); ++p) {
+    const ClipVertex c = transformPoint(pass.lightViewProj, probes[p]);
+    uint8_t m = 0;
+    if (c.w > 0.0f) {
+      const float u = (c.x / c.w) * half + half;
+      const float v = -(c.y / c.w) * half + half;
+      const float d = (c.z / c.w) * 0.5f + 0.5f;
+      if (u >= 0.0f && u < size && v >= 0.0f && v < size) {
+        const float texel = w.shadowMap.origin()[static_cast<ptrdiff_t>(v) * w.shadowMap.stride() +
+                                                 static_cast<ptrdiff_t>(u)];
+        m = d > texel + pass.depthBias ? 255 : 0;
+      }
+    }
+    (*probeMasks)[p * passes + index] = m;
   }
 }
 
@@ -459,6 +486,21 @@ const FrameStats& Renderer::lastStats() const {
 }
 const StaticView& Renderer::view() const {
   return impl_->view;
+}
+
+void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut,
+                      std::span<const Vec3> probes, std::vector<uint8_t>& masks) {
+  masks.assign(probes.size() * frame.passes.size(), 0);
+  impl_->probes = probes;
+  impl_->probeMasks = &masks;
+  try {
+    render(frame, rgbaOut);
+  } catch (...) {
+    impl_->probes = {};
+    throw;
+  }
+  impl_->probes = {};
+  impl_->probeMasks = nullptr;
 }
 
 void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {

@@ -46,6 +46,13 @@ class Renderer {
   // `frame` must be valid for this view (validateTrace); throws TraceError otherwise.
   void render(const FrameContent& frame, std::span<uint8_t> rgbaOut);
 
+  // The same, also measuring occlusion at world-space `probes` (e.g. receiver vertices):
+  // masks[p * passes + k] = 255 when pass k's shadow map occludes probe p (the binary test
+  // of spec §7 at the point itself, from world space), else 0. Lets the caller estimate how
+  // much light the product blocks where, for the next frame (docs/fig3.md).
+  void render(const FrameContent& frame, std::span<uint8_t> rgbaOut, std::span<const Vec3> probes,
+              std::vector<uint8_t>& masks);
+
   const FrameStats& lastStats() const;
   const StaticView& view() const;
 

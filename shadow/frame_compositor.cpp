@@ -30,6 +30,7 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
     receiverVertexOf_[t.receiverVertices[i]] = static_cast<uint32_t>(i);
   }
   vertexSlot_.assign(t.receiverVertices.size(), 0);
+  occlusion_.assign(t.receiverVertices.size(), -1.0f);
   vertexSlotFrame_.assign(t.receiverVertices.size(), kNoIndex);
 }
 
@@ -157,11 +158,19 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     setsScratch_[k] = static_cast<uint8_t>(sourceSet(options_.setSeed, patch));
   }
   clusterS_.resize(frameVertices_.size() * clusters);
+  probes_.resize(frameVertices_.size());
   for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    intensityTransfers(glm::dvec3(tr.vertexRadiance[frameVertices_[slot]]),
-                       std::span<const glm::dvec3>(&clusterTransfer_[slot * clusters], clusters),
-                       setsScratch_, bundle_.tone,
-                       std::span<raster::Rgb8>(&clusterS_[slot * clusters], clusters));
+    const uint32_t rv = frameVertices_[slot];
+    probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[rv]];
+    const glm::dvec3 total(tr.vertexRadiance[rv]);
+    const std::span<const glm::dvec3> transfers(&clusterTransfer_[slot * clusters], clusters);
+    const std::span<raster::Rgb8> s(&clusterS_[slot * clusters], clusters);
+    if (options_.gradedTransfers && occlusion_[rv] >= 0.0f) {
+      intensityTransfersForOcclusion(total, transfers, double(occlusion_[rv]), bundle_.tone, s);
+      ++stats.gradedVertices;
+    } else {
+      intensityTransfers(total, transfers, setsScratch_, bundle_.tone, s);
+    }
   }
   stats.msTransfers = msSince(t0);
 
@@ -173,6 +182,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   out.occluders.resize(1);
   out.occluders[0] = placedProxy_;
   out.passes.resize(clusters);
+  passCluster_.clear();
   size_t used = 0;
   const double farDistance = 2.0 * glm::length(hierarchy_.receiverNodes()[0].bounds.size()) + 1.0;
   for (size_t k = 0; k < clusters; ++k) {
@@ -180,6 +190,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     const auto frustum =
         fitLightFrustum(glm::dvec3(bundle_.patches[patch].centre), productBounds_, farDistance);
     if (!frustum) continue;  // the light sits inside the product's bounding sphere
+    passCluster_.push_back(static_cast<uint32_t>(k));
     raster::ShadowPass& pass = out.passes[used];
     pass.lightViewProj = frustum->rasterViewProj;
     pass.shadowMapSize = options_.shadowMapSize;
@@ -208,6 +219,26 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   }
   out.passes.resize(used);
   stats.passes = static_cast<uint32_t>(used);
+}
+
+void FrameCompositor::observe(std::span<const uint8_t> masks) {
+  const size_t passes = passCluster_.size();
+  if (masks.size() != probes_.size() * passes) {
+    throw std::invalid_argument("observe: masks do not match the last composed frame");
+  }
+  const size_t clusters = selection_.clusters.size();
+  for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
+    // The transfer-weighted share of the blocked light that was really occluded, in the
+    // order of the passes (a fixed-order sum).
+    double blocked = 0, total = 0;
+    for (size_t k = 0; k < passes; ++k) {
+      const glm::dvec3& t = clusterTransfer_[slot * clusters + passCluster_[k]];
+      const double weight = 0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z;
+      total += weight;
+      blocked += masks[slot * passes + k] != 0 ? weight : 0.0;
+    }
+    occlusion_[frameVertices_[slot]] = total > 0 ? static_cast<float>(blocked / total) : -1.0f;
+  }
 }
 
 }  // namespace penumbra::shadow

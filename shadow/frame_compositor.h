@@ -26,12 +26,17 @@ struct CompositorOptions {
   float depthBias = 0.002f;      // light window-depth units
   bool pcf2x2 = true;
   uint64_t setSeed = 1;  // Fig. 4's set assignment (stable per source patch)
+  // Beyond Fig. 4 (docs/fig3.md): where the previous frame measured how much of a receiver
+  // vertex's light the product blocked (observe()), take its intensity transfers at that
+  // occluded share q (intensityTransfersForOcclusion); elsewhere Fig. 4's 50/50 sets.
+  bool gradedTransfers = true;
   ShaftBuildOptions shafts;
 };
 
 struct CompositeStats {
   uint32_t occludedSources = 0, receiverPatches = 0, clusters = 0, passes = 0;
   uint32_t shaftsVisited = 0, receiverVertices = 0;
+  uint32_t gradedVertices = 0;  // receiver vertices whose S used a measured occlusion
   double msTraversal = 0, msClusters = 0, msTransfers = 0, msObject = 0;
 };
 
@@ -45,6 +50,13 @@ class FrameCompositor {
   // frames). `frame` must change from call to call (the §6.1 frame tags).
   void compose(const ProductPose& pose, size_t passes, uint32_t frame, raster::FrameContent& out,
                CompositeStats& stats);
+
+  // World positions of the last composed frame's receiver vertices: pass them to
+  // raster::Renderer::render() as probes, then hand the masks to observe().
+  std::span<const raster::Vec3> probes() const { return probes_; }
+  // Records, per receiver vertex of the last composed frame, the share of its blocked
+  // transfer that the rendered passes really occluded (masks as Renderer::render fills them).
+  void observe(std::span<const uint8_t> masks);
 
   const ShaftHierarchy& hierarchy() const { return hierarchy_; }
   const raster::StaticView& view() const { return bundle_.view; }
@@ -74,6 +86,9 @@ class FrameCompositor {
   std::vector<glm::dvec3> transfersScratch_;
   std::vector<uint8_t> setsScratch_;
   std::vector<raster::Rgb8> sScratch_;
+  std::vector<uint32_t> passCluster_;  // emitted pass -> cluster
+  std::vector<raster::Vec3> probes_;   // per slot
+  std::vector<float> occlusion_;       // per receiver vertex: measured share, or < 0
 };
 
 }  // namespace penumbra::shadow

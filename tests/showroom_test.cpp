@@ -118,5 +118,32 @@ TEST(Showroom, ComposingAgainGivesTheSameFrame) {
   EXPECT_EQ(a, b);
 }
 
+// The feedback loop of docs/fig3.md: a frame measures, per receiver vertex, how much of its
+// blocked light the passes really occluded; the next frame takes its intensity transfers at
+// that share. Deterministic whatever the thread count.
+TEST(Showroom, MeasuredOcclusionFeedsTheNextFrame) {
+  auto run = [](int threads) {
+    shadow::FrameCompositor compositor(showroom(), {});
+    raster::Renderer renderer(showroom().view, {simd::bestIsa(), threads, 32});
+    raster::FrameContent frame;
+    shadow::CompositeStats stats;
+    std::vector<uint8_t> rgba(showroom().background.size()), masks;
+    const shadow::ProductPose pose{1, 2.5f, 2.0f, 30.0f};
+    compositor.compose(pose, 30, 1, frame, stats);
+    EXPECT_EQ(stats.gradedVertices, 0u);  // nothing measured yet: Fig. 4
+    renderer.render(frame, rgba, compositor.probes(), masks);
+    EXPECT_EQ(masks.size(), compositor.probes().size() * frame.passes.size());
+    size_t occluded = 0;
+    for (uint8_t m : masks) occluded += m != 0;
+    EXPECT_GT(occluded, 0u) << "the bunny must block some light at some receiver vertex";
+    compositor.observe(masks);
+    compositor.compose(pose, 30, 2, frame, stats);
+    EXPECT_EQ(stats.gradedVertices, stats.receiverVertices);
+    renderer.render(frame, rgba, compositor.probes(), masks);
+    return scene::sha256Hex(rgba);
+  };
+  EXPECT_EQ(run(1), run(3));
+}
+
 }  // namespace
 }  // namespace penumbra
