@@ -35,7 +35,8 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// "X,Z" or "X,Z,YAW" (metres, metres, degrees).
+// "X,Y,Z" or "X,Y,Z,YAW": floor position X, Z and lift Y above the floor in metres, yaw in
+// degrees.
 shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
   std::vector<float> values;
   std::stringstream in(text);
@@ -49,10 +50,10 @@ shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
       throw std::invalid_argument("--pose: '" + item + "' is not a number");
     }
   }
-  if (values.size() < 2 || values.size() > 3) {
-    throw std::invalid_argument("--pose needs X,Z or X,Z,YAW (got '" + text + "')");
+  if (values.size() < 3 || values.size() > 4) {
+    throw std::invalid_argument("--pose needs X,Y,Z or X,Y,Z,YAW (got '" + text + "')");
   }
-  return {product, values[0], values[1], values.size() == 3 ? values[2] : 0.0f};
+  return {product, values[0], values[2], values.size() == 4 ? values[3] : 0.0f, values[1]};
 }
 
 struct SceneFlags {
@@ -64,7 +65,8 @@ struct SceneFlags {
 
 void addSceneFlags(CLI::App* cmd, SceneFlags& f) {
   cmd->add_option("BUNDLE", f.bundle, "scene bundle (penumbra precompute)")->required();
-  cmd->add_option("--pose", f.pose, "product position on the floor: X,Z[,YAW_DEGREES]");
+  cmd->add_option("--pose", f.pose,
+                  "product position: X,Y,Z[,YAW_DEGREES] (Y: lift above the floor, metres)");
   cmd->add_option("--product", f.product, "product index (default: the start pose's)");
   addRenderFlags(cmd, f.render);
 }
@@ -130,8 +132,12 @@ struct RenderCommand {
         msFrame = msSince(t0);
       }
     }
-    std::printf("product %s at (%.3f, %.3f) yaw %.1f\n", bundle.products[pose.product].name.c_str(),
-                double(pose.x), double(pose.z), double(pose.yawDegrees));
+    std::printf("product %s at (%.3f, %.3f, %.3f) yaw %.1f\n",
+                bundle.products[pose.product].name.c_str(), double(pose.x), double(pose.lift),
+                double(pose.z), double(pose.yawDegrees));
+    const shadow::ShaftHierarchy& h = compositor.hierarchy();
+    std::printf("shaft_hierarchy shafts %zu leaf_shafts %zu memory_kb %.1f\n", h.shaftCount(),
+                h.leafShaftCount(), double(h.memoryBytes()) / 1024.0);
     std::printf(
         "passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u graded %u/%u\n",
         stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited,

@@ -40,7 +40,8 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
     throw std::invalid_argument("product " + std::to_string(pose.product) + " does not exist (" +
                                 std::to_string(bundle_.products.size()) + " products)");
   }
-  if (!std::isfinite(pose.x) || !std::isfinite(pose.z) || !std::isfinite(pose.yawDegrees)) {
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.z) || !std::isfinite(pose.yawDegrees) ||
+      !std::isfinite(pose.lift)) {
     throw std::invalid_argument("product pose is not finite");
   }
   const ProductModel& model = bundle_.products[pose.product];
@@ -52,7 +53,7 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
     for (size_t i = 0; i < in.positions.size(); ++i) {
       const raster::Vec3& p = in.positions[i];
       out.positions[i] = {static_cast<float>(c * p.x + s * p.z + pose.x),
-                          static_cast<float>(p.y + bundle_.roomFloorY),
+                          static_cast<float>(p.y + bundle_.roomFloorY + pose.lift),
                           static_cast<float>(-s * p.x + c * p.z + pose.z)};
     }
   };
@@ -98,7 +99,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   stats = CompositeStats{};
   auto t0 = Clock::now();
   if (pose.product != placedPose_.product || pose.x != placedPose_.x || pose.z != placedPose_.z ||
-      pose.yawDegrees != placedPose_.yawDegrees) {
+      pose.yawDegrees != placedPose_.yawDegrees || pose.lift != placedPose_.lift) {
     placeProduct(pose);
   }
   stats.msObject = msSince(t0);

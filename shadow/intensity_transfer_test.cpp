@@ -125,3 +125,36 @@ TEST(ToneCurveThresholds, RoundTripAndValidation) {
 
 }  // namespace
 }  // namespace penumbra::shadow
+
+namespace penumbra::shadow {
+namespace {
+
+TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {
+  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
+  const glm::dvec3 total(0.8, 0.7, 0.6);
+  const std::vector<glm::dvec3> l = {
+      {0.2, 0.1, 0.05}, {0.1, 0.1, 0.1}, {0.05, 0.2, 0.02}, {0.1, 0.05, 0.1}};
+  std::vector<raster::Rgb8> s(l.size());
+  // q = 1: the drops telescope: all occluded gives exactly T(L - sum).
+  intensityTransfersForOcclusion(total, l, 1.0, tone, s);
+  glm::dvec3 rest = total;
+  int r = tone.map(total).r, g = tone.map(total).g, b = tone.map(total).b;
+  for (size_t j = 0; j < l.size(); ++j) {
+    rest -= l[j];
+    r -= s[j].r;
+    g -= s[j].g;
+    b -= s[j].b;
+  }
+  EXPECT_EQ(r, tone.map(rest).r);
+  EXPECT_EQ(g, tone.map(rest).g);
+  EXPECT_EQ(b, tone.map(rest).b);
+  // q = 0: each drop is exact for that source alone.
+  intensityTransfersForOcclusion(total, l, 0.0, tone, s);
+  for (size_t j = 0; j < l.size(); ++j) {
+    EXPECT_EQ(s[j].g, tone.map(total).g - tone.map(total - l[j]).g) << j;
+  }
+  EXPECT_THROW(intensityTransfersForOcclusion(total, l, 1.5, tone, s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra::shadow

@@ -19,7 +19,7 @@
 
 namespace penumbra::shadow {
 
-inline constexpr uint32_t kBundleVersion = 1;
+inline constexpr uint32_t kBundleVersion = 2;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
 struct PatchRecord {
@@ -38,10 +38,11 @@ struct ProductModel {
   glm::vec3 reflectance{0.6f};
 };
 
-// Where a product stands: on the floor at (x, z), turned by yaw about +y.
+// Where a product stands: at (x, z) on the floor, `lift` above it, turned by yaw about +y.
 struct ProductPose {
   uint32_t product = 0;
   float x = 0, z = 0, yawDegrees = 0;
+  float lift = 0;  // metres above the floor (Gibson 2003 Fig. 7: lifting a box off the floor)
 };
 
 struct SceneBundle {

@@ -72,7 +72,7 @@ if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
   "${run[@]}" render "$tmp/showroom.bundle" --passes 20 --threads 2 --out "$tmp/frame.png" --hash \
     >"$tmp/stdout" 2>&1 && grep -q "^sha256 " "$tmp/stdout" && [[ -s "$tmp/frame.png" ]]
   check "render 20 passes, PNG and hash" $?
-  "${run[@]}" render "$tmp/showroom.bundle" --pose 1,nope --passes 5 >/dev/null 2>"$tmp/stderr"
+  "${run[@]}" render "$tmp/showroom.bundle" --pose 1,0,nope --passes 5 >/dev/null 2>"$tmp/stderr"
   [[ $? == 1 ]] && grep -q "nope" "$tmp/stderr"
   check "render: a bad --pose is named" $?
   "${run[@]}" render "$tmp/showroom.bundle" >/dev/null 2>"$tmp/stderr"
