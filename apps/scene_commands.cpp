@@ -82,6 +82,34 @@ shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
   return pose;
 }
 
+// One product in the showroom, frame after frame (design §1, per frame): compose the frame,
+// render it with occlusion probes at the receiver vertices, feed the measured occlusion back
+// to the compositor for the next frame (docs/fig3.md).
+struct Session {
+  explicit Session(const SceneFlags& flags)
+      : bundle(shadow::loadBundle(flags.bundle)),
+        pose(poseOf(flags, bundle)),
+        compositor(bundle, {}),
+        renderer(bundle.view, toOptions(flags.render)),
+        rgba(bundle.background.size()) {}
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  void step(const shadow::ProductPose& p, size_t passes, uint32_t frameNumber) {
+    compositor.compose(p, passes, frameNumber, frame, stats);
+    renderer.render(frame, rgba, compositor.probes(), masks);
+    compositor.observe(masks);
+  }
+
+  const shadow::SceneBundle bundle;
+  const shadow::ProductPose pose;
+  shadow::FrameCompositor compositor;
+  raster::Renderer renderer;
+  raster::FrameContent frame;
+  shadow::CompositeStats stats;
+  std::vector<uint8_t> rgba, masks;
+};
+
 // --- render ------------------------------------------------------------------------------
 
 struct RenderCommand {
@@ -92,13 +120,10 @@ struct RenderCommand {
   bool hash = false;
 
   int run() const {
-    const shadow::SceneBundle bundle = shadow::loadBundle(scene.bundle);
-    const shadow::ProductPose pose = poseOf(scene, bundle);
-    shadow::FrameCompositor compositor(bundle, {});
-    raster::Renderer renderer(bundle.view, toOptions(scene.render));
-    raster::FrameContent frame;
-    shadow::CompositeStats stats;
-    std::vector<uint8_t> rgba(bundle.background.size()), masks;
+    Session session(scene);
+    const shadow::SceneBundle& bundle = session.bundle;
+    const shadow::ProductPose& pose = session.pose;
+    const shadow::CompositeStats& stats = session.stats;
     uint32_t n = static_cast<uint32_t>(passes);
     double msFrame = 0;
     if (fps > 0) {
@@ -114,11 +139,9 @@ struct RenderCommand {
       for (uint32_t f = 1; f <= 40; ++f) {
         n = controller.next().passes;
         const int64_t t0 = clock.nowNanoseconds();
-        compositor.compose(pose, n, f, frame, stats);
-        renderer.render(frame, rgba, compositor.probes(), masks);
-        compositor.observe(masks);
+        session.step(pose, n, f);
         const int64_t dt = clock.nowNanoseconds() - t0;
-        controller.report(dt, n, renderer.lastStats().passPixels);
+        controller.report(dt, n, session.renderer.lastStats().passPixels);
         msFrame = double(dt) * 1e-6;
       }
     } else {
@@ -126,16 +149,14 @@ struct RenderCommand {
       // second takes its intensity transfers at those occluded shares (docs/fig3.md).
       for (uint32_t f = 1; f <= 2; ++f) {
         const auto t0 = Clock::now();
-        compositor.compose(pose, n, f, frame, stats);
-        renderer.render(frame, rgba, compositor.probes(), masks);
-        compositor.observe(masks);
+        session.step(pose, n, f);
         msFrame = msSince(t0);
       }
     }
     std::printf("product %s at (%.3f, %.3f, %.3f) yaw %.1f\n",
                 bundle.products[pose.product].name.c_str(), double(pose.x), double(pose.lift),
                 double(pose.z), double(pose.yawDegrees));
-    const shadow::ShaftHierarchy& h = compositor.hierarchy();
+    const shadow::ShaftHierarchy& h = session.compositor.hierarchy();
     std::printf("shaft_hierarchy shafts %zu leaf_shafts %zu memory_kb %.1f\n", h.shaftCount(),
                 h.leafShaftCount(), double(h.memoryBytes()) / 1024.0);
     std::printf(
@@ -144,10 +165,10 @@ struct RenderCommand {
         stats.gradedVertices, stats.receiverVertices);
     std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
                 stats.msTraversal, stats.msClusters, stats.msTransfers,
-                renderer.lastStats().msTotal);
-    if (!trace.empty()) raster::saveTrace({bundle.view, frame}, trace);
-    if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, rgba);
-    if (hash) std::printf("sha256 %s\n", scene::sha256Hex(rgba).c_str());
+                session.renderer.lastStats().msTotal);
+    if (!trace.empty()) raster::saveTrace({bundle.view, session.frame}, trace);
+    if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, session.rgba);
+    if (hash) std::printf("sha256 %s\n", scene::sha256Hex(session.rgba).c_str());
     return 0;
   }
 };
@@ -161,13 +182,9 @@ struct ProfileCommand {
   std::string csv, plot;
 
   int run() const {
-    const shadow::SceneBundle bundle = shadow::loadBundle(scene.bundle);
-    const shadow::ProductPose pose = poseOf(scene, bundle);
-    shadow::FrameCompositor compositor(bundle, {});
-    raster::Renderer renderer(bundle.view, toOptions(scene.render));
-    raster::FrameContent frame;
-    shadow::CompositeStats stats;
-    std::vector<uint8_t> rgba(bundle.background.size()), masks;
+    Session session(scene);
+    const shadow::CompositeStats& stats = session.stats;
+    const raster::Renderer& renderer = session.renderer;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
@@ -180,12 +197,10 @@ struct ProfileCommand {
       std::vector<double> total, trav, clus, xfer, obj, pass, fin;
       for (int f = 0; f < frames + 1; ++f) {
         // The product slides a little every frame, as on the kiosk, so nothing is cached.
-        shadow::ProductPose p = pose;
+        shadow::ProductPose p = session.pose;
         p.x += 0.01f * float(f % 7);
         const auto t0 = Clock::now();
-        compositor.compose(p, size_t(asked), frameNumber++, frame, stats);
-        renderer.render(frame, rgba, compositor.probes(), masks);
-        compositor.observe(masks);
+        session.step(p, size_t(asked), frameNumber++);
         if (f == 0) continue;  // warm-up
         total.push_back(msSince(t0));
         trav.push_back(stats.msTraversal);

@@ -12,21 +12,14 @@
 #include <string>
 #include <utility>
 #include <vector>
+#include "tests/test_data.h"
 
 namespace penumbra::scene {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The bundled models, found beside this source file when the build does not say where
-// data/ is.
-fs::path dataDir() {
-#ifdef PENUMBRA_DATA_DIR
-  return PENUMBRA_DATA_DIR;
-#else
-  return fs::path(__FILE__).parent_path().parent_path() / "data";
-#endif
-}
+using penumbra::testing::dataDir;
 
 // A fresh folder per test, removed afterwards.
 class MeshIo : public ::testing::Test {

@@ -9,19 +9,14 @@
 #include <vector>
 
 #include "scene/mesh_io.h"
+#include "tests/test_data.h"
 
 namespace penumbra::scene {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dataDir() {
-#ifdef PENUMBRA_DATA_DIR
-  return PENUMBRA_DATA_DIR;
-#else
-  return fs::path(__FILE__).parent_path().parent_path() / "data";
-#endif
-}
+using penumbra::testing::dataDir;
 
 TEST(MeshSimplify, WeldMergesEqualPositionsAndDropsCollapsedTriangles) {
   TriangleMesh m;

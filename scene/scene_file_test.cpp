@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/patch_mesh.h"
+#include "tests/test_data.h"
 
 namespace penumbra::scene {
 namespace {
@@ -18,13 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path dataDir() {
-#ifdef PENUMBRA_DATA_DIR
-  return PENUMBRA_DATA_DIR;
-#else
-  return fs::path(__FILE__).parent_path().parent_path() / "data";
-#endif
-}
+using penumbra::testing::dataDir;
 
 fs::path showroomPath() {
   return dataDir() / "showroom" / "showroom.json";
