@@ -188,6 +188,9 @@ void validateTrace(const FrameTrace& trace, const std::string& where) {
   if (view.height < 1 || view.height > kMaxImageSide) fail(where, "height", "must be in 1..4096");
   validateMatrix(view.cameraViewProj, where, "camera_view_proj");
   validateMesh(view.staticMesh, where, "static_mesh");
+  if (view.staticMesh.triangleCount() > kMaxStaticTriangles) {
+    fail(where, "static_mesh.indices", "more than 2^31 triangles");
+  }
   validateFrame(trace.frame, view.width, view.height, view.staticMesh.triangleCount(), where);
 }
 
@@ -206,6 +209,9 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
       fail(where, field + ".colours", "count differs from the vertex count");
     }
   }
+  size_t objectTriangles = 0;
+  for (const ShadedMesh& o : frame.objects) objectTriangles += o.mesh.triangleCount();
+  if (objectTriangles > kMaxObjectTriangles) fail(where, "objects", "too many triangles");
   for (size_t i = 0; i < frame.occluders.size(); ++i) {
     validateMesh(frame.occluders[i], where, "occluders[" + std::to_string(i) + "]");
   }
@@ -245,6 +251,25 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
     }
     if (pass.receiverS.size() != 3 * pass.receiverTriangles.size()) {
       fail(where, field + ".receiver_s", "count must be 3 x receiver_triangles count");
+    }
+    std::vector<bool> listedObject(objectTriangles, false);
+    for (uint32_t t : pass.objectTriangles) {
+      if (t >= objectTriangles) {
+        fail(where, field + ".object_triangles",
+             "triangle " + std::to_string(t) + " is out of range (" +
+                 std::to_string(objectTriangles) + " object triangles)");
+      }
+      if (listedObject[t]) {
+        fail(where, field + ".object_triangles",
+             "triangle " + std::to_string(t) + " is listed twice");
+      }
+      listedObject[t] = true;
+    }
+    if (pass.objectS.size() != 3 * pass.objectTriangles.size()) {
+      fail(where, field + ".object_s", "count must be 3 x object_triangles count");
+    }
+    if (!std::isfinite(pass.objectDepthBias)) {
+      fail(where, field + ".object_depth_bias", "is not finite");
     }
   }
 }
@@ -306,6 +331,11 @@ FrameTrace loadTrace(const std::filesystem::path& path) {
     pass.occluder = r.number<uint32_t>(pj, "occluder", p);
     r.view(pj, "receiver_triangles", p, 1, pass.receiverTriangles);
     r.rgbs(pj, "receiver_s", p, pass.receiverS);
+    if (pj.contains("object_triangles")) {  // optional: self-shadowing (§7.2)
+      r.view(pj, "object_triangles", p, 1, pass.objectTriangles);
+      r.rgbs(pj, "object_s", p, pass.objectS);
+      pass.objectDepthBias = r.number<float>(pj, "object_depth_bias", p);
+    }
     t.frame.passes.push_back(std::move(pass));
   }
   validateTrace(t, where);
@@ -343,6 +373,12 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
          {"occluder", p.occluder},
          {"receiver_triangles", w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
          {"receiver_s", w.rgbs(p.receiverS)}});
+    if (!p.objectTriangles.empty()) {
+      json& pj = doc["passes"].back();
+      pj["object_triangles"] = w.view(p.objectTriangles.data(), p.objectTriangles.size(), 1);
+      pj["object_s"] = w.rgbs(p.objectS);
+      pj["object_depth_bias"] = static_cast<double>(p.objectDepthBias);
+    }
   }
   std::ofstream bin(path.parent_path() / blobName, std::ios::binary);
   bin.write(reinterpret_cast<const char*>(w.blob.data()),

@@ -60,6 +60,12 @@ struct ShadowPass {
   uint32_t occluder = 0;         // index into FrameContent::occluders
   std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
   std::vector<Rgb8> receiverS;              // 3 per receiver triangle, in corner order
+  // Self-shadowing (Gibson 2003 §7.2): triangles of the synthetic objects that receive this
+  // pass too — indices into all objects' triangles counted in order — with S per corner,
+  // and the bias for them (the proxy only approximates the object's own surface).
+  std::vector<uint32_t> objectTriangles;
+  std::vector<Rgb8> objectS;
+  float objectDepthBias = 0.0f;
   bool operator==(const ShadowPass&) const = default;
 };
 
@@ -94,6 +100,9 @@ class TraceError : public std::runtime_error {
 inline constexpr uint32_t kMaxImageSide = 4096;
 inline constexpr uint32_t kMaxShadowMapSize = 4096;
 inline constexpr size_t kMaxPasses = 257;
+// Triangle ids share one 32-bit id buffer (raster/span_kernels.h).
+inline constexpr size_t kMaxStaticTriangles = size_t{1} << 31;
+inline constexpr size_t kMaxObjectTriangles = (size_t{1} << 31) - 2;
 
 // Checks sizes, indices and finiteness; throws TraceError naming `where` and the field.
 void validateTrace(const FrameTrace& trace, const std::string& where);

@@ -78,6 +78,7 @@ bool invert(const Mat4d& m, Mat4d& inv) {
 struct ObjectTriangle {
   SetupTriangle t;
   SpanPlanes planes;
+  uint32_t owner;  // index of the unclipped triangle among all objects' triangles
 };
 
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
@@ -124,6 +125,7 @@ struct Renderer::Impl {
   std::vector<uint32_t> id;
   std::vector<uint8_t> tileHasObject, tileHadObject;
   std::vector<ObjectTriangle> objectTriangles;
+  std::vector<uint32_t> objectFirstSub;  // object triangle g -> [first[g], first[g + 1])
   std::vector<std::vector<std::pair<uint32_t, bool>>> tileObjects;
   std::vector<Worker> workers;
   FrameStats stats;
@@ -236,6 +238,7 @@ void Renderer::Impl::buildStaticCache() {
 
 void Renderer::Impl::prepareObjects(const FrameContent& frame) {
   objectTriangles.clear();
+  objectFirstSub.clear();
   for (auto& list : tileObjects) list.clear();
   std::vector<ClipVertex> clip;
   std::vector<std::array<SnappedVertex, 3>> fan;
@@ -247,6 +250,8 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
     }
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
       const uint32_t* idx = &mesh.indices[3 * t];
+      const uint32_t owner = static_cast<uint32_t>(objectFirstSub.size());
+      objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
       fan.clear();
       clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, view.width, view.height, fan);
       const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
@@ -260,10 +265,12 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
         o.planes.rgb[2] = attributePlane(o.t, {c0.b, c1.b, c2.b});
         o.planes.ox = o.t.minX;
         o.planes.oy = o.t.minY;
+        o.owner = owner;
         objectTriangles.push_back(o);
       }
     }
   }
+  objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
   // Binning with trivial reject / accept (spec §4), in triangle order.
   const int32_t ts = options.tileSize;
   std::fill(tileHasObject.begin(), tileHasObject.end(), 0);
@@ -305,8 +312,8 @@ void Renderer::Impl::compositeObjects(uint32_t tile, const FrameContent& frame, 
     const ObjectTriangle& o = objectTriangles[index];
     forEachRun(o.t, x0, y0, x1, y1, full, [&](int32_t y, int32_t xa, int32_t xb) {
       const size_t row = stride * size_t(y);
-      w.objectPixels +=
-          kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y, o.planes);
+      w.objectPixels += kernels->colourLess(&rgba[4 * row], &depth[row], &id[row], xa, xb, y,
+                                            o.planes, kObjectBase + o.owner);
     });
   }
 }
@@ -376,43 +383,74 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.bias = pass.depthBias;
   lookup.pcf2x2 = pass.pcf2x2;
 
+  // S of one run into the scratch, remembering which rows the sweep must visit.
   int32_t rowLo = height, rowHi = 0;
+  auto addRun = [&](int32_t y, int32_t xa, int32_t xb, const SpanPlanes& planes,
+                    uint32_t triangleId) {
+    const size_t row = stride * size_t(y);
+    const uint32_t matched =
+        kernels->interpolateS(&w.s[row], &id[row], xa, xb, y, planes, triangleId);
+    if (matched == 0) return;
+    w.passPixels += matched;
+    w.passBegin[y] = std::min(w.passBegin[y], xa);
+    w.passEnd[y] = std::max(w.passEnd[y], xb);
+    rowLo = std::min(rowLo, y);
+    rowHi = std::max(rowHi, y + 1);
+  };
+  // The mask sweep over those rows (spec §6 step 4), then the scratch is clean again.
+  auto sweep = [&](float bias) {
+    if (rowLo >= rowHi) return;
+    lookup.bias = bias;
+    kernels->accumulateRows(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
+                            &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+    for (int32_t y = rowLo; y < rowHi; ++y) {
+      w.touchedBegin[y] = std::min(w.touchedBegin[y], w.passBegin[y]);
+      w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
+      w.passBegin[y] = width;
+      w.passEnd[y] = 0;
+    }
+    rowLo = height;
+    rowHi = 0;
+  };
+  auto planesOf = [](const SetupTriangle& st, Rgb8 s0, Rgb8 s1, Rgb8 s2) {
+    return SpanPlanes{
+        st.depth,
+        {attributePlane(st, {s0.r, s1.r, s2.r}), attributePlane(st, {s0.g, s1.g, s2.g}),
+         attributePlane(st, {s0.b, s1.b, s2.b})},
+        st.minX,
+        st.minY};
+  };
+
+  // The room's receivers: runs cached with the static depth.
   for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
     const uint32_t t = pass.receiverTriangles[k];
-    const Rgb8 s0 = pass.receiverS[3 * k], s1 = pass.receiverS[3 * k + 1],
-               s2 = pass.receiverS[3 * k + 2];
+    const Rgb8* s = &pass.receiverS[3 * k];
     for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
       const SetupTriangle& st = staticSubs[sub];
-      const SpanPlanes planes{
-          st.depth,
-          {attributePlane(st, {s0.r, s1.r, s2.r}), attributePlane(st, {s0.g, s1.g, s2.g}),
-           attributePlane(st, {s0.b, s1.b, s2.b})},
-          st.minX,
-          st.minY};
+      const SpanPlanes planes = planesOf(st, s[0], s[1], s[2]);
       const auto* run = &spans[spanStart[sub]];
       for (int32_t y = st.minY; y < st.maxY; ++y) {
         const auto [xa, xb] = run[y - st.minY];
-        if (xa >= xb) continue;
-        const size_t row = stride * size_t(y);
-        const uint32_t matched = kernels->interpolateS(&w.s[row], &id[row], xa, xb, y, planes, t);
-        if (matched == 0) continue;
-        w.passPixels += matched;
-        w.passBegin[y] = std::min(w.passBegin[y], xa);
-        w.passEnd[y] = std::max(w.passEnd[y], xb);
-        rowLo = std::min(rowLo, y);
-        rowHi = std::max(rowHi, y + 1);
+        if (xa < xb) addRun(y, xa, xb, planes, t);
       }
     }
   }
-  if (rowLo >= rowHi) return;
-  kernels->accumulateRows(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
-                          &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
-  for (int32_t y = rowLo; y < rowHi; ++y) {
-    w.touchedBegin[y] = std::min(w.touchedBegin[y], w.passBegin[y]);
-    w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
-    w.passBegin[y] = width;
-    w.passEnd[y] = 0;
+  sweep(pass.depthBias);
+
+  // The objects' own receivers (self-shadowing, Gibson 2003 §7.2), with their own bias. Their
+  // pixels hold object ids, so they never meet the room's runs: the two sweeps are disjoint.
+  for (size_t k = 0; k < pass.objectTriangles.size(); ++k) {
+    const uint32_t g = pass.objectTriangles[k];
+    const Rgb8* s = &pass.objectS[3 * k];
+    for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
+      const SetupTriangle& st = objectTriangles[sub].t;
+      const SpanPlanes planes = planesOf(st, s[0], s[1], s[2]);
+      forEachRun(st, 0, 0, width, height, false, [&](int32_t y, int32_t xa, int32_t xb) {
+        addRun(y, xa, xb, planes, kObjectBase + g);
+      });
+    }
   }
+  sweep(pass.objectDepthBias);
 }
 
 // Occlusion at the probes for one pass: each probe's light clip position from world space

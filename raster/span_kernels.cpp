@@ -175,7 +175,7 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
 }
 
 uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
-                    const SpanPlanes& planes) {
+                    const SpanPlanes& planes, uint32_t objectId) {
   const DF df;
   const DI di;
   const DU du;
@@ -199,7 +199,7 @@ uint32_t ColourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32
         du, hn::Or(hn::Or(r, hn::ShiftLeft<8>(g)),
                    hn::Or(hn::ShiftLeft<16>(b), hn::Set(di, static_cast<int32_t>(0xFF000000u)))));
     hn::StoreU(hn::IfThenElse(pass, z, old), df, depth + x);
-    hn::StoreU(hn::IfThenElse(passU, hn::Set(du, kObjectId), hn::LoadU(du, id + x)), du, id + x);
+    hn::StoreU(hn::IfThenElse(passU, hn::Set(du, objectId), hn::LoadU(du, id + x)), du, id + x);
     hn::StoreU(hn::IfThenElse(passU, packed, hn::LoadU(du, pixels + x)), du, pixels + x);
     passed += hn::CountTrue(df, pass);
   }

@@ -15,7 +15,9 @@
 namespace penumbra::raster {
 
 inline constexpr uint32_t kNoSurface = 0xFFFFFFFEu;  // id of pixels no static triangle covers
-inline constexpr uint32_t kObjectId = 0xFFFFFFFFu;   // id of pixels a synthetic object covers
+// Pixels of synthetic objects hold kObjectBase + the object triangle's index in the frame
+// (objects' triangles counted in order), so passes can shadow objects too (§7.2).
+inline constexpr uint32_t kObjectBase = 0x80000000u;
 
 // Where a pixel's receiver point falls in one pass's shadow map (spec §7).
 struct ShadowLookup {
@@ -44,9 +46,9 @@ struct SpanKernels {
   // stepping of RowWalker. Returns how many pixels passed.
   uint32_t (*depthTriangle)(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
                             uint32_t triangleId);
-  // z < depth: colour, depth and id = kObjectId (spec §6 step 3). Returns pixels written.
+  // z < depth: colour, depth and id = objectId (spec §6 step 3). Returns pixels written.
   uint32_t (*colourLess)(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb,
-                         int32_t y, const SpanPlanes& planes);
+                         int32_t y, const SpanPlanes& planes, uint32_t objectId);
   // The mask-and-subtract passes (spec §6 step 4) run as three kernels, using the
   // composition rule of spec §8 (subtract the per-pass amounts' sum once):
   //

@@ -78,7 +78,7 @@ uint32_t depthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
 }
 
 uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
-                    const SpanPlanes& planes) {
+                    const SpanPlanes& planes, uint32_t objectId) {
   uint32_t passed = 0;
   const uint32_t fyu = static_cast<uint32_t>(y - planes.oy);
   const float fy = static_cast<float>(y - planes.oy);
@@ -87,7 +87,7 @@ uint32_t colourLess(uint8_t* rgba, float* depth, uint32_t* id, int32_t xa, int32
     if (!(z < depth[x])) continue;
     const uint32_t fxu = static_cast<uint32_t>(x - planes.ox);
     depth[x] = z;
-    id[x] = kObjectId;
+    id[x] = objectId;
     uint8_t* px = rgba + 4 * static_cast<size_t>(x);
     for (int c = 0; c < 3; ++c) px[c] = attributeAt(planes.rgb[c], fxu, fyu);
     px[3] = 255;

@@ -70,8 +70,9 @@ TEST_P(SpanKernelsOnTarget, DepthAndColourMatchScalar) {
       ASSERT_EQ(ref.depthLess(a.depth.data(), a.id.data(), xa, xb, y, p, 9),
                 k.depthLess(b.depth.data(), b.id.data(), xa, xb, y, p, 9));
     } else {
-      ASSERT_EQ(ref.colourLess(a.rgba.data(), a.depth.data(), a.id.data(), xa, xb, y, p),
-                k.colourLess(b.rgba.data(), b.depth.data(), b.id.data(), xa, xb, y, p));
+      const uint32_t objectId = kObjectBase + uint32_t(trial);
+      ASSERT_EQ(ref.colourLess(a.rgba.data(), a.depth.data(), a.id.data(), xa, xb, y, p, objectId),
+                k.colourLess(b.rgba.data(), b.depth.data(), b.id.data(), xa, xb, y, p, objectId));
     }
     ASSERT_EQ(std::memcmp(a.depth.data(), b.depth.data(), 4 * kRow), 0) << trial;
     ASSERT_EQ(a.id, b.id) << trial;

@@ -31,6 +31,13 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
   }
   vertexSlot_.assign(t.receiverVertices.size(), 0);
   occlusion_.assign(t.receiverVertices.size(), -1.0f);
+  for (uint32_t p = 0; p < mesh_.patches.size(); ++p) {
+    if (mesh_.patches[p].emits()) emitters_.push_back(p);
+  }
+  sourceOfPatch_.assign(mesh_.patches.size(), kNoIndex);
+  for (size_t j = 0; j < bundle.sets.sources.size(); ++j) {
+    sourceOfPatch_[bundle.sets.sources[j]] = static_cast<uint32_t>(j);
+  }
   vertexSlotFrame_.assign(t.receiverVertices.size(), kNoIndex);
 }
 
@@ -80,17 +87,28 @@ void FrameCompositor::shadeProduct() {
     for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted
   }
   const glm::dvec3 reflectance(bundle_.products[placedPose_.product].reflectance);
-  productColours_.resize(m.positions.size());
-  for (size_t v = 0; v < m.positions.size(); ++v) {
+  const size_t vertices = m.positions.size();
+  productColours_.resize(vertices);
+  productRadiance_.resize(vertices);
+  productTransfer_.assign(bundle_.sets.sources.size() * vertices, glm::dvec3(0.0));
+  for (size_t v = 0; v < vertices; ++v) {
     const double length = glm::length(normals[v]);
     const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
     const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+    // Each emitter's transfer once: it adds to the vertex's radiance, and a source's is kept
+    // as that source's L_ij for self-shadowing.
     glm::dvec3 radiance(0.0);
-    for (const scene::Patch& p : mesh_.patches) {
-      if (!p.emits()) continue;
-      radiance += p.emission * scene::pointToPatchFormFactor(x, n, p.centre, p.normal, p.area);
+    for (uint32_t p : emitters_) {
+      const scene::Patch& patch = mesh_.patches[p];
+      const glm::dvec3 transfer =
+          reflectance * patch.emission *
+          scene::pointToPatchFormFactor(x, n, patch.centre, patch.normal, patch.area);
+      radiance += transfer;
+      if (sourceOfPatch_[p] != kNoIndex)
+        productTransfer_[sourceOfPatch_[p] * vertices + v] = transfer;
     }
-    productColours_[v] = bundle_.tone.map(reflectance * radiance);
+    productRadiance_[v] = radiance;
+    productColours_[v] = bundle_.tone.map(radiance);
   }
 }
 
@@ -173,6 +191,22 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
       intensityTransfers(total, transfers, setsScratch_, bundle_.tone, s);
     }
   }
+  // The same for the product's own vertices (self-shadowing, §7.2).
+  const size_t productVertices = options_.selfShadowing ? placedMesh_.positions.size() : 0;
+  productCluster_.assign(productVertices * clusters, glm::dvec3(0.0));
+  productS_.resize(productVertices * clusters);
+  for (size_t k = 0; k < clusters; ++k) {
+    const SourceCluster& cl = selection_.clusters[k];
+    for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+      const glm::dvec3* row = &productTransfer_[size_t(selection_.sources[i]) * productVertices];
+      for (size_t v = 0; v < productVertices; ++v) productCluster_[v * clusters + k] += row[v];
+    }
+  }
+  for (size_t v = 0; v < productVertices; ++v) {
+    intensityTransfers(
+        productRadiance_[v], std::span<const glm::dvec3>(&productCluster_[v * clusters], clusters),
+        setsScratch_, bundle_.tone, std::span<raster::Rgb8>(&productS_[v * clusters], clusters));
+  }
   stats.msTransfers = msSince(t0);
 
   // The frame description (Fig. 2): background, product, proxy, one pass per cluster.
@@ -215,6 +249,20 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
         pass.receiverTriangles.push_back(t);
         pass.receiverS.insert(pass.receiverS.end(), s.begin(), s.end());
       }
+    }
+    pass.objectTriangles.clear();
+    pass.objectS.clear();
+    pass.objectDepthBias = options_.objectDepthBias;
+    for (size_t t = 0; productVertices > 0 && t < placedMesh_.triangleCount(); ++t) {
+      std::array<raster::Rgb8, 3> s{};
+      bool any = false;
+      for (int c = 0; c < 3; ++c) {
+        s[size_t(c)] = productS_[size_t(placedMesh_.indices[3 * t + size_t(c)]) * clusters + k];
+        any = any || s[size_t(c)].r != 0 || s[size_t(c)].g != 0 || s[size_t(c)].b != 0;
+      }
+      if (!any) continue;
+      pass.objectTriangles.push_back(static_cast<uint32_t>(t));
+      pass.objectS.insert(pass.objectS.end(), s.begin(), s.end());
     }
     ++used;
   }

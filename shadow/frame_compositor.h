@@ -30,6 +30,11 @@ struct CompositorOptions {
   // vertex's light the product blocked (observe()), take its intensity transfers at that
   // occluded share q (intensityTransfersForOcclusion); elsewhere Fig. 4's 50/50 sets.
   bool gradedTransfers = true;
+  // Self-shadowing (Gibson 2003 §7.2): the product's own vertices receive every pass too,
+  // with intensity transfers from the cluster's sources to them, and a larger bias: the
+  // proxy in the shadow map only approximates the product's surface.
+  bool selfShadowing = true;
+  float objectDepthBias = 0.01f;
   ShaftBuildOptions shafts;
 };
 
@@ -70,6 +75,8 @@ class FrameCompositor {
   scene::PatchMesh mesh_;
   ShaftHierarchy hierarchy_;
   std::vector<uint32_t> receiverVertexOf_;  // mesh vertex -> receiver vertex, or kNoIndex
+  std::vector<uint32_t> sourceOfPatch_;     // patch -> source index, or kNoIndex
+  std::vector<uint32_t> emitters_;          // patches with emitted radiance
 
   // Per-frame state, reused.
   TraversalResult traversal_;
@@ -77,6 +84,10 @@ class FrameCompositor {
   ProductPose placedPose_{~0u, 0, 0, 0};
   raster::Mesh placedMesh_, placedProxy_;
   std::vector<raster::Rgb8> productColours_;
+  std::vector<glm::dvec3> productRadiance_;  // per vertex: lit by every emitter (unshadowed)
+  std::vector<glm::dvec3> productTransfer_;  // [source * vertices + v]: from each source
+  std::vector<glm::dvec3> productCluster_;   // [v * clusters + k]
+  std::vector<raster::Rgb8> productS_;       // [v * clusters + k]
   scene::Aabb productBounds_;
   std::vector<uint32_t> frameVertices_;  // receiver vertices touched this frame
   std::vector<uint32_t> vertexSlot_;     // receiver vertex -> slot in frameVertices_

@@ -45,6 +45,34 @@ TEST(Renderer, ShadowsOnlyDarken) {
   EXPECT_GT(darker, 100u) << "the occluder must cast a visible shadow";
 }
 
+TEST(Renderer, SelfShadowingDarkensOnlyTheObject) {
+  const raster::FrameTrace t = testing::makeTestScene({});
+  raster::FrameTrace roomOnly = t;
+  for (auto& pass : roomOnly.frame.passes) {
+    pass.objectTriangles.clear();
+    pass.objectS.clear();
+  }
+  const auto with = raster::renderTrace(t, {simd::bestIsa(), 2, 32});
+  const auto without = raster::renderTrace(roomOnly, {simd::bestIsa(), 2, 32});
+  raster::FrameTrace noPasses = t;
+  noPasses.frame.passes.clear();
+  const auto objectOnly = raster::renderTrace(noPasses, {simd::Isa::kScalar, 1, 32});
+  auto isObjectPixel = [&](size_t px) {
+    for (size_t c = 0; c < 4; ++c) {
+      if (objectOnly[4 * px + c] != t.frame.background[4 * px + c]) return true;
+    }
+    return false;
+  };
+  size_t darker = 0;
+  for (size_t i = 0; i < with.size(); ++i) {
+    ASSERT_LE(with[i], without[i]) << "byte " << i;
+    if (with[i] == without[i]) continue;
+    ++darker;
+    ASSERT_TRUE(isObjectPixel(i / 4)) << "self-shadowing touched a room pixel, byte " << i;
+  }
+  EXPECT_GT(darker, 50u);
+}
+
 TEST(Renderer, MovingTheObjectMovesTheShadow) {
   testing::TestSceneOptions o;
   const auto a = raster::renderTrace(testing::makeTestScene(o), {simd::bestIsa(), 2, 16});

@@ -119,6 +119,19 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
                                   static_cast<uint8_t>((r >> 16) % 41)});
       }
     }
+    // Self-shadowing receivers (§7.2): every object triangle, S from the same hash.
+    if (o.objectVisible) {
+      pass.objectDepthBias = 0.01f;
+      for (uint32_t tri = 0; tri < object.triangleCount(); ++tri) {
+        pass.objectTriangles.push_back(tri);
+        for (int c = 0; c < 3; ++c) {
+          const uint64_t r = mix((o.seed << 24) + tri * 3u + static_cast<uint64_t>(c) +
+                                 7777u * static_cast<uint64_t>(p));
+          pass.objectS.push_back({static_cast<uint8_t>(r % 31), static_cast<uint8_t>((r >> 8) % 31),
+                                  static_cast<uint8_t>((r >> 16) % 31)});
+        }
+      }
+    }
     t.frame.passes.push_back(std::move(pass));
   }
   raster::validateTrace(t, "test scene");

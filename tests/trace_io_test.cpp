@@ -94,6 +94,24 @@ TEST_F(TraceFiles, OutOfRangeIndexIsNamed) {
   }
 }
 
+TEST_F(TraceFiles, ObjectReceiversAreValidated) {
+  ASSERT_FALSE(trace_.frame.passes[0].objectTriangles.empty());
+  raster::FrameTrace bad = trace_;
+  bad.frame.passes[0].objectTriangles[0] = 12;  // the box has 12 triangles: 0..11
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  bad = trace_;
+  bad.frame.passes[1].objectS.pop_back();
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  bad = trace_;
+  bad.frame.passes[0].objectTriangles[1] = bad.frame.passes[0].objectTriangles[0];
+  try {
+    raster::validateTrace(bad, "x.json");
+    FAIL() << "a triangle listed twice was accepted";
+  } catch (const raster::TraceError& e) {
+    EXPECT_NE(std::string(e.what()).find("passes[0].object_triangles"), std::string::npos);
+  }
+}
+
 TEST_F(TraceFiles, TruncatedBufferIsRefused) {
   fs::resize_file(dir_ / "scene.bin", fs::file_size(dir_ / "scene.bin") / 2);
   try {
