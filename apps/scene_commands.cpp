@@ -131,13 +131,16 @@ struct RenderCommand {
       // then keep its last frame.
       shadow::FrameRateController::Options o;
       o.targetFrameNs = static_cast<int64_t>(1e9 / fps);
-      o.minPasses = 1;
       o.maxPasses = 200;
       o.initialPasses = 8;
+      o.minPasses = 4;
+      o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
       shadow::FrameRateController controller(o);
       shadow::SteadyClock clock;
       for (uint32_t f = 1; f <= 40; ++f) {
-        n = controller.next().passes;
+        const shadow::FrameRateController::Decision d = controller.next();
+        n = d.passes;
+        session.compositor.setShadowMapSize(d.shadowMapSize);
         const int64_t t0 = clock.nowNanoseconds();
         session.step(pose, n, f);
         const int64_t dt = clock.nowNanoseconds() - t0;

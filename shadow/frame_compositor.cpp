@@ -270,6 +270,14 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   stats.passes = static_cast<uint32_t>(used);
 }
 
+void FrameCompositor::setShadowMapSize(uint32_t size) {
+  if (size < 16 || size > raster::kMaxShadowMapSize || size % 16 != 0) {
+    throw std::invalid_argument("shadow map size " + std::to_string(size) +
+                                " is not a multiple of 16 in 16..4096");
+  }
+  options_.shadowMapSize = size;
+}
+
 void FrameCompositor::observe(std::span<const uint8_t> masks) {
   const size_t passes = passCluster_.size();
   if (masks.size() != probes_.size() * passes) {

@@ -63,6 +63,10 @@ class FrameCompositor {
   // transfer that the rendered passes really occluded (masks as Renderer::render fills them).
   void observe(std::span<const uint8_t> masks);
 
+  // The shadow-map size of the next frames (the controller's ladder, Gibson 2003 §8: fewer
+  // texels before fewer passes). A multiple of 16 in 16..4096.
+  void setShadowMapSize(uint32_t size);
+
   const ShaftHierarchy& hierarchy() const { return hierarchy_; }
   const raster::StaticView& view() const { return bundle_.view; }
 
