@@ -29,7 +29,15 @@ glm::dmat4 perspective(double fovYRadians, double aspect, double zNear, double z
       !(zNear > 0 && zNear < zFar)) {
     throw std::invalid_argument("perspective: bad field of view, aspect or depth range");
   }
-  const double f = 1.0 / std::tan(0.5 * fovYRadians);
+  return perspectiveFromTanHalf(std::tan(0.5 * fovYRadians), aspect, zNear, zFar);
+}
+
+glm::dmat4 perspectiveFromTanHalf(double tanHalfFovY, double aspect, double zNear, double zFar) {
+  if (!(tanHalfFovY > 0 && std::isfinite(tanHalfFovY)) || !(aspect > 0) ||
+      !(zNear > 0 && zNear < zFar)) {
+    throw std::invalid_argument("perspective: bad field of view, aspect or depth range");
+  }
+  const double f = 1.0 / tanHalfFovY;
   glm::dmat4 m(0.0);
   m[0][0] = f / aspect;
   m[1][1] = f;

@@ -18,6 +18,9 @@ glm::dmat4 lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dv
 // Throws std::invalid_argument unless 0 < fovY < pi, aspect > 0, 0 < zNear < zFar.
 glm::dmat4 perspective(double fovYRadians, double aspect, double zNear, double zFar);
 
+// The same from tan(fovY / 2) directly: no libm, for the per-frame light frusta.
+glm::dmat4 perspectiveFromTanHalf(double tanHalfFovY, double aspect, double zNear, double zFar);
+
 // GLM stores columns (m[c][r]); the trace stores rows (element (r, c) at m[4r + c]).
 raster::Mat4 toRasterMat4(const glm::dmat4& m);
 

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "scene/portable_trig.h"
 #include "shadow/intensity_transfer.h"
 #include "shadow/light_frustum.h"
 
@@ -52,8 +53,8 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
     throw std::invalid_argument("product pose is not finite");
   }
   const ProductModel& model = bundle_.products[pose.product];
-  const double yaw = pose.yawDegrees * std::numbers::pi / 180.0;
-  const double c = std::cos(yaw), s = std::sin(yaw);
+  double s, c;
+  scene::sinCosDegrees(pose.yawDegrees, s, c);  // not libm: same bits on every machine
   auto place = [&](const raster::Mesh& in, raster::Mesh& out) {
     out.indices = in.indices;
     out.positions.resize(in.positions.size());

@@ -23,7 +23,6 @@ std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
   // float rounding of the matrix without moving silhouettes by a visible fraction of a
   // texel (1e-6 of 128 texels).
   const double tanHalf = radius / std::sqrt(dist * dist - radius * radius) * (1.0 + 1e-6);
-  const double fovY = 2.0 * std::atan(tanHalf);
   // Just in front of the sphere; 0.1% keeps its nearest point off the near plane after
   // rounding. The far plane must lie beyond the near one whatever the caller passes.
   const double zNear = std::max((dist - radius) * 0.999, kMinLightNear);
@@ -41,13 +40,14 @@ std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
   }
 
   LightFrustum out;
-  out.viewProj = scene::perspective(fovY, 1.0, zNear, zFar) * scene::lookAt(source, centre, up);
+  out.viewProj =
+      scene::perspectiveFromTanHalf(tanHalf, 1.0, zNear, zFar) * scene::lookAt(source, centre, up);
   out.rasterViewProj = scene::toRasterMat4(out.viewProj);
   out.sphereCentre = centre;
   out.sphereRadius = radius;
   out.zNear = zNear;
   out.zFar = zFar;
-  out.fovY = fovY;
+  out.tanHalfFovY = tanHalf;
   return out;
 }
 

@@ -19,7 +19,7 @@ struct LightFrustum {
   glm::dvec3 sphereCentre{0.0};
   double sphereRadius = 0;
   double zNear = 0, zFar = 0;
-  double fovY = 0;  // radians; the map is square (aspect 1)
+  double tanHalfFovY = 0;  // tan of half the field of view; the map is square (aspect 1)
 };
 
 // Closest distance to the source at which the near plane may sit (1 mm): a closer plane

@@ -60,7 +60,7 @@ TEST(LightFrustum, FieldOfViewIsTight) {
   const auto f = fitLightFrustum(dvec3(0, 0, 20), box, 50);
   ASSERT_TRUE(f.has_value());
   const double r = std::sqrt(3.0);
-  EXPECT_NEAR(std::tan(0.5 * f->fovY), r / std::sqrt(400 - 3), 1e-5);
+  EXPECT_NEAR(f->tanHalfFovY, r / std::sqrt(400 - 3), 1e-5);
   EXPECT_NEAR(f->zNear, (20 - r) * 0.999, 1e-9);
 }
 
