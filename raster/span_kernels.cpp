@@ -217,6 +217,29 @@ HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
   return hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
 }
 
+// The texels at `index` and `index + 1` for every lane (see maskAt). Invalid lanes carry
+// index 0 and read texels (0, 0) and (1, 0), which the caller masks.
+HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& second) {
+  const DF df;
+  const DI di;
+#if HWY_TARGET == HWY_SCALAR  // one lane: no halves to split (a target we do not dispatch to)
+  first = hn::GatherIndex(df, s.map, index);
+  second = hn::GatherIndex(df, s.map, hn::Add(index, hn::Set(di, 1)));
+#else
+  const DU du;
+  const hn::Repartition<uint64_t, DU> d64;
+  const hn::RebindToSigned<decltype(d64)> di64;
+  const hn::Half<DI> dh;
+  const VI bytes = hn::ShiftLeft<2>(index);  // byte offsets of 4-byte texels
+  const auto* base = reinterpret_cast<const uint64_t*>(s.map);
+  const auto lo = hn::GatherOffset(d64, base, hn::PromoteTo(di64, hn::LowerHalf(dh, bytes)));
+  const auto hi = hn::GatherOffset(d64, base, hn::PromoteTo(di64, hn::UpperHalf(dh, bytes)));
+  // Little-endian: the even 32-bit lane of each pair is texel `index`, the odd one `index + 1`.
+  first = hn::BitCast(df, hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
+  second = hn::BitCast(df, hn::ConcatOdd(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
+#endif
+}
+
 // The mask M of spec §7 as int32 lanes in [0, 255].
 HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
   const DF df;
@@ -254,14 +277,24 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z) {
       hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
   const VI wv =
       hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
-  const VI one = hn::Set(di, 1), full = hn::Set(di, 256);
+  const VI full = hn::Set(di, 256);
   const VI iu = hn::Sub(full, wu), iv = hn::Sub(full, wv);
-  const VI sum = hn::Add(
-      hn::Add(hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Mul(iu, iv)),
-              hn::IfThenElseZero(occludes(s, hn::Add(i, one), j, d, valid), hn::Mul(wu, iv))),
-      hn::Add(hn::IfThenElseZero(occludes(s, i, hn::Add(j, one), d, valid), hn::Mul(iu, wv)),
-              hn::IfThenElseZero(occludes(s, hn::Add(i, one), hn::Add(j, one), d, valid),
-                                 hn::Mul(wu, wv))));
+  // Texels (i, j) and (i + 1, j) are adjacent in memory (and inside the +inf border for
+  // valid lanes), so one 64-bit gather per row fetches both: half the gathered elements of
+  // four 32-bit gathers, same values.
+  const VF bias = hn::Set(df, s.bias);
+  auto occludedPair = [&](VI texelRow, VI& left, VI& right) {
+    VF t0, t1;
+    texelPairs(s, hn::IfThenElseZero(valid, hn::Add(hn::Mul(texelRow, hn::Set(di, s.stride)), i)),
+               t0, t1);
+    left = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t0, bias)))));
+    right = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t1, bias)))));
+  };
+  VI o00, o10, o01, o11;
+  occludedPair(j, o00, o10);
+  occludedPair(hn::Add(j, hn::Set(di, 1)), o01, o11);
+  const VI sum = hn::Add(hn::Add(hn::And(o00, hn::Mul(iu, iv)), hn::And(o10, hn::Mul(wu, iv))),
+                         hn::Add(hn::And(o01, hn::Mul(iu, wv)), hn::And(o11, hn::Mul(wu, wv))));
   return hn::ShiftRight<16>(hn::Add(hn::Mul(sum, hn::Set(di, 255)), hn::Set(di, 32768)));
 }
 
