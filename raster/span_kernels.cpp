@@ -221,8 +221,8 @@ HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
 // index 0 and read texels (0, 0) and (1, 0), which the caller masks.
 HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& second) {
   const DF df;
-  const DI di;
 #if HWY_TARGET == HWY_SCALAR  // one lane: no halves to split (a target we do not dispatch to)
+  const DI di;
   first = hn::GatherIndex(df, s.map, index);
   second = hn::GatherIndex(df, s.map, hn::Add(index, hn::Set(di, 1)));
 #else
