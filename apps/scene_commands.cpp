@@ -97,7 +97,7 @@ struct Session {
 
   void step(const shadow::ProductPose& p, size_t passes, uint32_t frameNumber) {
     compositor.compose(p, passes, frameNumber, frame, stats);
-    renderer.render(frame, rgba, compositor.probes(), masks);
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
     compositor.observe(masks);
   }
 

@@ -137,6 +137,7 @@ struct Renderer::Impl {
   void runPass(const FrameContent& frame, size_t index, Worker& w);
   void probePass(const ShadowPass& pass, const Worker& w, size_t index);
   std::span<const Vec3> probes;  // this frame's occlusion probes (may be empty)
+  size_t objectProbesFrom = SIZE_MAX;
   std::vector<uint8_t>* probeMasks = nullptr;
   void finishTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out);
   void tileRect(uint32_t tile, int32_t& x0, int32_t& y0, int32_t& x1, int32_t& y1) const {
@@ -469,7 +470,8 @@ void Renderer::Impl::probePass(const ShadowPass& pass, const Worker& w, size_t i
       if (u >= 0.0f && u < size && v >= 0.0f && v < size) {
         const float texel = w.shadowMap.origin()[static_cast<ptrdiff_t>(v) * w.shadowMap.stride() +
                                                  static_cast<ptrdiff_t>(u)];
-        m = d > texel + pass.depthBias ? 255 : 0;
+        const float bias = p >= objectProbesFrom ? pass.objectDepthBias : pass.depthBias;
+        m = d > texel + bias ? 255 : 0;
       }
     }
     (*probeMasks)[p * passes + index] = m;
@@ -527,9 +529,11 @@ const StaticView& Renderer::view() const {
 }
 
 void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut,
-                      std::span<const Vec3> probes, std::vector<uint8_t>& masks) {
+                      std::span<const Vec3> probes, std::vector<uint8_t>& masks,
+                      size_t objectProbesFrom) {
   masks.assign(probes.size() * frame.passes.size(), 0);
   impl_->probes = probes;
+  impl_->objectProbesFrom = objectProbesFrom;
   impl_->probeMasks = &masks;
   try {
     render(frame, rgbaOut);

@@ -8,6 +8,7 @@
 // per pass.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -49,9 +50,10 @@ class Renderer {
   // The same, also measuring occlusion at world-space `probes` (e.g. receiver vertices):
   // masks[p * passes + k] = 255 when pass k's shadow map occludes probe p (the binary test
   // of spec §7 at the point itself, from world space), else 0. Lets the caller estimate how
-  // much light the product blocks where, for the next frame (docs/fig3.md).
+  // much light the product blocks where, for the next frame (docs/fig3.md). Probes from
+  // index `objectProbesFrom` on lie on the objects themselves and use each pass's object bias.
   void render(const FrameContent& frame, std::span<uint8_t> rgbaOut, std::span<const Vec3> probes,
-              std::vector<uint8_t>& masks);
+              std::vector<uint8_t>& masks, size_t objectProbesFrom = SIZE_MAX);
 
   const FrameStats& lastStats() const;
   const StaticView& view() const;

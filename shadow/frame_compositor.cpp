@@ -65,6 +65,9 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
                           static_cast<float>(-s * p.x + c * p.z + pose.z)};
     }
   };
+  if (pose.product != placedPose_.product) {
+    productOcclusion_.assign(model.mesh.positions.size(), -1.0f);
+  }
   place(model.mesh, placedMesh_);
   place(model.proxy, placedProxy_);
   productBounds_ = scene::Aabb::emptyBox();
@@ -285,17 +288,23 @@ void FrameCompositor::observe(std::span<const uint8_t> masks) {
     throw std::invalid_argument("observe: masks do not match the last composed frame");
   }
   const size_t clusters = selection_.clusters.size();
-  for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    // The transfer-weighted share of the blocked light that was really occluded, in the
-    // order of the passes (a fixed-order sum).
+  // The transfer-weighted share of a probe's blocked light that was really occluded, summed
+  // in pass order; -1 when nothing reaches it. `transfers` are the probe's per-cluster ones.
+  auto occludedShare = [&](size_t probe, const glm::dvec3* transfers) {
     double blocked = 0, total = 0;
     for (size_t k = 0; k < passes; ++k) {
-      const glm::dvec3& t = clusterTransfer_[slot * clusters + passCluster_[k]];
+      const glm::dvec3& t = transfers[passCluster_[k]];
       const double weight = 0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z;
       total += weight;
-      blocked += masks[slot * passes + k] != 0 ? weight : 0.0;
+      blocked += masks[probe * passes + k] != 0 ? weight : 0.0;
     }
-    occlusion_[frameVertices_[slot]] = total > 0 ? static_cast<float>(blocked / total) : -1.0f;
+    return total > 0 ? static_cast<float>(blocked / total) : -1.0f;
+  };
+  for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
+    occlusion_[frameVertices_[slot]] = occludedShare(slot, &clusterTransfer_[slot * clusters]);
+  }
+  for (size_t v = 0; v + frameVertices_.size() < probes_.size(); ++v) {
+    productOcclusion_[v] = occludedShare(frameVertices_.size() + v, &productCluster_[v * clusters]);
   }
 }
 

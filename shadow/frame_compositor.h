@@ -56,9 +56,11 @@ class FrameCompositor {
   void compose(const ProductPose& pose, size_t passes, uint32_t frame, raster::FrameContent& out,
                CompositeStats& stats);
 
-  // World positions of the last composed frame's receiver vertices: pass them to
-  // raster::Renderer::render() as probes, then hand the masks to observe().
+  // World positions of the last composed frame's receiver vertices, then of the product's
+  // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
+  // as probes, then hand the masks to observe().
   std::span<const raster::Vec3> probes() const { return probes_; }
+  size_t objectProbesFrom() const { return frameVertices_.size(); }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded (masks as Renderer::render fills them).
   void observe(std::span<const uint8_t> masks);
@@ -101,9 +103,10 @@ class FrameCompositor {
   std::vector<glm::dvec3> transfersScratch_;
   std::vector<uint8_t> setsScratch_;
   std::vector<raster::Rgb8> sScratch_;
-  std::vector<uint32_t> passCluster_;  // emitted pass -> cluster
-  std::vector<raster::Vec3> probes_;   // per slot
-  std::vector<float> occlusion_;       // per receiver vertex: measured share, or < 0
+  std::vector<uint32_t> passCluster_;    // emitted pass -> cluster
+  std::vector<raster::Vec3> probes_;     // per slot
+  std::vector<float> occlusion_;         // per receiver vertex: measured share, or < 0
+  std::vector<float> productOcclusion_;  // per product vertex: measured share, or < 0
 };
 
 }  // namespace penumbra::shadow

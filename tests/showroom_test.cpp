@@ -131,7 +131,7 @@ TEST(Showroom, MeasuredOcclusionFeedsTheNextFrame) {
     const shadow::ProductPose pose{1, 2.5f, 2.0f, 30.0f};
     compositor.compose(pose, 30, 1, frame, stats);
     EXPECT_EQ(stats.gradedVertices, 0u);  // nothing measured yet: Fig. 4
-    renderer.render(frame, rgba, compositor.probes(), masks);
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
     EXPECT_EQ(masks.size(), compositor.probes().size() * frame.passes.size());
     size_t occluded = 0;
     for (uint8_t m : masks) occluded += m != 0;
@@ -139,7 +139,7 @@ TEST(Showroom, MeasuredOcclusionFeedsTheNextFrame) {
     compositor.observe(masks);
     compositor.compose(pose, 30, 2, frame, stats);
     EXPECT_EQ(stats.gradedVertices, stats.receiverVertices);
-    renderer.render(frame, rgba, compositor.probes(), masks);
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
     return scene::sha256Hex(rgba);
   };
   EXPECT_EQ(run(1), run(3));
