@@ -50,6 +50,24 @@ void validateMesh(const Mesh& mesh, const std::string& where, const std::string&
   }
 }
 
+// Receiver triangles of one pass with their S: each in range and listed once (spec §6: a
+// triangle listed twice would subtract twice), three colours per triangle.
+void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<Rgb8>& s,
+                       size_t available, const std::string& where, const std::string& field,
+                       const std::string& sField, const char* kind) {
+  std::vector<bool> listed(available, false);
+  for (uint32_t t : triangles) {
+    if (t >= available) {
+      fail(where, field,
+           "triangle " + std::to_string(t) + " is out of range (" + std::to_string(available) +
+               " " + kind + " triangles)");
+    }
+    if (listed[t]) fail(where, field, "triangle " + std::to_string(t) + " is listed twice");
+    listed[t] = true;
+  }
+  if (s.size() != 3 * triangles.size()) fail(where, sField, "count must be 3 x the triangle count");
+}
+
 // --- reading -------------------------------------------------------------------------
 
 struct Reader {
@@ -235,39 +253,10 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
       fail(where, field + ".occluder",
            "index " + std::to_string(pass.occluder) + " is out of range");
     }
-    // Each receiver once per pass (spec §6): a triangle listed twice would subtract twice.
-    std::vector<bool> listed(staticTriangles, false);
-    for (uint32_t t : pass.receiverTriangles) {
-      if (t >= staticTriangles) {
-        fail(where, field + ".receiver_triangles",
-             "triangle " + std::to_string(t) + " is out of range (" +
-                 std::to_string(staticTriangles) + " static triangles)");
-      }
-      if (listed[t]) {
-        fail(where, field + ".receiver_triangles",
-             "triangle " + std::to_string(t) + " is listed twice");
-      }
-      listed[t] = true;
-    }
-    if (pass.receiverS.size() != 3 * pass.receiverTriangles.size()) {
-      fail(where, field + ".receiver_s", "count must be 3 x receiver_triangles count");
-    }
-    std::vector<bool> listedObject(objectTriangles, false);
-    for (uint32_t t : pass.objectTriangles) {
-      if (t >= objectTriangles) {
-        fail(where, field + ".object_triangles",
-             "triangle " + std::to_string(t) + " is out of range (" +
-                 std::to_string(objectTriangles) + " object triangles)");
-      }
-      if (listedObject[t]) {
-        fail(where, field + ".object_triangles",
-             "triangle " + std::to_string(t) + " is listed twice");
-      }
-      listedObject[t] = true;
-    }
-    if (pass.objectS.size() != 3 * pass.objectTriangles.size()) {
-      fail(where, field + ".object_s", "count must be 3 x object_triangles count");
-    }
+    validateReceivers(pass.receiverTriangles, pass.receiverS, staticTriangles, where,
+                      field + ".receiver_triangles", field + ".receiver_s", "static");
+    validateReceivers(pass.objectTriangles, pass.objectS, objectTriangles, where,
+                      field + ".object_triangles", field + ".object_s", "object");
     if (!std::isfinite(pass.objectDepthBias)) {
       fail(where, field + ".object_depth_bias", "is not finite");
     }
