@@ -163,7 +163,9 @@ struct RenderCommand {
     std::printf("shaft_hierarchy shafts %zu leaf_shafts %zu memory_kb %.1f\n", h.shaftCount(),
                 h.leafShaftCount(), double(h.memoryBytes()) / 1024.0);
     std::printf(
-        "passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u graded %u/%u\n",
+        "passes %u (asked %u) occluded_sources %u receivers %u shafts_visited %u graded_vertices "
+        "%u "
+        "receiver_vertices %u\n",
         stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited,
         stats.gradedVertices, stats.receiverVertices);
     std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,

@@ -207,10 +207,21 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     }
   }
   for (size_t v = 0; v < productVertices; ++v) {
-    intensityTransfers(
-        productRadiance_[v], std::span<const glm::dvec3>(&productCluster_[v * clusters], clusters),
-        setsScratch_, bundle_.tone, std::span<raster::Rgb8>(&productS_[v * clusters], clusters));
+    const std::span<const glm::dvec3> transfers(&productCluster_[v * clusters], clusters);
+    const std::span<raster::Rgb8> s(&productS_[v * clusters], clusters);
+    if (options_.gradedTransfers && productOcclusion_[v] >= 0.0f) {
+      intensityTransfersForOcclusion(productRadiance_[v], transfers, double(productOcclusion_[v]),
+                                     bundle_.tone, s);
+      ++stats.gradedVertices;
+    } else {
+      intensityTransfers(productRadiance_[v], transfers, setsScratch_, bundle_.tone, s);
+    }
   }
+  // Probes: the receiver vertices, then the product's own vertices.
+  probes_.resize(frameVertices_.size() + productVertices);
+  std::copy(placedMesh_.positions.begin(),
+            placedMesh_.positions.begin() + std::ptrdiff_t(productVertices),
+            probes_.begin() + std::ptrdiff_t(frameVertices_.size()));
   stats.msTransfers = msSince(t0);
 
   // The frame description (Fig. 2): background, product, proxy, one pass per cluster.

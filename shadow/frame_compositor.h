@@ -41,7 +41,7 @@ struct CompositorOptions {
 struct CompositeStats {
   uint32_t occludedSources = 0, receiverPatches = 0, clusters = 0, passes = 0;
   uint32_t shaftsVisited = 0, receiverVertices = 0;
-  uint32_t gradedVertices = 0;  // receiver vertices whose S used a measured occlusion
+  uint32_t gradedVertices = 0;  // receiver and product vertices whose S used a measured share
   double msTraversal = 0, msClusters = 0, msTransfers = 0, msObject = 0;
 };
 
