@@ -126,6 +126,10 @@ struct Renderer::Impl {
   std::vector<uint8_t> tileHasObject, tileHadObject;
   std::vector<ObjectTriangle> objectTriangles;
   std::vector<uint32_t> objectFirstSub;  // object triangle g -> [first[g], first[g + 1])
+  // Row runs of every object sub-triangle, once per frame when some pass lists object
+  // receivers (self-shadowing): every pass then reuses them, as it does the room's.
+  std::vector<uint32_t> objectSpanStart;
+  std::vector<std::pair<int32_t, int32_t>> objectSpans;
   std::vector<std::vector<std::pair<uint32_t, bool>>> tileObjects;
   std::vector<Worker> workers;
   FrameStats stats;
@@ -253,6 +257,21 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
       const uint32_t* idx = &mesh.indices[3 * t];
       const uint32_t owner = static_cast<uint32_t>(objectFirstSub.size());
       objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
+      objectSpanStart.clear();
+      objectSpans.clear();
+      const bool selfShadowing =
+          std::any_of(frame.passes.begin(), frame.passes.end(),
+                      [](const ShadowPass& p) { return !p.objectTriangles.empty(); });
+      if (selfShadowing) {
+        for (const ObjectTriangle& o : objectTriangles) {
+          objectSpanStart.push_back(static_cast<uint32_t>(objectSpans.size()));
+          const size_t first = objectSpans.size();
+          objectSpans.resize(first + size_t(o.t.maxY - o.t.minY), {0, 0});
+          forEachRun(o.t, 0, 0, width, height, false, [&](int32_t y, int32_t xa, int32_t xb) {
+            objectSpans[first + size_t(y - o.t.minY)] = {xa, xb};
+          });
+        }
+      }
       fan.clear();
       clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, view.width, view.height, fan);
       const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
@@ -272,6 +291,21 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
     }
   }
   objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
+  objectSpanStart.clear();
+  objectSpans.clear();
+  const bool selfShadowing =
+      std::any_of(frame.passes.begin(), frame.passes.end(),
+                  [](const ShadowPass& p) { return !p.objectTriangles.empty(); });
+  if (selfShadowing) {
+    for (const ObjectTriangle& o : objectTriangles) {
+      objectSpanStart.push_back(static_cast<uint32_t>(objectSpans.size()));
+      const size_t first = objectSpans.size();
+      objectSpans.resize(first + size_t(o.t.maxY - o.t.minY), {0, 0});
+      forEachRun(o.t, 0, 0, width, height, false, [&](int32_t y, int32_t xa, int32_t xb) {
+        objectSpans[first + size_t(y - o.t.minY)] = {xa, xb};
+      });
+    }
+  }
   // Binning with trivial reject / accept (spec §4), in triangle order.
   const int32_t ts = options.tileSize;
   std::fill(tileHasObject.begin(), tileHasObject.end(), 0);
@@ -446,9 +480,11 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
       const SetupTriangle& st = objectTriangles[sub].t;
       const SpanPlanes planes = planesOf(st, s[0], s[1], s[2]);
-      forEachRun(st, 0, 0, width, height, false, [&](int32_t y, int32_t xa, int32_t xb) {
-        addRun(y, xa, xb, planes, kObjectBase + g);
-      });
+      const auto* run = &objectSpans[objectSpanStart[sub]];
+      for (int32_t y = st.minY; y < st.maxY; ++y) {
+        const auto [xa, xb] = run[y - st.minY];
+        if (xa < xb) addRun(y, xa, xb, planes, kObjectBase + g);
+      }
     }
   }
   sweep(pass.objectDepthBias);
