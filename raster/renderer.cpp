@@ -257,21 +257,6 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
       const uint32_t* idx = &mesh.indices[3 * t];
       const uint32_t owner = static_cast<uint32_t>(objectFirstSub.size());
       objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
-      objectSpanStart.clear();
-      objectSpans.clear();
-      const bool selfShadowing =
-          std::any_of(frame.passes.begin(), frame.passes.end(),
-                      [](const ShadowPass& p) { return !p.objectTriangles.empty(); });
-      if (selfShadowing) {
-        for (const ObjectTriangle& o : objectTriangles) {
-          objectSpanStart.push_back(static_cast<uint32_t>(objectSpans.size()));
-          const size_t first = objectSpans.size();
-          objectSpans.resize(first + size_t(o.t.maxY - o.t.minY), {0, 0});
-          forEachRun(o.t, 0, 0, width, height, false, [&](int32_t y, int32_t xa, int32_t xb) {
-            objectSpans[first + size_t(y - o.t.minY)] = {xa, xb};
-          });
-        }
-      }
       fan.clear();
       clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, view.width, view.height, fan);
       const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
