@@ -1,5 +1,7 @@
 #include "shadow/frame_compositor.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -249,9 +251,21 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     pass.occluder = 0;
     pass.receiverTriangles.clear();
     pass.receiverS.clear();
+    // A receiver wholly outside one side of the light's frustum can get no shadow from this
+    // pass: its pixels fall outside the map (M = 0, spec §7). Tested against a frustum 5%
+    // wider, so float rounding in the pixel path cannot disagree; the product stays inside
+    // the map's inscribed circle, so the map's edge texels hold no occluder anyway.
+    const glm::dmat4 cull =
+        glm::scale(glm::dmat4(1.0), glm::dvec3(1.0 / 1.05, 1.0 / 1.05, 1.0)) * frustum->viewProj;
     for (uint32_t p : traversal_.receivers) {
       const uint32_t first = mesh_.patches[p].firstTriangle;
       for (uint32_t t = first; t < first + 2; ++t) {
+        const uint32_t* v = &mesh_.indices[3 * size_t(t)];
+        if (options_.cullReceivers &&
+            !triangleMayReceive(cull, mesh_.positions[v[0]], mesh_.positions[v[1]],
+                                mesh_.positions[v[2]])) {
+          continue;
+        }
         std::array<raster::Rgb8, 3> s{};
         bool any = false;
         for (int c = 0; c < 3; ++c) {

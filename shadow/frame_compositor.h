@@ -34,6 +34,8 @@ struct CompositorOptions {
   // with intensity transfers from the cluster's sources to them, and a larger bias: the
   // proxy in the shadow map only approximates the product's surface.
   bool selfShadowing = true;
+  // Leave out of a pass the receivers its light frustum cannot shadow (same bytes, less work).
+  bool cullReceivers = true;
   float objectDepthBias = 0.01f;
   ShaftBuildOptions shafts;
 };

@@ -118,6 +118,29 @@ TEST(Showroom, ComposingAgainGivesTheSameFrame) {
   EXPECT_EQ(a, b);
 }
 
+// Culling receivers by each pass's light frustum only skips pixels whose mask is 0.
+TEST(Showroom, CullingReceiversByFrustumKeepsEveryByte) {
+  for (const shadow::ProductPose& pose :
+       {showroom().startPose, shadow::ProductPose{1, 2.6f, 2.2f, 200.0f, 0.0f},
+        shadow::ProductPose{0, 3.0f, 2.4f, 0.0f, 0.3f},
+        shadow::ProductPose{2, 1.5f, 3.5f, 45.0f, 0.0f}}) {
+    std::vector<std::string> hashes;
+    for (bool cull : {true, false}) {
+      shadow::CompositorOptions options;
+      options.cullReceivers = cull;
+      shadow::FrameCompositor compositor(showroom(), options);
+      raster::FrameContent frame;
+      shadow::CompositeStats stats;
+      compositor.compose(pose, 50, 1, frame, stats);
+      raster::Renderer renderer(showroom().view, {simd::bestIsa(), 2, 32});
+      std::vector<uint8_t> rgba(showroom().background.size());
+      renderer.render(frame, rgba);
+      hashes.push_back(scene::sha256Hex(rgba));
+    }
+    EXPECT_EQ(hashes[0], hashes[1]) << "product " << pose.product;
+  }
+}
+
 // The feedback loop of docs/fig3.md: a frame measures, per receiver vertex, how much of its
 // blocked light the passes really occluded; the next frame takes its intensity transfers at
 // that share. Deterministic whatever the thread count.
