@@ -257,6 +257,9 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
                   "visibility samples per source patch side (§5)")
       ->check(CLI::Range(1, 16))
       ->capture_default_str();
+  pre->add_option("--patch-size", precomputeOptions->patchSize,
+                  "patch size in metres (default: the scene file's)")
+      ->check(CLI::Range(0.02, 10.0));
   pre->add_option("--threads", precomputeOptions->threads, "threads")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();

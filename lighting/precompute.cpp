@@ -1,5 +1,6 @@
 #include "lighting/precompute.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "lighting/embree_scene.h"
@@ -62,7 +63,16 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
 
   shadow::SceneBundle b;
   begin("patch mesh");
-  const scene::PatchMesh mesh = scene::buildPatchMesh(scene.room, scene.patchSize);
+  // An override refines the whole room, emitters' own regions included (more, smaller
+  // sources: the fine end of the speed/accuracy trade-off).
+  scene::RoomDescription room = scene.room;
+  if (options.patchSize > 0) {
+    for (scene::Quad& q : room.quads) {
+      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
+    }
+  }
+  const scene::PatchMesh mesh =
+      scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
   b.view.width = scene.width;
   b.view.height = scene.height;
   b.view.cameraViewProj = scene.camera.rasterViewProj();

@@ -22,6 +22,7 @@ struct PrecomputeOptions {
   int samplesPerSide = 4;   // visibility samples per source patch side (§5)
   unsigned threads = 2;
   uint64_t seed = 1;
+  double patchSize = 0;  // metres; 0 = the scene file's patch_size
 };
 
 struct StageTiming {
