@@ -111,6 +111,55 @@ HWY_INLINE bool isSmall(const SetupTriangle& t) {
   return x1 - x0 <= kSmallTriangleSpan && y1 - y0 <= kSmallTriangleSpan;
 }
 
+#if HWY_TARGET != HWY_SCALAR
+// The half-vector form of the small-triangle path below: lane l covers pixel
+// (minX + l mod h, y + l div h) with h = lanes / 2. Same edge values (same int32 bound, as
+// |dx| < h <= 8), same depth expression per pixel, so the same bytes.
+HWY_NOINLINE uint32_t DepthTriangleRowPairs(float* depth, size_t stride, const SetupTriangle& t,
+                                            const SpanPlanes& planes) {
+  const DF df;
+  const DI di;
+  const hn::Half<DF> dfh;
+  const hn::Half<DI> dih;
+  const VI dx = hn::Combine(di, hn::Iota(dih, 0), hn::Iota(dih, 0));
+  const MI inColumns = hn::Lt(dx, hn::Set(di, t.maxX - t.minX));
+  const VF fx = hn::ConvertTo(df, hn::Add(dx, hn::Set(di, t.minX - planes.ox)));
+  const VF zRow =
+      hn::Add(hn::Set(df, planes.depth.z00), hn::Mul(hn::Set(df, planes.depth.dzdx), fx));
+  const int64_t xc = int64_t{256} * t.minX + 128;
+  auto edgeRows = [&](const Edge& g, int32_t y) {
+    auto at = [&](int32_t row) {
+      return static_cast<int32_t>(g.a * xc + g.b * (int64_t{256} * row + 128) + g.c - g.bias);
+    };
+    return hn::Add(hn::Combine(di, hn::Set(dih, at(y + 1)), hn::Set(dih, at(y))),
+                   hn::Mul(hn::Set(di, static_cast<int32_t>(g.a * 256)), dx));
+  };
+  const MI lower = hn::Lt(hn::Iota(di, 0), hn::Set(di, static_cast<int32_t>(hn::Lanes(dih))));
+  uint32_t passed = 0;
+  for (int32_t y = t.minY; y < t.maxY; y += 2) {
+    const VI e0 = edgeRows(t.edges[0], y), e1 = edgeRows(t.edges[1], y),
+             e2 = edgeRows(t.edges[2], y);
+    MI covered = hn::And(inColumns, hn::And(GeI(e0, hn::Zero(di)),
+                                            hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
+    if (y + 1 >= t.maxY) covered = hn::And(covered, lower);
+    if (hn::AllFalse(di, covered)) continue;
+    const float fy0 = static_cast<float>(y - planes.oy),
+                fy1 = static_cast<float>(y + 1 - planes.oy);
+    const VF z = hn::Add(zRow, hn::Combine(df, hn::Set(dfh, planes.depth.dzdy * fy1),
+                                           hn::Set(dfh, planes.depth.dzdy * fy0)));
+    float* row0 = depth + stride * static_cast<size_t>(y) + t.minX;
+    float* row1 = row0 + stride;
+    const VF old = hn::Combine(df, hn::LoadU(dfh, row1), hn::LoadU(dfh, row0));
+    const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
+    const VF result = hn::IfThenElse(pass, z, old);
+    hn::StoreU(hn::LowerHalf(dfh, result), dfh, row0);
+    hn::StoreU(hn::UpperHalf(dfh, result), dfh, row1);
+    passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+  }
+  return passed;
+}
+#endif
+
 uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTriangle& t,
                        uint32_t triangleId) {
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
@@ -123,6 +172,15 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
     });
     return passed;
   }
+#if HWY_TARGET != HWY_SCALAR
+  // Narrow triangles (at most half a vector wide) take two rows per vector: shadow maps
+  // only (no ids), where one thread owns the whole map and writing back unchanged lanes
+  // past the bounding box is harmless (ShadowMap leaves room for it).
+  if (id == nullptr && static_cast<size_t>(t.maxX - t.minX) * 2 <= hn::Lanes(DF()) &&
+      hn::Lanes(DF()) >= 8) {
+    return DepthTriangleRowPairs(depth, stride, t, planes);
+  }
+#endif
   const DF df;
   const DI di;
   const DU du;

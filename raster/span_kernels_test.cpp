@@ -87,14 +87,17 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
   // Half the triangles span at most 64 pixels (the int32 half-space path), half are larger.
   std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256), offset(-40 * 256, 40 * 256);
   std::uniform_real_distribution<float> z(0.0f, 1.0f);
-  std::vector<float> a(64 * 64, 0.6f), b = a;
+  // One spare row and a vector of slack: the row-pair path may rewrite unchanged lanes there.
+  std::vector<float> a(65 * 64 + 16, 0.6f), b = a;
   std::vector<uint32_t> ida(64 * 64, 0), idb = ida;
-  for (int trial = 0; trial < 500; ++trial) {
+  for (int trial = 0; trial < 1500; ++trial) {
     std::array<SnappedVertex, 3> v;
     const int32_t cx = coord(rng), cy = coord(rng);
     for (auto& p : v) {
-      p.x = trial % 2 ? coord(rng) : cx + offset(rng) / 2;
-      p.y = trial % 2 ? coord(rng) : cy + offset(rng) / 2;
+      // Wide, small (<= 40 px) and narrow (<= 10 px: two rows per vector) triangles.
+      const int32_t shrink = trial % 3 == 1 ? 2 : 8;
+      p.x = trial % 3 == 0 ? coord(rng) : cx + offset(rng) / shrink;
+      p.y = trial % 3 == 0 ? coord(rng) : cy + offset(rng) / shrink;
       p.z = z(rng);
     }
     SetupTriangle t;
