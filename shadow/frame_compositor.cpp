@@ -188,8 +188,9 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     const uint32_t rv = frameVertices_[slot];
     probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[rv]];
     const glm::dvec3 total(tr.vertexRadiance[rv]);
-    const std::span<const glm::dvec3> transfers(&clusterTransfer_[slot * clusters], clusters);
-    const std::span<raster::Rgb8> s(&clusterS_[slot * clusters], clusters);
+    const std::span<const glm::dvec3> transfers(clusterTransfer_.data() + slot * clusters,
+                                                clusters);
+    const std::span<raster::Rgb8> s(clusterS_.data() + slot * clusters, clusters);
     if (options_.gradedTransfers && occlusion_[rv] >= 0.0f) {
       intensityTransfersForOcclusion(total, transfers, double(occlusion_[rv]), bundle_.tone, s);
       ++stats.gradedVertices;
@@ -209,8 +210,8 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     }
   }
   for (size_t v = 0; v < productVertices; ++v) {
-    const std::span<const glm::dvec3> transfers(&productCluster_[v * clusters], clusters);
-    const std::span<raster::Rgb8> s(&productS_[v * clusters], clusters);
+    const std::span<const glm::dvec3> transfers(productCluster_.data() + v * clusters, clusters);
+    const std::span<raster::Rgb8> s(productS_.data() + v * clusters, clusters);
     if (options_.gradedTransfers && productOcclusion_[v] >= 0.0f) {
       intensityTransfersForOcclusion(productRadiance_[v], transfers, double(productOcclusion_[v]),
                                      bundle_.tone, s);
@@ -326,10 +327,12 @@ void FrameCompositor::observe(std::span<const uint8_t> masks) {
     return total > 0 ? static_cast<float>(blocked / total) : -1.0f;
   };
   for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    occlusion_[frameVertices_[slot]] = occludedShare(slot, &clusterTransfer_[slot * clusters]);
+    occlusion_[frameVertices_[slot]] =
+        occludedShare(slot, clusterTransfer_.data() + slot * clusters);
   }
   for (size_t v = 0; v + frameVertices_.size() < probes_.size(); ++v) {
-    productOcclusion_[v] = occludedShare(frameVertices_.size() + v, &productCluster_[v * clusters]);
+    productOcclusion_[v] =
+        occludedShare(frameVertices_.size() + v, productCluster_.data() + v * clusters);
   }
 }
 
