@@ -114,7 +114,6 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
   b.startPose = {static_cast<uint32_t>(scene.startPose.product),
                  static_cast<float>(scene.startPose.x), static_cast<float>(scene.startPose.z),
                  static_cast<float>(scene.startPose.yawDegrees)};
-  b.roomFloorY = 0.0f;  // poses stand products on y = 0 (scene/scene_file.h)
   end();
   return b;
 }

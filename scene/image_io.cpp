@@ -9,10 +9,6 @@ namespace penumbra::scene {
 #ifdef PENUMBRA_HAVE_PNG
 
 // libpng's simplified API (1.6): no setjmp, errors come back in image.message.
-bool pngSupported() {
-  return true;
-}
-
 void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height,
               std::span<const uint8_t> rgba) {
   if (rgba.size() != size_t{width} * height * 4) {
@@ -29,35 +25,9 @@ void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height
   }
 }
 
-ImageRgba8 readPng(const std::filesystem::path& path) {
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&image, path.string().c_str())) {
-    throw ImageError(path.string() + ": not a readable PNG: " + image.message);
-  }
-  image.format = PNG_FORMAT_RGBA;
-  ImageRgba8 out;
-  out.width = image.width;
-  out.height = image.height;
-  out.pixels.resize(PNG_IMAGE_SIZE(image));
-  if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr)) {
-    png_image_free(&image);
-    throw ImageError(path.string() + ": corrupt PNG: " + image.message);
-  }
-  return out;
-}
-
 #else
 
-bool pngSupported() {
-  return false;
-}
-
 void writePng(const std::filesystem::path& path, uint32_t, uint32_t, std::span<const uint8_t>) {
-  throw ImageError(path.string() + ": this build has no PNG support (PENUMBRA_WITH_PNG=OFF)");
-}
-
-ImageRgba8 readPng(const std::filesystem::path& path) {
   throw ImageError(path.string() + ": this build has no PNG support (PENUMBRA_WITH_PNG=OFF)");
 }
 

@@ -62,9 +62,10 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
     out.positions.resize(in.positions.size());
     for (size_t i = 0; i < in.positions.size(); ++i) {
       const raster::Vec3& p = in.positions[i];
-      out.positions[i] = {static_cast<float>(c * p.x + s * p.z + pose.x),
-                          static_cast<float>(p.y + bundle_.roomFloorY + pose.lift),
-                          static_cast<float>(-s * p.x + c * p.z + pose.z)};
+      out.positions[i] = {
+          static_cast<float>(c * p.x + s * p.z + pose.x),
+          static_cast<float>(p.y + pose.lift),  // the floor is y = 0 (scene/scene_file.h)
+          static_cast<float>(-s * p.x + c * p.z + pose.z)};
     }
   };
   if (pose.product != placedPose_.product) {

@@ -99,7 +99,6 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
     w.addValue<glm::vec3>(p + ".reflectance", b.products[i].reflectance);
   }
   w.addValue<ProductPose>("start_pose", b.startPose);
-  w.addValue<float>("room.floor_y", b.roomFloorY);
   w.write(path);
 }
 
@@ -150,7 +149,6 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     b.products.push_back(std::move(m));
   }
   b.startPose = r.getValue<ProductPose>("start_pose");
-  b.roomFloorY = r.getValue<float>("room.floor_y");
 
   // Cross-checks: every index the per-frame path follows must be in range.
   const size_t triangles = b.view.staticMesh.triangleCount();

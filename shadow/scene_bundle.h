@@ -19,7 +19,7 @@
 
 namespace penumbra::shadow {
 
-inline constexpr uint32_t kBundleVersion = 2;
+inline constexpr uint32_t kBundleVersion = 3;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
 struct PatchRecord {
@@ -55,7 +55,6 @@ struct SceneBundle {
   RadianceTransfers transfers;
   std::vector<ProductModel> products;
   ProductPose startPose;
-  float roomFloorY = 0;
 };
 
 // The room's patch mesh as stored in the bundle (float data widened to double): what the

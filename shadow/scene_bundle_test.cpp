@@ -32,7 +32,6 @@ SceneBundle smallBundle() {
   ProductModel chair{"chair", b.view.staticMesh, b.view.staticMesh, {0.3f, 0.2f, 0.1f}};
   b.products = {chair, ProductModel{"lamp", b.view.staticMesh, b.view.staticMesh, {}}};
   b.startPose = {1, 0.5f, -0.25f, 30.0f};
-  b.roomFloorY = 0.0f;
   return b;
 }
 
