@@ -45,7 +45,13 @@ native=(
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   libembree-dev libmeshoptimizer-dev
   python3-matplotlib
+  libopencv-dev libopenexr-dev libtinygltf-dev
+  libcamera-dev libgpiod-dev libsdl2-dev libdrm-dev
+  blender-data opencv-doc
 )
+# blender-data: the CC0 lat-long HDR light probes (studiolights/world/*.exr);
+# opencv-doc: real 640x480 chessboard photographs (examples/data/left*.jpg).
+# Both are test inputs of the capture pipeline (issue 4).
 cross_pkgs=(
   g++-aarch64-linux-gnu qemu-user
   libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64
