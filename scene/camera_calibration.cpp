@@ -117,9 +117,14 @@ ChessboardCalibration calibrateFromChessboards(const std::vector<std::filesystem
     ChessboardImage im;
     im.file = path.string();
     const std::string name = path.filename().string();
-    const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    // Check existence first: imread on a missing file also logs an OpenCV warning.
+    std::error_code ec;
+    const cv::Mat grey = std::filesystem::is_regular_file(path, ec)
+                             ? cv::imread(path.string(), cv::IMREAD_GRAYSCALE)
+                             : cv::Mat();
     if (grey.empty()) {
-      im.problem = name + ": cannot read the image";
+      im.problem =
+          name + (std::filesystem::exists(path, ec) ? ": cannot read the image" : ": no such file");
     } else if (!found.empty() && grey.size() != size) {
       im.problem = name + ": size " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                    " differs from the first photo's " + std::to_string(size.width) + "x" +

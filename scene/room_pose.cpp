@@ -106,6 +106,9 @@ std::vector<CornerMark> loadCornerMarks(const std::filesystem::path& path) {
   if (!doc.is_object() || !doc.contains("corners") || !doc["corners"].is_array()) {
     fail(source, "corners: missing, or not an array");
   }
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    if (it.key() != "corners" && it.key() != "comment") fail(source, it.key() + ": unknown field");
+  }
   auto numbers = [&](const json& j, size_t n, const std::string& field) {
     if (!j.is_array() || j.size() != n)
       fail(source, field + ": must be " + std::to_string(n) + " numbers");
