@@ -71,6 +71,25 @@ TEST(CameraResponse, WrongExposureOrderIsNotMonotone) {
   }
 }
 
+TEST(CameraResponse, SmallNonMonotonicityIsRepairedWithAWarning) {
+  // A camera whose codes 100..109 come out in reverse order: the recovered g dips there.
+  auto bracket = makeBracket(gradientField(160, 120), kTimes);
+  for (Exposure& e : bracket) {
+    for (uint8_t& v : e.image.rgb) {
+      if (v >= 100 && v <= 109) v = uint8_t(209 - v);
+    }
+  }
+  const CameraResponse r = recoverResponse(bracket);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("flattened to the running maximum"), std::string::npos)
+      << r.warnings[0];
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_GE(r.repairedCodes[c], 1) << c;
+    EXPECT_LE(r.repairedCodes[c], 25) << c;  // the dip plus the codes until g climbs back
+    for (int z = 1; z < 256; ++z) EXPECT_GE(r.logExposure[c][z], r.logExposure[c][z - 1]);
+  }
+}
+
 TEST(CameraResponse, InvalidBracketsRejected) {
   auto bracket = makeBracket(gradientField(32, 24), kTimes);
   EXPECT_THROW(recoverResponse(std::span(bracket).first(1)), HdrError);
