@@ -3,6 +3,7 @@
 //   isas                list compiled and supported SIMD targets
 //   bench-replay TRACE  median and min ms per frame over repeated renders
 //   precompute, render, profile   the showroom pipeline (apps/scene_commands.h)
+//   calibrate           camera intrinsics and pose (apps/calibrate_command.h; with OpenCV)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/calibrate_command.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "raster/frame_trace.h"
@@ -125,10 +127,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
+  const std::vector<apps::Command> calibrateCommands = apps::addCalibrateCommands(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
     for (const apps::Command& c : sceneCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : calibrateCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);

@@ -1,0 +1,107 @@
+#include "lighting/exr_io.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+
+#include <cmath>
+#include <string>
+#include <system_error>
+
+namespace penumbra::lighting {
+
+HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report) {
+  const std::string name = path.filename().string();
+  if (!std::filesystem::is_regular_file(path)) {
+    throw HdrError(name + ": no such file (" + path.string() + ")");
+  }
+  HdrImage img;
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
+    if (w <= 0 || h <= 0 || w > 65536 || h > 65536) {
+      throw HdrError(name + ": data window of " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels is empty or too large");
+    }
+    const Imf::ChannelList& channels = file.header().channels();
+    const bool rgb =
+        channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
+    const bool grey = !rgb && channels.findChannel("Y");
+    if (!rgb && !grey) throw HdrError(name + ": has neither R, G, B nor Y channels");
+    img.width = int(w);
+    img.height = int(h);
+    img.rgb.assign(size_t(w) * size_t(h) * 3, 0.0f);
+    Imf::FrameBuffer fb;
+    const size_t xs = 3 * sizeof(float), ys = xs * size_t(w);
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < (grey ? 1 : 3); ++c) {
+      fb.insert(grey ? "Y" : names[c],
+                Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, xs, ys));
+    }
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    if (grey) {
+      for (size_t p = 0; p < size_t(w) * size_t(h); ++p) {
+        img.rgb[3 * p + 1] = img.rgb[3 * p + 2] = img.rgb[3 * p];
+      }
+    }
+  } catch (const HdrError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw HdrError(name + ": cannot read as OpenEXR: " + e.what());
+  }
+  ExrReadReport r;
+  size_t nonFinite = 0;
+  for (float& v : img.rgb) {
+    if (!std::isfinite(v)) {
+      ++nonFinite;
+    } else if (v < 0) {
+      ++r.clampedNegative;
+      if (v < r.mostNegative) r.mostNegative = v;
+      v = 0;
+    }
+  }
+  if (nonFinite > 0) {
+    throw HdrError(name + ": " + std::to_string(nonFinite) + " channel values are NaN or infinite");
+  }
+  if (report != nullptr) *report = r;
+  return img;
+}
+
+void writeExr(const std::filesystem::path& path, const HdrImage& image) {
+  const std::string name = path.filename().string();
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgb.size() != size_t(image.width) * size_t(image.height) * 3) {
+    throw HdrError(name + ": image is empty or its pixel data is not 3 x width x height");
+  }
+  for (float v : image.rgb) {
+    if (!std::isfinite(v)) throw HdrError(name + ": image holds NaN or infinite values");
+  }
+  try {
+    Imf::Header header(image.width, image.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    const char* names[3] = {"R", "G", "B"};
+    for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(path.c_str(), header);
+    Imf::FrameBuffer fb;
+    const size_t xs = 3 * sizeof(float), ys = xs * size_t(image.width);
+    for (int c = 0; c < 3; ++c) {
+      // OpenEXR's slices take a non-const base pointer even for writing.
+      fb.insert(names[c],
+                Imf::Slice(Imf::FLOAT,
+                           const_cast<char*>(reinterpret_cast<const char*>(image.rgb.data() + c)),
+                           xs, ys));
+    }
+    file.setFrameBuffer(fb);
+    file.writePixels(image.height);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    throw HdrError(name + ": cannot write OpenEXR: " + e.what());
+  }
+}
+
+}  // namespace penumbra::lighting

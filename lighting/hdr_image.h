@@ -1,0 +1,39 @@
+// Image types of the HDR capture (Gibson & Chalmers 2003 §4): bracketed 8-bit exposures in,
+// float radiance out. Plain structs without any library type, so penumbra_hdr stays free of
+// OpenCV; callers load photographs however they like (the calibrate/capture commands use
+// OpenCV's imread).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace penumbra::lighting {
+
+class HdrError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// 8-bit RGB, 3 bytes per pixel, rows top to bottom.
+struct Ldr8Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+
+// One photograph of a bracket and its exposure time (seconds, or any unit common to the
+// bracket: only ratios matter).
+struct Exposure {
+  std::string name;  // for messages, e.g. the file name
+  double seconds = 0;
+  Ldr8Image image;
+};
+
+// Linear radiance (relative units), 3 floats per pixel, rows top to bottom.
+struct HdrImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+}  // namespace penumbra::lighting

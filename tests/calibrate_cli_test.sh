@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# `penumbra calibrate` end to end: the real opencv-doc chessboard photos, the bundled
+# vanishing-point and room-corner marks, and for bad input a clear error naming the file
+# and the mark, exit 1 and no JSON written.
+#   tests/calibrate_cli_test.sh PENUMBRA DATA_DIR [EMULATOR...]
+set -uo pipefail
+penumbra="$1" data="$2"
+shift 2
+run=("$@" "$penumbra")
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+check() {  # check NAME EXIT-CODE-OF-CONDITION
+  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
+}
+value() { awk -v k="$1" '$1 == k {print $2}' "$2"; }
+
+"${run[@]}" calibrate --help >"$tmp/help" 2>&1
+check "help: penumbra calibrate --help" $?
+
+photos=/usr/share/doc/opencv-doc/examples/data
+if [[ -e "$photos/left01.jpg" ]]; then
+  "${run[@]}" calibrate --chessboard 9x6 "$photos"/left0*.jpg "$photos"/left1*.jpg \
+    --json "$tmp/chess.json" >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+  err="$(value reprojection_error_px "$tmp/out")"
+  [[ $rc == 0 && -n "$err" ]] && awk -v e="$err" 'BEGIN {exit !(e > 0 && e < 0.5)}' \
+    && python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert abs(d['reprojection_error_px']-$err)<1e-5" "$tmp/chess.json"
+  check "chessboard: opencv-doc left*.jpg, reprojection_error_px $err < 0.5, JSON written" $?
+
+  "${run[@]}" calibrate --chessboard 9x6 "$photos/left01.jpg" "$photos/left02.jpg" \
+    --json "$tmp/few.json" >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+  [[ $rc == 1 && ! -e "$tmp/few.json" ]] && grep -q "need at least 3" "$tmp/err"
+  check "chessboard: two photos rejected (exit $rc): $(head -c 150 "$tmp/err")" $?
+
+  "${run[@]}" calibrate --chessboard 7x7 "$photos/left01.jpg" "$photos/left02.jpg" \
+    "$photos/left03.jpg" >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+  [[ $rc == 1 ]] && grep -q "left03.jpg: no 7x7 chessboard found" "$tmp/err"
+  check "chessboard: wrong board size names each photo (exit $rc)" $?
+else
+  echo "skip chessboard checks: opencv-doc not installed"
+fi
+
+"${run[@]}" calibrate --vanishing "$data/calibration/vanishing-marks.json" \
+  --corners "$data/calibration/room-corners.json" --json "$tmp/vp.json" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+fx="$(value fx "$tmp/out")" err="$(value reprojection_error_px "$tmp/out")"
+cerr="$(value corners_reprojection_error_px "$tmp/out")"
+[[ $rc == 0 && -e "$tmp/vp.json" ]] && awk -v f="$fx" -v e="$err" -v c="$cerr" \
+  'BEGIN {exit !(f > 693 && f < 707 && e < 0.5 && c != "" && c < 0.5)}'
+check "vanishing: f $fx (true 700), reprojection_error_px $err, corners $cerr" $?
+
+# expect_error NAME TEXT-IN-STDERR ARGS...: exit 1, stderr names the problem, no JSON.
+expect_error() {
+  local name="$1" text="$2"
+  shift 2
+  rm -f "$tmp/bad.json"
+  "${run[@]}" calibrate "$@" --json "$tmp/bad.json" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc == 1 && ! -e "$tmp/bad.json" ]] && grep -q -- "$text" "$tmp/err"
+  check "error ($name): exit $rc, $(head -c 200 "$tmp/err")" $?
+}
+python3 - "$data/calibration/vanishing-marks.json" "$tmp" <<'PY'
+import json, sys, os
+doc = json.load(open(sys.argv[1])); d = sys.argv[2]
+def write(name, mutate):
+    x = json.loads(json.dumps(doc)); mutate(x); json.dump(x, open(os.path.join(d, name), "w"))
+# Two parallel x lines: vanishing point at infinity.
+write("parallel.json", lambda x: x["vanishing_lines"].__setitem__("x", [[[0, 100], [600, 130]], [[0, 300], [600, 330]]]))
+# Both vanishing points on the same side: f^2 <= 0.
+write("fsq.json", lambda x: x["vanishing_lines"].update({"x": [[[0, 200], [500, 240]], [[0, 300], [500, 260]]],
+                                                          "z": [[[0, 100], [500, 200]], [[0, 400], [500, 300]]]}))
+write("missing-axis.json", lambda x: x["axis_points"].pop("z"))
+write("string.json", lambda x: x.__setitem__("origin", ["nan", 3]))
+PY
+expect_error "parallel lines" "parallel.json: vanishing_lines.x" --vanishing "$tmp/parallel.json"
+expect_error "f^2 <= 0" "fsq.json: vanishing_lines: f^2" --vanishing "$tmp/fsq.json"
+expect_error "axis point missing" "missing-axis.json: axis_points.z" --vanishing "$tmp/missing-axis.json"
+expect_error "not a number" "string.json: origin\[0\]" --vanishing "$tmp/string.json"
+expect_error "no such marks file" "nothere.json" --vanishing "$tmp/nothere.json"
+expect_error "no mode" "exactly one of"
+echo '{"corners": [{"world": [0, 0, 0], "image": [1, 2]}]}' >"$tmp/corners.json"
+expect_error "too few corners" "corners.json: 1 corner mark(s), need at least 4" \
+  --vanishing "$data/calibration/vanishing-marks.json" --corners "$tmp/corners.json"
+
+if [[ $failures -gt 0 ]]; then
+  echo "$failures check(s) failed"
+  exit 1
+fi
+echo "all checks passed"
