@@ -79,10 +79,11 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
   shadeProduct();
 }
 
-// A flat diffuse material lit by every emitting patch of the room, unshadowed: each
-// vertex reflects reflectance x sum_j L_j F(x, n -> j), the same point-to-patch transfer
-// as the room's receivers (Gibson 2003 §5), through T(). (The irradiance volume of the
-// capture pipeline replaces this when present.)
+// The product's radiance per vertex, through T(). With an irradiance volume in the bundle
+// (Gibson & Chalmers 2003 §5): reflectance x E(n)/pi from the volume's SH9 lookup, i.e. the
+// light of the whole room with visibility. Without one: a flat diffuse material lit by every
+// emitting patch, unshadowed, reflectance x sum_j L_j F(x, n -> j). Either way each source's
+// form-factor transfer is kept as that source's L_ij for self-shadowing (§7.2).
 void FrameCompositor::shadeProduct() {
   const raster::Mesh& m = placedMesh_;
   std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
@@ -117,6 +118,12 @@ void FrameCompositor::shadeProduct() {
     productRadiance_[v] = radiance;
     productColours_[v] = bundle_.tone.map(radiance);
   }
+  if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
+  const std::vector<glm::vec3> vertexN = vertexNormals(m);
+  volumeRadiance_.resize(vertices);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance),
+                       bundle_.tone, productColours_, volumeRadiance_);
+  for (size_t v = 0; v < vertices; ++v) productRadiance_[v] = glm::dvec3(volumeRadiance_[v]);
 }
 
 void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
