@@ -25,7 +25,8 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
     : bundle_(bundle),
       options_(options),
       mesh_(patchMeshOf(bundle)),
-      hierarchy_(mesh_, bundle.sets, bundle.transfers, options.shafts) {
+      hierarchy_(mesh_, bundle.sets, bundle.transfers, options.shafts),
+      toneLut_(bundle.tone) {
   if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
   receiverVertexOf_.assign(mesh_.positions.size(), kNoIndex);
   const RadianceTransfers& t = bundle.transfers;
@@ -121,8 +122,8 @@ void FrameCompositor::shadeProduct() {
   if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
   const std::vector<glm::vec3> vertexN = vertexNormals(m);
   volumeRadiance_.resize(vertices);
-  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance),
-                       bundle_.tone, productColours_, volumeRadiance_);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance), toneLut_,
+                       productColours_, volumeRadiance_);
   for (size_t v = 0; v < vertices; ++v) productRadiance_[v] = glm::dvec3(volumeRadiance_[v]);
 }
 

@@ -98,6 +98,7 @@ class FrameCompositor {
   std::vector<raster::Rgb8> productColours_;
   std::vector<glm::dvec3> productRadiance_;  // per vertex: unshadowed radiance
   std::vector<glm::vec3> volumeRadiance_;    // per vertex, from the irradiance volume
+  ToneLut toneLut_;
   std::vector<glm::dvec3> productTransfer_;  // [source * vertices + v]: from each source
   std::vector<glm::dvec3> productCluster_;   // [v * clusters + k]
   std::vector<raster::Rgb8> productS_;       // [v * clusters + k]

@@ -1,5 +1,6 @@
 #include "shadow/irradiance_volume.h"
 
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -48,51 +49,86 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
     i0[a] = i;
     f[a] = g - float(i);
   }
-  // Corners in a fixed order (x fastest); each corner's E/pi dotted first, then blended.
-  float sum[3] = {0.0f, 0.0f, 0.0f};
+  // Corner weights in a fixed order (x fastest); invalid or missing corners weigh 0 and
+  // read a zero record, so the blend below has no branches.
+  static constexpr std::array<float, kShFloats> kZero{};
+  const float* record[8];
+  float weight[8];
   float weightSum = 0.0f;
   for (int corner = 0; corner < 8; ++corner) {
     int idx[3];
     float w = 1.0f;
-    bool outside = false;
+    bool use = true;
     for (int a = 0; a < 3; ++a) {
       const int hi = (corner >> a) & 1;
       idx[a] = i0[a] + hi;
-      if (idx[a] >= static_cast<int>(dims[a])) {
-        outside = true;  // a one-vertex axis: only its lower corner exists
-        break;
-      }
+      use = use && idx[a] < static_cast<int>(dims[a]);  // a one-vertex axis has no upper
       w = w * (hi ? f[a] : 1.0f - f[a]);
     }
-    if (outside) continue;
-    const size_t v = (size_t(idx[2]) * dims.y + size_t(idx[1])) * dims.x + size_t(idx[0]);
-    if (!valid[v] || w == 0.0f) continue;
-    const float* c = &coefficients[v * kShFloats];
-    for (int ch = 0; ch < 3; ++ch) {
-      float e = 0.0f;
-      for (int k = 0; k < kShCoefficients; ++k) e = e + basis[k] * c[k * 3 + ch];
-      sum[ch] = sum[ch] + w * e;
+    const size_t v = use ? (size_t(idx[2]) * dims.y + size_t(idx[1])) * dims.x + size_t(idx[0]) : 0;
+    use = use && valid[v] != 0;
+    record[corner] = use ? &coefficients[v * kShFloats] : kZero.data();
+    weight[corner] = use ? w : 0.0f;
+    weightSum = weightSum + weight[corner];
+  }
+  // Blend the 27 coefficients over the corners (corner order per coefficient: every
+  // coefficient is its own chain, so a vectorizing compiler keeps these exact bits), then
+  // dot with the basis in the fixed pairwise order below.
+  float blended[kShFloats];
+  const float* source = blended;
+  if (weightSum > 0.0f) {
+    const float *r0 = record[0], *r1 = record[1], *r2 = record[2], *r3 = record[3], *r4 = record[4],
+                *r5 = record[5], *r6 = record[6], *r7 = record[7];
+    const float w0 = weight[0], w1 = weight[1], w2 = weight[2], w3 = weight[3], w4 = weight[4],
+                w5 = weight[5], w6 = weight[6], w7 = weight[7];
+    for (int q = 0; q < kShFloats; ++q) {
+      float acc = w0 * r0[q];
+      acc = acc + w1 * r1[q];
+      acc = acc + w2 * r2[q];
+      acc = acc + w3 * r3[q];
+      acc = acc + w4 * r4[q];
+      acc = acc + w5 * r5[q];
+      acc = acc + w6 * r6[q];
+      acc = acc + w7 * r7[q];
+      blended[q] = acc;
     }
-    weightSum = weightSum + w;
+    const float inv = 1.0f / weightSum;
+    for (int q = 0; q < kShFloats; ++q) blended[q] = blended[q] * inv;
+  } else {
+    source = fallback.data();
   }
   glm::vec3 out;
-  if (weightSum > 0.0f) {
-    for (int ch = 0; ch < 3; ++ch) out[ch] = sum[ch] / weightSum;
-  } else {
-    for (int ch = 0; ch < 3; ++ch) {
-      float e = 0.0f;
-      for (int k = 0; k < kShCoefficients; ++k) e = e + basis[k] * fallback[size_t(k * 3 + ch)];
-      out[ch] = e;
-    }
+  for (int ch = 0; ch < 3; ++ch) {
+    float t[kShCoefficients];
+    for (int k = 0; k < kShCoefficients; ++k) t[k] = basis[k] * source[k * 3 + ch];
+    out[ch] = (((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]))) + t[8];
   }
   // The order-2 reconstruction rings slightly negative behind strong lights.
   for (int ch = 0; ch < 3; ++ch) out[ch] = out[ch] > 0.0f ? out[ch] : 0.0f;
   return out;
 }
 
+ToneLut::ToneLut(const ToneCurve& curve)
+    : curve_(curve), thresholds_(curve.thresholds()), start_(size_t{1} << 15) {
+  for (uint32_t b = 0; b < start_.size(); ++b) {
+    start_[b] = curve(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
+  }
+}
+
+uint8_t ToneLut::operator()(float radiance) const {
+  if (std::isnan(radiance)) return 0;
+  const uint32_t bits = std::bit_cast<uint32_t>(radiance);
+  if (bits >> 31) return curve_(double(radiance));  // negative (or -0)
+  // Codes only grow within a bucket: scan up from its lowest float's code.
+  unsigned code = start_[bits >> 16];
+  const double v = radiance;
+  while (code < 255 && thresholds_[code] <= v) ++code;
+  return static_cast<uint8_t>(code);
+}
+
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneCurve& tone, std::span<raster::Rgb8> colours,
+                          const ToneLut& tone, std::span<raster::Rgb8> colours,
                           std::span<glm::vec3> radiance) {
   if (normals.size() != positions.size() || colours.size() != positions.size() ||
       (!radiance.empty() && radiance.size() != positions.size())) {
@@ -101,13 +137,14 @@ void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster
   for (size_t v = 0; v < positions.size(); ++v) {
     const glm::vec3& m = normals[v];
     const float length = std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z);  // sqrt is IEEE-exact
-    const glm::vec3 n = length > 0.0f ? glm::vec3(m.x / length, m.y / length, m.z / length)
-                                      : glm::vec3(0.0f, 1.0f, 0.0f);
+    const float inv = 1.0f / length;
+    const glm::vec3 n =
+        length > 0.0f ? glm::vec3(m.x * inv, m.y * inv, m.z * inv) : glm::vec3(0.0f, 1.0f, 0.0f);
     const glm::vec3 e =
         volume.irradianceOverPi(glm::vec3(positions[v].x, positions[v].y, positions[v].z), n);
     const glm::vec3 l(reflectance.x * e.x, reflectance.y * e.y, reflectance.z * e.z);
     if (!radiance.empty()) radiance[v] = l;
-    colours[v] = tone.map(glm::dvec3(l));
+    colours[v] = tone.map(l);
   }
 }
 

@@ -13,7 +13,8 @@
 // Per-frame evaluation (bit-exact contract, design §3): float, IEEE +, -, *, / only, in the
 // order written in the .cpp (no libm, no FMA: the project builds with -ffp-contract=off),
 // one vertex at a time, so the bytes do not depend on the ISA, thread count or batch size.
-// Cost: one trilinear blend of eight 27-float records and nine basis products per vertex.
+// Cost: one trilinear blend of eight 27-float records (vectorizable: each coefficient is its
+// own chain in corner order) and nine basis products per vertex; about 80 ns on one core.
 #pragma once
 
 #include <array>
@@ -77,12 +78,31 @@ struct IrradianceVolume {
   glm::vec3 irradianceOverPi(const glm::vec3& p, const glm::vec3& n) const;
 };
 
+// T() for float radiance, the same codes as ToneCurve::operator() but without its binary
+// search per channel: a table indexed by the top 15 bits of the (non-negative) float gives
+// the code at the bucket's lower end, and a short forward scan over the thresholds
+// finishes (a bucket spans 1/128 of an octave, so the scan is rarely more than one step).
+// Exact for every input; NaN → 0; negative values take ToneCurve's own path. 32 KiB.
+class ToneLut {
+ public:
+  explicit ToneLut(const ToneCurve& curve);
+  uint8_t operator()(float radiance) const;
+  raster::Rgb8 map(const glm::vec3& radiance) const {
+    return {(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
+  }
+
+ private:
+  ToneCurve curve_;
+  std::array<double, 255> thresholds_;
+  std::vector<uint8_t> start_;  // per bucket: the code of its lowest float
+};
+
 // Diffuse shading of a product's vertices (§5): radiance_v = reflectance (*) E(n_v) / pi,
 // then T() per channel. `normals` need not be unit length (zero → +y). `radiance` may be
 // empty (not written); otherwise all spans have positions.size() entries.
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneCurve& tone, std::span<raster::Rgb8> colours,
+                          const ToneLut& tone, std::span<raster::Rgb8> colours,
                           std::span<glm::vec3> radiance);
 
 // Area-weighted vertex normals of an indexed mesh (not normalized), summed in triangle order.

@@ -93,7 +93,8 @@ TEST(IrradianceVolumeLookup, ValidateRejectsBadVolumes) {
 
 TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   const IrradianceVolume vol = constantCube({0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f});
-  const ToneCurve tone = ToneCurve::gamma(1.0, 1.0);  // linear: 255 L
+  const ToneCurve curve = ToneCurve::gamma(1.0, 1.0);  // linear: 255 L
+  const ToneLut tone(curve);
   std::vector<raster::Vec3> positions;
   std::vector<glm::vec3> normals;
   for (int i = 0; i < 100; ++i) {
@@ -107,7 +108,7 @@ TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   EXPECT_NEAR(radiance[0].x, 0.5, 1e-5);
   EXPECT_NEAR(radiance[0].y, 0.25, 1e-5);
   EXPECT_EQ(radiance[0].z, 0.0f);
-  EXPECT_EQ(all[0].r, tone(0.5));
+  EXPECT_EQ(all[0].r, curve(0.5));
   // One vertex at a time gives the same bytes as the batch.
   for (size_t v = 0; v < 100; ++v) {
     shadeVerticesDiffuse(vol, std::span(positions).subspan(v, 1), std::span(normals).subspan(v, 1),
@@ -117,6 +118,24 @@ TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   std::vector<raster::Rgb8> wrong(3);
   EXPECT_THROW(shadeVerticesDiffuse(vol, positions, normals, glm::vec3(1.0f), tone, wrong, {}),
                std::invalid_argument);
+}
+
+TEST(ToneLut, SameCodesAsTheToneCurve) {
+  for (const ToneCurve& curve : {ToneCurve::gamma(1.2, 2.2), ToneCurve::gamma(40.0, 1.0)}) {
+    const ToneLut lut(curve);
+    // Every threshold, its float neighbours, and a sweep over many octaves.
+    for (int k = 1; k <= 255; ++k) {
+      const float t = static_cast<float>(curve.threshold(k));
+      for (float x : {t, std::nextafter(t, 0.0f), std::nextafter(t, 1e30f)}) {
+        ASSERT_EQ(lut(x), curve(double(x))) << x;
+      }
+    }
+    for (float x = 1e-9f; x < 1e6f; x *= 1.0007f) ASSERT_EQ(lut(x), curve(double(x))) << x;
+    EXPECT_EQ(lut(0.0f), curve(0.0));
+    EXPECT_EQ(lut(-1.0f), curve(-1.0));
+    EXPECT_EQ(lut(std::numeric_limits<float>::infinity()), 255);
+    EXPECT_EQ(lut(std::numeric_limits<float>::quiet_NaN()), 0);
+  }
 }
 
 }  // namespace
