@@ -35,7 +35,7 @@ class MeshError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Loads by extension (.obj or .ply, any case). Throws MeshError for an unreadable file,
+// Loads by extension (.obj, .ply, or .gltf/.glb with PENUMBRA_WITH_GLTF, any case). Throws MeshError for an unreadable file,
 // an unknown extension, malformed content or a mesh without triangles.
 TriangleMesh loadMesh(const std::filesystem::path& path);
 

@@ -171,3 +171,47 @@ TEST(Showroom, MeasuredOcclusionFeedsTheNextFrame) {
 
 }  // namespace
 }  // namespace penumbra
+
+#ifdef PENUMBRA_HAVE_GLTF
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A glTF product in a scene file brings its own material (scene/gltf_io.h); "colour" may
+// still override the diffuse part.
+TEST(Showroom, GltfProductCarriesItsMaterial) {
+  const std::string text = R"({
+    "format": "penumbra-scene", "version": 1,
+    "image": {"width": 64, "height": 48},
+    "camera": {"eye": [0.5, 1.5, 0.5], "target": [2, 0.5, 2], "up": [0, 1, 0],
+               "fov_y_deg": 60, "near": 0.05, "far": 15},
+    "materials": {"wall": {"reflectance": [0.7, 0.7, 0.7]}, "lamp": {"emission": [10, 10, 10]}},
+    "room": {"shell": {"min": [0, 0, 0], "max": [4, 3, 4], "floor": "wall", "walls": "wall",
+                       "ceiling": "wall"},
+             "regions": [{"quad": "ceiling", "name": "l", "u": [1.5, 2.5], "v": [1.5, 2.5],
+                          "material": "lamp"}]},
+    "patch_size": 0.5, "tone": {"exposure": 1, "gamma": 2.2},
+    "products": [{"name": "pot", "model": "../models/teapot.gltf", "proxy_triangles": 200},
+                 {"name": "red", "model": "../models/teapot.gltf", "colour": [0.9, 0.1, 0.1],
+                  "specular_exponent": 20}],
+    "start_pose": {"product": 0, "x": 2, "z": 2, "yaw_deg": 0}
+  })";
+  const scene::SceneDescription s =
+      scene::parseSceneFile(text, fs::path(PENUMBRA_DATA_DIR) / "showroom" / "gltf.json");
+  ASSERT_EQ(s.products.size(), 2u);
+  EXPECT_NEAR(s.products[0].reflectance.z, 0.62 * 0.751, 0.01);
+  EXPECT_NEAR(s.products[0].specular.x, 0.04, 1e-12);
+  EXPECT_GT(s.products[0].specularExponent, 100.0);
+  EXPECT_EQ(s.products[1].reflectance, glm::dvec3(0.9, 0.1, 0.1));
+  EXPECT_EQ(s.products[1].specularExponent, 20.0);
+  EXPECT_EQ(s.products[0].mesh.triangleCount(), 992u);
+  std::vector<lighting::StageTiming> timings;
+  const shadow::SceneBundle b = lighting::precomputeBundle(s, {}, timings);
+  EXPECT_NEAR(b.products[0].specular.x, 0.04f, 1e-7);
+  EXPECT_FALSE(b.irradiance.empty());
+  EXPECT_EQ(timings.back().stage, "irradiance volume");
+}
+}  // namespace
+}  // namespace penumbra
+#endif
