@@ -151,6 +151,7 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
     volume.threads = options.threads;
     volume.seed = options.seed ^ 0x4952524144564F4Cull;
     b.irradiance = buildIrradianceVolume(stored, embree, radiance, volume);
+    for (const glm::dvec3& l : radiance) b.patchRadiance.emplace_back(glm::max(l, glm::dvec3(0.0)));
     end();
   }
   return b;

@@ -108,6 +108,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   w.add<float>("irradiance.coefficients", v.coefficients);
   w.add<uint8_t>("irradiance.valid", v.valid);
   w.add<float>("irradiance.fallback", v.fallback);
+  w.add<glm::vec3>("patch_radiance", b.patchRadiance);
   w.write(path);
 }
 
@@ -191,6 +192,15 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     }
   } else if (!vol.valid.empty()) {
     r.fail("irradiance.valid", "flags without coefficients");
+  }
+  b.patchRadiance = r.get<glm::vec3>("patch_radiance");
+  if (!b.patchRadiance.empty() && b.patchRadiance.size() != b.patches.size()) {
+    r.fail("patch_radiance", "one entry per patch");
+  }
+  for (const glm::vec3& l : b.patchRadiance) {
+    for (int c = 0; c < 3; ++c) {
+      if (!(l[c] >= 0 && std::isfinite(l[c]))) r.fail("patch_radiance", "negative or not finite");
+    }
   }
 
   // Cross-checks: every index the per-frame path follows must be in range.

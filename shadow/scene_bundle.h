@@ -62,6 +62,9 @@ struct SceneBundle {
   ProductPose startPose;
   // Diffuse light for the products (§5); empty: shaded by the emitters' form factors.
   IrradianceVolume irradiance;
+  // Outgoing radiance per patch (what the volume was gathered from): the room as the
+  // products' specular environment maps show it. Empty: no specular term.
+  std::vector<glm::vec3> patchRadiance;
 };
 
 // The room's patch mesh as stored in the bundle (float data widened to double): what the

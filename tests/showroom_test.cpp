@@ -211,6 +211,36 @@ TEST(Showroom, GltfProductCarriesItsMaterial) {
   EXPECT_NEAR(b.products[0].specular.x, 0.04f, 1e-7);
   EXPECT_FALSE(b.irradiance.empty());
   EXPECT_EQ(timings.back().stage, "irradiance volume");
+  EXPECT_EQ(b.patchRadiance.size(), b.patches.size());
+
+  // The specular term (environment map + Phong lobe) brightens the glazed pot, and the
+  // frame is the same bytes for any renderer thread count.
+  auto compose = [&](bool specular) {
+    shadow::CompositorOptions o;
+    o.specular = specular;
+    shadow::FrameCompositor c(b, o);
+    raster::FrameContent frame;
+    shadow::CompositeStats stats;
+    c.compose({0, 2.0f, 2.0f, 30.0f, 0.0f}, 8, 1, frame, stats);
+    return frame;
+  };
+  const raster::FrameContent with = compose(true), without = compose(false);
+  size_t brighter = 0, darker = 0;
+  for (size_t v = 0; v < with.objects[0].colours.size(); ++v) {
+    const raster::Rgb8 a = with.objects[0].colours[v], d = without.objects[0].colours[v];
+    brighter += a.r + a.g + a.b > d.r + d.g + d.b;
+    darker += a.r < d.r || a.g < d.g || a.b < d.b;
+  }
+  EXPECT_GT(brighter, with.objects[0].colours.size() / 2);
+  EXPECT_EQ(darker, 0u);
+  std::vector<std::vector<uint8_t>> frames;
+  for (int threads : {1, 2, 3}) {
+    raster::Renderer r(b.view, {simd::Isa::kScalar, threads, 32});
+    frames.emplace_back(b.background.size());
+    r.render(with, frames.back());
+  }
+  EXPECT_EQ(frames[0], frames[1]);
+  EXPECT_EQ(frames[0], frames[2]);
 }
 }  // namespace
 }  // namespace penumbra
