@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "lighting/patch_radiosity.h"
+#include "lighting/precompute.h"
 
 namespace penumbra::lighting {
 namespace {
@@ -176,6 +177,78 @@ TEST(LightProbeProjection, BadValuesAreClampedCountedAndReported) {
   EXPECT_THROW(projectProbe(probe, mesh, rays, o), std::invalid_argument);
   probe.image.rgb.pop_back();
   EXPECT_THROW(projectProbe(probe, mesh, rays, o), std::invalid_argument);
+}
+
+// The capture path end to end (what `penumbra capture` strings together): a probe of a
+// room → measured materials and radiance → precompute, which then finds the lights the
+// probe saw as its sources and gathers the irradiance volume from the measured radiance.
+TEST(LightProbeProjection, MeasuredMaterialsFlowThroughPrecompute) {
+  scene::SceneDescription s;
+  s.width = 80;
+  s.height = 60;
+  s.camera.eye = dvec3(0.4, 1.5, 0.4);
+  s.camera.target = dvec3(3.0, 0.8, 2.5);
+  s.camera.aspect = 80.0 / 60.0;
+  s.room = testRoom(true);
+  s.patchSize = 0.5;
+  scene::Product box;
+  box.name = "box";
+  box.mesh.positions = {{-0.2, 0, -0.2},   {0.2, 0, -0.2},   {0.2, 0, 0.2},   {-0.2, 0, 0.2},
+                        {-0.2, 0.4, -0.2}, {0.2, 0.4, -0.2}, {0.2, 0.4, 0.2}, {-0.2, 0.4, 0.2}};
+  box.mesh.indices = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  box.proxy = box.mesh;
+  s.products.push_back(box);
+
+  // The "real" room: the scene's materials, lit to convergence, photographed by a probe.
+  const scene::PatchMesh mesh = scene::buildPatchMesh(s.room, s.patchSize);
+  const EmbreeScene rays(mesh);
+  const std::vector<dvec3> truth = solvePatchRadiance(mesh, rays, 30);
+  LightProbe probe;
+  probe.position = dvec3(1.6, 1.2, 1.9);
+  probe.image = uniformImage(512, 256, glm::vec3(0.0f));
+  for (uint32_t y = 0; y < probe.image.height; ++y) {
+    for (uint32_t x = 0; x < probe.image.width; ++x) {
+      dvec3 d;
+      ASSERT_TRUE(probe.direction(x, y, d));
+      if (const std::optional<Hit> hit = rays.intersect(probe.position, d)) {
+        const dvec3& l = truth[mesh.trianglePatch[hit->triangle]];
+        float* px = probe.image.pixel(x, y);
+        px[0] = float(l.x), px[1] = float(l.y), px[2] = float(l.z);
+      }
+    }
+  }
+  const ProbeProjection measured = projectProbe(probe, mesh, rays);
+
+  // Precompute from a scene whose own materials are all wrong: only the measurement counts.
+  scene::SceneDescription blank = s;
+  for (scene::Quad& q : blank.room.quads) {
+    q.material = {dvec3(0.5), dvec3(0.0)};
+    q.regions.clear();
+  }
+  lighting::PrecomputeOptions o;
+  o.patchSize = 0.5;
+  o.measuredMaterials = measured.materials;
+  o.measuredRadiance = measured.radiance;
+  o.volumeDims = {8, 5, 6};
+  std::vector<StageTiming> timings;
+  EXPECT_THROW(lighting::precomputeBundle(blank, o, timings), std::invalid_argument);  // regions
+  blank.room = s.room;  // same geometry (and so the same patches), materials replaced
+  for (scene::Quad& q : blank.room.quads) {
+    q.material = {dvec3(0.5), dvec3(0.0)};
+    for (scene::Region& r : q.regions) r.material = {dvec3(0.5), dvec3(0.0)};
+  }
+  const shadow::SceneBundle b = lighting::precomputeBundle(blank, o, timings);
+  ASSERT_EQ(b.patches.size(), mesh.patches.size());
+  ASSERT_FALSE(b.sets.sources.empty());
+  for (uint32_t src : b.sets.sources) EXPECT_TRUE(mesh.patches[src].emits()) << src;
+  for (size_t p = 0; p < mesh.patches.size(); ++p) {
+    EXPECT_EQ(b.patches[p].reflectance, glm::vec3(measured.materials[p].reflectance));
+    EXPECT_EQ(b.patchRadiance[p], glm::vec3(measured.radiance[p]));
+  }
+  EXPECT_FALSE(b.irradiance.empty());
+  o.measuredMaterials.pop_back();
+  EXPECT_THROW(lighting::precomputeBundle(blank, o, timings), std::invalid_argument);
 }
 
 #ifdef PENUMBRA_HAVE_OPENEXR
