@@ -201,7 +201,9 @@ TEST(LightProbeProjection, MeasuredMaterialsFlowThroughPrecompute) {
   s.products.push_back(box);
 
   // The "real" room: the scene's materials, lit to convergence, photographed by a probe.
-  const scene::PatchMesh mesh = scene::buildPatchMesh(s.room, s.patchSize);
+  lighting::PrecomputeOptions o;
+  o.patchSize = 0.5;
+  const scene::PatchMesh mesh = precomputePatchMesh(s, o);
   const EmbreeScene rays(mesh);
   const std::vector<dvec3> truth = solvePatchRadiance(mesh, rays, 30);
   LightProbe probe;
@@ -226,8 +228,6 @@ TEST(LightProbeProjection, MeasuredMaterialsFlowThroughPrecompute) {
     q.material = {dvec3(0.5), dvec3(0.0)};
     q.regions.clear();
   }
-  lighting::PrecomputeOptions o;
-  o.patchSize = 0.5;
   o.measuredMaterials = measured.materials;
   o.measuredRadiance = measured.radiance;
   o.volumeDims = {8, 5, 6};

@@ -47,6 +47,19 @@ std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
 
 }  // namespace
 
+scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options) {
+  // An override refines the whole room, emitters' own regions included (more, smaller
+  // sources: the fine end of the speed/accuracy trade-off).
+  scene::RoomDescription room = scene.room;
+  if (options.patchSize > 0) {
+    for (scene::Quad& q : room.quads) {
+      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
+    }
+  }
+  return scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
+}
+
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options,
                                      std::vector<StageTiming>& timings,
@@ -67,16 +80,7 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
 
   shadow::SceneBundle b;
   begin("patch mesh");
-  // An override refines the whole room, emitters' own regions included (more, smaller
-  // sources: the fine end of the speed/accuracy trade-off).
-  scene::RoomDescription room = scene.room;
-  if (options.patchSize > 0) {
-    for (scene::Quad& q : room.quads) {
-      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
-    }
-  }
-  scene::PatchMesh mesh =
-      scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
+  scene::PatchMesh mesh = precomputePatchMesh(scene, options);
   if (!options.measuredMaterials.empty()) {
     if (options.measuredMaterials.size() != mesh.patches.size()) {
       throw std::invalid_argument(

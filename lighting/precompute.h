@@ -44,6 +44,12 @@ struct StageTiming {
 // Called at the start of each stage with its name, its index and the stage count.
 using ProgressCallback = std::function<void(const std::string& stage, int index, int count)>;
 
+// The patch mesh precompute builds for `scene` and `options` (patch size override
+// included), before measured materials: build a light probe's ProbeProjection on this mesh
+// so its per-patch materials and radiance line up with measuredMaterials/measuredRadiance.
+scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options);
+
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options,
                                      std::vector<StageTiming>& timings,
