@@ -52,20 +52,25 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
   // Corner weights in a fixed order (x fastest); invalid or missing corners weigh 0 and
   // read a zero record, so the blend below has no branches.
   static constexpr std::array<float, kShFloats> kZero{};
+  // Per axis: the lower and upper weights, and whether the upper vertex exists (a
+  // one-vertex axis has none). A corner's weight is (w_x w_y) w_z.
+  float wa[3][2];
+  bool upper[3];
+  for (int a = 0; a < 3; ++a) {
+    wa[a][0] = 1.0f - f[a];
+    wa[a][1] = f[a];
+    upper[a] = i0[a] + 1 < static_cast<int>(dims[a]);
+  }
+  const size_t strideY = dims.x, strideZ = size_t{dims.x} * dims.y;
+  const size_t base = size_t(i0[2]) * strideZ + size_t(i0[1]) * strideY + size_t(i0[0]);
   const float* record[8];
   float weight[8];
   float weightSum = 0.0f;
   for (int corner = 0; corner < 8; ++corner) {
-    int idx[3];
-    float w = 1.0f;
-    bool use = true;
-    for (int a = 0; a < 3; ++a) {
-      const int hi = (corner >> a) & 1;
-      idx[a] = i0[a] + hi;
-      use = use && idx[a] < static_cast<int>(dims[a]);  // a one-vertex axis has no upper
-      w = w * (hi ? f[a] : 1.0f - f[a]);
-    }
-    const size_t v = use ? (size_t(idx[2]) * dims.y + size_t(idx[1])) * dims.x + size_t(idx[0]) : 0;
+    const int hx = corner & 1, hy = (corner >> 1) & 1, hz = corner >> 2;
+    const float w = (wa[0][hx] * wa[1][hy]) * wa[2][hz];
+    bool use = (!hx || upper[0]) && (!hy || upper[1]) && (!hz || upper[2]);
+    const size_t v = use ? base + size_t(hz) * strideZ + size_t(hy) * strideY + size_t(hx) : 0;
     use = use && valid[v] != 0;
     record[corner] = use ? &coefficients[v * kShFloats] : kZero.data();
     weight[corner] = use ? w : 0.0f;

@@ -14,7 +14,7 @@
 // order written in the .cpp (no libm, no FMA: the project builds with -ffp-contract=off),
 // one vertex at a time, so the bytes do not depend on the ISA, thread count or batch size.
 // Cost: one trilinear blend of eight 27-float records (vectorizable: each coefficient is its
-// own chain in corner order) and nine basis products per vertex; about 80 ns on one core.
+// own chain in corner order) and nine basis products per vertex; about 60 ns on one core.
 #pragma once
 
 #include <array>
