@@ -73,7 +73,7 @@ struct ProbeProjectionOptions {
   int samplesPerSide = 4;  // jittered samples per patch side (inset from its edges)
   double inset = 0.1;      // fraction of each side kept clear of neighbouring patches' pixels
   glm::dvec3 defaultReflectance{0.5};
-  int unseenIterations = 10; // gathering steps for the unseen patches' radiance
+  int unseenIterations = 10;  // gathering steps for the unseen patches' radiance
   // Channel values at or above this are counted as saturated (the camera clipped; the
   // true radiance is higher). <= 0: no check.
   float saturationLevel = 0;
