@@ -34,6 +34,11 @@ struct Exposure {
 struct HdrImage {
   int width = 0, height = 0;
   std::vector<float> rgb;
+  const float* pixel(uint32_t x, uint32_t y) const { return &rgb[index(x, y)]; }
+  float* pixel(uint32_t x, uint32_t y) { return &rgb[index(x, y)]; }
+
+ private:
+  size_t index(uint32_t x, uint32_t y) const { return (size_t{y} * size_t(width) + x) * 3; }
 };
 
 }  // namespace penumbra::lighting

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #include "lighting/embree_scene.h"
+#include "lighting/irradiance_volume.h"
+#include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
 #include "raster/renderer.h"
 #include "shadow/source_receiver_sets.h"
@@ -43,11 +47,24 @@ std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
 
 }  // namespace
 
+scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options) {
+  // An override refines the whole room, emitters' own regions included (more, smaller
+  // sources: the fine end of the speed/accuracy trade-off).
+  scene::RoomDescription room = scene.room;
+  if (options.patchSize > 0) {
+    for (scene::Quad& q : room.quads) {
+      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
+    }
+  }
+  return scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
+}
+
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options,
                                      std::vector<StageTiming>& timings,
                                      const ProgressCallback& progress) {
-  constexpr int kStages = 5;
+  const int kStages = options.irradianceVolume ? 6 : 5;
   int stage = 0;
   auto start = std::chrono::steady_clock::now();
   auto begin = [&](const char* name) {
@@ -63,16 +80,22 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
 
   shadow::SceneBundle b;
   begin("patch mesh");
-  // An override refines the whole room, emitters' own regions included (more, smaller
-  // sources: the fine end of the speed/accuracy trade-off).
-  scene::RoomDescription room = scene.room;
-  if (options.patchSize > 0) {
-    for (scene::Quad& q : room.quads) {
-      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
+  scene::PatchMesh mesh = precomputePatchMesh(scene, options);
+  if (!options.measuredMaterials.empty()) {
+    if (options.measuredMaterials.size() != mesh.patches.size()) {
+      throw std::invalid_argument(
+          "precompute: " + std::to_string(options.measuredMaterials.size()) +
+          " measured materials for a mesh of " + std::to_string(mesh.patches.size()) + " patches");
+    }
+    for (size_t i = 0; i < mesh.patches.size(); ++i) {
+      mesh.patches[i].reflectance = options.measuredMaterials[i].reflectance;
+      mesh.patches[i].emission = options.measuredMaterials[i].emission;
     }
   }
-  const scene::PatchMesh mesh =
-      scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
+  if (!options.measuredRadiance.empty() && options.measuredRadiance.size() != mesh.patches.size()) {
+    throw std::invalid_argument("precompute: measured radiance needs one value per patch (" +
+                                std::to_string(mesh.patches.size()) + ")");
+  }
   b.view.width = scene.width;
   b.view.height = scene.height;
   b.view.cameraViewProj = scene.camera.rasterViewProj();
@@ -109,12 +132,32 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
 
   begin("products");
   for (const scene::Product& p : scene.products) {
-    b.products.push_back({p.name, toRaster(p.mesh), toRaster(p.proxy), glm::vec3(p.reflectance)});
+    b.products.push_back({p.name, toRaster(p.mesh), toRaster(p.proxy), glm::vec3(p.reflectance),
+                          glm::vec3(p.specular), static_cast<float>(p.specularExponent)});
   }
   b.startPose = {static_cast<uint32_t>(scene.startPose.product),
                  static_cast<float>(scene.startPose.x), static_cast<float>(scene.startPose.z),
                  static_cast<float>(scene.startPose.yawDegrees)};
   end();
+
+  if (options.irradianceVolume) {
+    // Gibson & Chalmers 2003 §5: the products' diffuse light, gathered from every patch.
+    begin("irradiance volume");
+    GatherOptions gather;
+    gather.threads = options.threads;
+    const std::vector<glm::dvec3> radiance =
+        options.measuredRadiance.empty()
+            ? solvePatchRadiance(stored, embree, options.radianceBounces, gather)
+            : options.measuredRadiance;
+    IrradianceVolumeOptions volume;
+    volume.dims = options.volumeDims;
+    volume.directionsPerSide = options.volumeDirectionsPerSide;
+    volume.threads = options.threads;
+    volume.seed = options.seed ^ 0x4952524144564F4Cull;
+    b.irradiance = buildIrradianceVolume(stored, embree, radiance, volume);
+    for (const glm::dvec3& l : radiance) b.patchRadiance.emplace_back(glm::max(l, glm::dvec3(0.0)));
+    end();
+  }
   return b;
 }
 

@@ -23,6 +23,17 @@ struct PrecomputeOptions {
   unsigned threads = 2;
   uint64_t seed = 1;
   double patchSize = 0;  // metres; 0 = the scene file's patch_size
+  // Measured light (lighting/light_probe.h, Gibson & Chalmers 2003 §4.2): one material per
+  // patch of the mesh this scene and patchSize build, replacing the scene file's
+  // materials. Empty: the scene file's. A count mismatch throws std::invalid_argument.
+  std::vector<scene::Material> measuredMaterials;
+  // Outgoing radiance per patch (e.g. ProbeProjection::radiance) for the irradiance volume.
+  // Empty: solved from the materials with `radianceBounces` gathering steps.
+  std::vector<glm::dvec3> measuredRadiance;
+  int radianceBounces = 1;  // 1: direct light from the emitters; each more: one interreflection
+  bool irradianceVolume = true;  // false: products keep the form-factor shading
+  glm::uvec3 volumeDims{20, 10, 20};
+  int volumeDirectionsPerSide = 12;
 };
 
 struct StageTiming {
@@ -32,6 +43,12 @@ struct StageTiming {
 
 // Called at the start of each stage with its name, its index and the stage count.
 using ProgressCallback = std::function<void(const std::string& stage, int index, int count)>;
+
+// The patch mesh precompute builds for `scene` and `options` (patch size override
+// included), before measured materials: build a light probe's ProbeProjection on this mesh
+// so its per-patch materials and radiance line up with measuredMaterials/measuredRadiance.
+scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
+                                     const PrecomputeOptions& options);
 
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options,

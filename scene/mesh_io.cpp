@@ -12,6 +12,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "scene/gltf_io.h"
+
 namespace penumbra::scene {
 
 Aabb TriangleMesh::bounds() const {
@@ -500,8 +502,15 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".gltf" || ext == ".glb") {
+#ifdef PENUMBRA_HAVE_GLTF
+    return loadGltf(path).mesh;
+#else
+    fail(name, "", "this build has no glTF support (PENUMBRA_WITH_GLTF)");
+#endif
+  }
   if (ext != ".obj" && ext != ".ply") {
-    fail(name, "", "unknown mesh format '" + ext + "' (expected .obj or .ply)");
+    fail(name, "", "unknown mesh format '" + ext + "' (expected .obj, .ply, .gltf or .glb)");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(name, "", "cannot open file");

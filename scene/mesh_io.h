@@ -35,8 +35,9 @@ class MeshError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Loads by extension (.obj or .ply, any case). Throws MeshError for an unreadable file,
-// an unknown extension, malformed content or a mesh without triangles.
+// Loads by extension (.obj, .ply, or .gltf/.glb with PENUMBRA_WITH_GLTF, any case). Throws
+// MeshError for an unreadable file, an unknown extension, malformed content or a mesh without
+// triangles.
 TriangleMesh loadMesh(const std::filesystem::path& path);
 
 // Wavefront OBJ: `v x y z [w]` and `f` with 1-based or negative (relative) indices in

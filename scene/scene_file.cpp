@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/gltf_io.h"
 #include "scene/mesh_simplify.h"
 
 namespace penumbra::scene {
@@ -347,9 +348,9 @@ class SceneParser {
   }
 
   Product parseProduct(const json& v, const std::string& path) {
-    r_.object(
-        v, path,
-        {"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour", "proxy_triangles"});
+    r_.object(v, path,
+              {"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour",
+               "proxy_triangles", "specular", "specular_exponent"});
     Product p;
     p.name = r_.string(r_.required(v, path, "name"), join(path, "name"));
     const std::string model = r_.string(r_.required(v, path, "model"), join(path, "model"));
@@ -361,14 +362,45 @@ class SceneParser {
     if (const json* rest = r_.optional(v, "rest_on_floor")) {
       p.restOnFloor = r_.boolean(*rest, join(path, "rest_on_floor"));
     }
-    p.reflectance = r_.colour(r_.required(v, path, "colour"), join(path, "colour"));
     if (const json* n = r_.optional(v, "proxy_triangles")) {
       p.proxyTriangles = r_.count(*n, join(path, "proxy_triangles"), 4, 100000);
     }
+    std::string ext = p.model.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const bool gltf = ext == ".gltf" || ext == ".glb";
     try {
+#ifdef PENUMBRA_HAVE_GLTF
+      if (gltf) {
+        // glTF carries its own material (gltf_io.h): "colour", "specular" and
+        // "specular_exponent" below override it when given.
+        const GltfModel loaded = loadGltf(p.model);
+        p.mesh = loaded.mesh;
+        p.reflectance = loaded.material.diffuse;
+        p.specular = loaded.material.specular;
+        p.specularExponent = loaded.material.specularExponent;
+      } else {
+        p.mesh = loadMesh(p.model);
+      }
+#else
       p.mesh = loadMesh(p.model);
+#endif
     } catch (const MeshError& e) {
       r_.fail(join(path, "model"), e.what());
+    }
+    if (const json* c = r_.optional(v, "colour")) {
+      p.reflectance = r_.colour(*c, join(path, "colour"));
+    } else if (!gltf) {
+      r_.required(v, path, "colour");  // OBJ/PLY carry no material
+    }
+    if (const json* c = r_.optional(v, "specular")) {
+      p.specular = r_.colour(*c, join(path, "specular"));
+    }
+    if (const json* e = r_.optional(v, "specular_exponent")) {
+      p.specularExponent = r_.number(*e, join(path, "specular_exponent"));
+      if (!(p.specularExponent >= 0 && p.specularExponent <= 1e6)) {
+        r_.fail(join(path, "specular_exponent"), "must be in [0, 1e6]");
+      }
     }
     placeInProductSpace(p);
     p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles);

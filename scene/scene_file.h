@@ -45,6 +45,10 @@ struct Product {
   double rotateYDegrees = 0;
   bool restOnFloor = true;
   glm::dvec3 reflectance{0.5};  // diffuse colour of the virtual object
+  // Phong-like specular lobe (Gibson & Chalmers 2003 §5): reflectance in [0, 1] per
+  // channel (0 = none) and exponent; from a glTF model's metallic/roughness (gltf_io.h).
+  glm::dvec3 specular{0.0};
+  double specularExponent = 0;
   size_t proxyTriangles = 300;
   // The model in product space: scaled, rotated about +y, its bounding box centred on
   // x = z = 0 and, with restOnFloor, its lowest point at y = 0 (so a pose (x, z, yaw)

@@ -25,7 +25,9 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
     : bundle_(bundle),
       options_(options),
       mesh_(patchMeshOf(bundle)),
-      hierarchy_(mesh_, bundle.sets, bundle.transfers, options.shafts) {
+      hierarchy_(mesh_, bundle.sets, bundle.transfers, options.shafts),
+      toneLut_(bundle.tone),
+      toneInverse_(bundle.tone) {
   if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
   receiverVertexOf_.assign(mesh_.positions.size(), kNoIndex);
   const RadianceTransfers& t = bundle.transfers;
@@ -42,6 +44,19 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
     sourceOfPatch_[bundle.sets.sources[j]] = static_cast<uint32_t>(j);
   }
   vertexSlotFrame_.assign(t.receiverVertices.size(), kNoIndex);
+  for (const ProductModel& m : bundle.products) lobes_.emplace_back(m.specularExponent);
+  if (!bundle.patchRadiance.empty()) {
+    environmentRoom_ = roomForEnvironment(bundle.view.staticMesh, bundle.trianglePatch,
+                                          bundle.patchRadiance, bundle.tone);
+  }
+  // The camera centre: the point the view-projection sends to clip (0, 0, *, 0), i.e. the
+  // homogeneous point inverse(VP) (0, 0, 1, 0).
+  glm::dmat4 vp;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) vp[c][r] = bundle.view.cameraViewProj.m[size_t(4 * r + c)];
+  }
+  const glm::dvec4 e = glm::inverse(vp) * glm::dvec4(0, 0, 1, 0);
+  if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);
 }
 
 // The product in world space: turned by yaw about +y, then moved to (x, floor, z).
@@ -79,10 +94,11 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
   shadeProduct();
 }
 
-// A flat diffuse material lit by every emitting patch of the room, unshadowed: each
-// vertex reflects reflectance x sum_j L_j F(x, n -> j), the same point-to-patch transfer
-// as the room's receivers (Gibson 2003 §5), through T(). (The irradiance volume of the
-// capture pipeline replaces this when present.)
+// The product's radiance per vertex, through T(). With an irradiance volume in the bundle
+// (Gibson & Chalmers 2003 §5): reflectance x E(n)/pi from the volume's SH9 lookup, i.e. the
+// light of the whole room with visibility. Without one: a flat diffuse material lit by every
+// emitting patch, unshadowed, reflectance x sum_j L_j F(x, n -> j). Either way each source's
+// form-factor transfer is kept as that source's L_ij for self-shadowing (§7.2).
 void FrameCompositor::shadeProduct() {
   const raster::Mesh& m = placedMesh_;
   std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
@@ -116,6 +132,34 @@ void FrameCompositor::shadeProduct() {
     }
     productRadiance_[v] = radiance;
     productColours_[v] = bundle_.tone.map(radiance);
+  }
+  if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
+  const std::vector<glm::vec3> vertexN = vertexNormals(m);
+  volumeRadiance_.resize(vertices);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance), toneLut_,
+                       productColours_, volumeRadiance_);
+  for (size_t v = 0; v < vertices; ++v) productRadiance_[v] = glm::dvec3(volumeRadiance_[v]);
+
+  // §5 specular: the room reflected in a Phong lobe, from a cube map rendered at the
+  // product's centre (Fig. 9), added in radiance before T().
+  const ProductModel& model = bundle_.products[placedPose_.product];
+  if (!options_.specular || environmentRoom_.mesh.positions.empty() ||
+      !(model.specular.x > 0 || model.specular.y > 0 || model.specular.z > 0)) {
+    return;
+  }
+  const float farDistance =
+      2.0f * static_cast<float>(glm::length(hierarchy_.receiverNodes()[0].bounds.size())) + 1.0f;
+  renderEnvironmentMap(environmentRoom_, glm::vec3(productBounds_.centre()),
+                       options_.environmentMapSize, farDistance, environment_);
+  const PhongLobe& lobe = lobes_[placedPose_.product];
+  for (size_t v = 0; v < vertices; ++v) {
+    const glm::vec3 p(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+    const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, vertexN[v], eye_);
+    const glm::vec3 l(volumeRadiance_[v].x + model.specular.x * s.x,
+                      volumeRadiance_[v].y + model.specular.y * s.y,
+                      volumeRadiance_[v].z + model.specular.z * s.z);
+    productRadiance_[v] = glm::dvec3(l);
+    productColours_[v] = toneLut_.map(l);
   }
 }
 

@@ -15,6 +15,8 @@
 
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
+#include "shadow/environment_map.h"
+#include "shadow/irradiance_volume.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/shaft_hierarchy.h"
 #include "shadow/source_clusters.h"
@@ -37,6 +39,13 @@ struct CompositorOptions {
   // Leave out of a pass the receivers its light frustum cannot shadow (same bytes, less work).
   bool cullReceivers = true;
   float objectDepthBias = 0.01f;
+  // Shade the product from the bundle's irradiance volume when it has one (Gibson &
+  // Chalmers 2003 §5); false: the emitters' form factors (the pre-volume shading).
+  bool shadeFromVolume = true;
+  // Specular term (§5, Fig. 9) for products with a specular reflectance, from a cube map
+  // of this many pixels per side rendered at the product's centre whenever it moves.
+  bool specular = true;
+  uint32_t environmentMapSize = 32;
   ShaftBuildOptions shafts;
 };
 
@@ -92,7 +101,14 @@ class FrameCompositor {
   ProductPose placedPose_{~0u, 0, 0, 0};
   raster::Mesh placedMesh_, placedProxy_;
   std::vector<raster::Rgb8> productColours_;
-  std::vector<glm::dvec3> productRadiance_;  // per vertex: lit by every emitter (unshadowed)
+  std::vector<glm::dvec3> productRadiance_;  // per vertex: unshadowed radiance
+  std::vector<glm::vec3> volumeRadiance_;    // per vertex, from the irradiance volume
+  ToneLut toneLut_;
+  ToneInverse toneInverse_;
+  raster::ShadedMesh environmentRoom_;  // the room as environment maps draw it
+  glm::vec3 eye_{0.0f};                 // the kiosk camera's position (from its matrix)
+  CubeEnvironmentMap environment_;
+  std::vector<PhongLobe> lobes_;             // per product
   std::vector<glm::dvec3> productTransfer_;  // [source * vertices + v]: from each source
   std::vector<glm::dvec3> productCluster_;   // [v * clusters + k]
   std::vector<raster::Rgb8> productS_;       // [v * clusters + k]

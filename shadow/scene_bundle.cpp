@@ -97,8 +97,18 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
     addMesh(w, p + ".mesh", b.products[i].mesh);
     addMesh(w, p + ".proxy", b.products[i].proxy);
     w.addValue<glm::vec3>(p + ".reflectance", b.products[i].reflectance);
+    w.addValue<glm::vec3>(p + ".specular", b.products[i].specular);
+    w.addValue<float>(p + ".specular_exponent", b.products[i].specularExponent);
   }
   w.addValue<ProductPose>("start_pose", b.startPose);
+  const IrradianceVolume& v = b.irradiance;
+  w.addValue<glm::uvec3>("irradiance.dims", v.dims);
+  w.addValue<glm::vec3>("irradiance.origin", v.origin);
+  w.addValue<glm::vec3>("irradiance.spacing", v.spacing);
+  w.add<float>("irradiance.coefficients", v.coefficients);
+  w.add<uint8_t>("irradiance.valid", v.valid);
+  w.add<float>("irradiance.fallback", v.fallback);
+  w.add<glm::vec3>("patch_radiance", b.patchRadiance);
   w.write(path);
 }
 
@@ -146,9 +156,52 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     m.mesh = readMesh(r, p + ".mesh");
     m.proxy = readMesh(r, p + ".proxy");
     m.reflectance = r.getValue<glm::vec3>(p + ".reflectance");
+    m.specular = r.getValue<glm::vec3>(p + ".specular");
+    m.specularExponent = r.getValue<float>(p + ".specular_exponent");
+    for (int c = 0; c < 3; ++c) {
+      if (!(m.reflectance[c] >= 0 && m.reflectance[c] <= 1)) {
+        r.fail(p + ".reflectance", "not in [0, 1]");
+      }
+      if (!(m.specular[c] >= 0 && m.specular[c] <= 1)) r.fail(p + ".specular", "not in [0, 1]");
+    }
+    if (!(m.specularExponent >= 0 && std::isfinite(m.specularExponent))) {
+      r.fail(p + ".specular_exponent", "not finite and >= 0");
+    }
     b.products.push_back(std::move(m));
   }
   b.startPose = r.getValue<ProductPose>("start_pose");
+  IrradianceVolume& vol = b.irradiance;
+  vol.dims = r.getValue<glm::uvec3>("irradiance.dims");
+  vol.origin = r.getValue<glm::vec3>("irradiance.origin");
+  vol.spacing = r.getValue<glm::vec3>("irradiance.spacing");
+  vol.coefficients = r.get<float>("irradiance.coefficients");
+  vol.valid = r.get<uint8_t>("irradiance.valid");
+  const std::vector<float> fallback = r.get<float>("irradiance.fallback");
+  if (fallback.size() != vol.fallback.size()) r.fail("irradiance.fallback", "needs 27 values");
+  std::copy(fallback.begin(), fallback.end(), vol.fallback.begin());
+  if (!vol.empty()) {
+    // A volume is optional (empty: form-factor shading), but a present one must be whole.
+    if (vol.dims.x > 1024 || vol.dims.y > 1024 || vol.dims.z > 1024 ||
+        vol.vertexCount() > (size_t{1} << 22)) {
+      r.fail("irradiance.dims", "too many grid vertices");
+    }
+    try {
+      vol.validate();
+    } catch (const std::invalid_argument& e) {
+      r.fail("irradiance", e.what());
+    }
+  } else if (!vol.valid.empty()) {
+    r.fail("irradiance.valid", "flags without coefficients");
+  }
+  b.patchRadiance = r.get<glm::vec3>("patch_radiance");
+  if (!b.patchRadiance.empty() && b.patchRadiance.size() != b.patches.size()) {
+    r.fail("patch_radiance", "one entry per patch");
+  }
+  for (const glm::vec3& l : b.patchRadiance) {
+    for (int c = 0; c < 3; ++c) {
+      if (!(l[c] >= 0 && std::isfinite(l[c]))) r.fail("patch_radiance", "negative or not finite");
+    }
+  }
 
   // Cross-checks: every index the per-frame path follows must be in range.
   const size_t triangles = b.view.staticMesh.triangleCount();

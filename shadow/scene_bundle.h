@@ -15,11 +15,13 @@
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/irradiance_volume.h"
 #include "shadow/light_transport.h"
 
 namespace penumbra::shadow {
 
-inline constexpr uint32_t kBundleVersion = 3;
+// 4: the irradiance volume (Gibson & Chalmers 2003 §5) and the products' specular terms.
+inline constexpr uint32_t kBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
 struct PatchRecord {
@@ -30,12 +32,15 @@ struct PatchRecord {
 };
 
 // A product: its display mesh (standing on y = 0, centred on the origin at yaw 0), its
-// shadow proxy of 100–500 triangles (Gibson 2003 §7.2) and a diffuse reflectance.
+// shadow proxy of 100–500 triangles (Gibson 2003 §7.2), a diffuse reflectance and a
+// Phong-like specular lobe (Gibson & Chalmers 2003 §5; strength 0 = purely diffuse).
 struct ProductModel {
   std::string name;
   raster::Mesh mesh;
   raster::Mesh proxy;
   glm::vec3 reflectance{0.6f};
+  glm::vec3 specular{0.0f};       // specular reflectance per channel, in [0, 1]
+  float specularExponent = 0.0f;  // Phong exponent of the lobe, >= 0
 };
 
 // Where a product stands: at (x, z) on the floor, `lift` above it, turned by yaw about +y.
@@ -55,6 +60,11 @@ struct SceneBundle {
   RadianceTransfers transfers;
   std::vector<ProductModel> products;
   ProductPose startPose;
+  // Diffuse light for the products (§5); empty: shaded by the emitters' form factors.
+  IrradianceVolume irradiance;
+  // Outgoing radiance per patch (what the volume was gathered from): the room as the
+  // products' specular environment maps show it. Empty: no specular term.
+  std::vector<glm::vec3> patchRadiance;
 };
 
 // The room's patch mesh as stored in the bundle (float data widened to double): what the

@@ -78,5 +78,65 @@ TEST(SceneBundle, InconsistentContentIsNamed) {
   fs::remove(path);
 }
 
+// v4: the irradiance volume, per-patch radiance and the products' specular terms.
+TEST(SceneBundle, IrradianceVolumeAndSpecularRoundTripAndAreValidated) {
+  SceneBundle b = smallBundle();
+  b.irradiance.dims = {2, 1, 3};
+  b.irradiance.origin = {0.1f, 0.2f, 0.3f};
+  b.irradiance.spacing = {0.5f, 1.0f, 0.25f};
+  for (size_t i = 0; i < 6 * kShFloats; ++i) b.irradiance.coefficients.push_back(float(i) * 0.5f);
+  b.irradiance.valid = {1, 1, 0, 1, 1, 1};
+  b.irradiance.fallback[3] = 2.5f;
+  b.patchRadiance = {{1.5f, 2.0f, 0.25f}};
+  b.products[0].specular = {0.04f, 0.04f, 0.04f};
+  b.products[0].specularExponent = 131.0f;
+  const fs::path path = tempPath("penumbra-scene-bundle-v4.bundle");
+  saveBundle(b, path);
+  const SceneBundle r = loadBundle(path);
+  EXPECT_EQ(r.irradiance.dims, b.irradiance.dims);
+  EXPECT_EQ(r.irradiance.origin, b.irradiance.origin);
+  EXPECT_EQ(r.irradiance.coefficients, b.irradiance.coefficients);
+  EXPECT_EQ(r.irradiance.valid, b.irradiance.valid);
+  EXPECT_EQ(r.irradiance.fallback, b.irradiance.fallback);
+  EXPECT_EQ(r.patchRadiance, b.patchRadiance);
+  EXPECT_EQ(r.products[0].specular, b.products[0].specular);
+  EXPECT_EQ(r.products[0].specularExponent, 131.0f);
+
+  auto expectRefused = [&](SceneBundle bad, const std::string& section) {
+    saveBundle(bad, path);
+    try {
+      loadBundle(path);
+      ADD_FAILURE() << "accepted a bad " << section;
+    } catch (const scene::BundleError& e) {
+      EXPECT_NE(std::string(e.what()).find(section), std::string::npos) << e.what();
+    }
+  };
+  SceneBundle bad = b;
+  bad.irradiance.coefficients.pop_back();
+  expectRefused(bad, "irradiance");
+  bad = b;
+  bad.irradiance.coefficients[7] = std::numeric_limits<float>::quiet_NaN();
+  expectRefused(bad, "irradiance");
+  bad = b;
+  bad.irradiance.dims = {4096, 4096, 4096};
+  expectRefused(bad, "irradiance.dims");
+  bad = b;
+  bad.irradiance.spacing.x = -1.0f;
+  expectRefused(bad, "irradiance");
+  bad = b;
+  bad.patchRadiance.push_back({1, 1, 1});
+  expectRefused(bad, "patch_radiance");
+  bad = b;
+  bad.patchRadiance[0].y = -1.0f;
+  expectRefused(bad, "patch_radiance");
+  bad = b;
+  bad.products[0].specular.x = 2.0f;
+  expectRefused(bad, "products.0.specular");
+  bad = b;
+  bad.products[0].specularExponent = std::numeric_limits<float>::infinity();
+  expectRefused(bad, "products.0.specular_exponent");
+  fs::remove(path);
+}
+
 }  // namespace
 }  // namespace penumbra::shadow
