@@ -2,7 +2,9 @@
 //
 // A lookup one texel outside the map then reads "no occluder" by itself, which is what spec
 // §7 asks for texels outside [0, size), so the SIMD 2x2 filter needs no per-texel bounds
-// test. The allocation also leaves room for a SIMD vector (16 floats) past the last texel.
+// test. The allocation also leaves room for three rows and a SIMD vector (16 floats) past
+// the last texel: the small-triangle kernel reads and rewrites unchanged blocks of up to
+// four rows there.
 #pragma once
 
 #include <algorithm>
@@ -17,7 +19,7 @@ class ShadowMap {
   // Every texel (and the border) to +inf, at a new size.
   void reset(int32_t size) {
     size_ = size;
-    texels_.assign(size_t(stride()) * size_t(stride()) + kVectorSlack, kInfinity);
+    texels_.assign(size_t(stride()) * size_t(stride() + kSlackRows) + kVectorSlack, kInfinity);
   }
   // Texels [x0, x1) x [y0, y1) back to +inf.
   void clear(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
@@ -32,6 +34,7 @@ class ShadowMap {
 
  private:
   static constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  static constexpr size_t kSlackRows = 3;
   static constexpr size_t kVectorSlack = 16;
   ptrdiff_t rowOffset(int32_t y) const { return ptrdiff_t(y) * stride(); }
   std::vector<float> texels_;

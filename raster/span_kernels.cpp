@@ -112,49 +112,95 @@ HWY_INLINE bool isSmall(const SetupTriangle& t) {
 }
 
 #if HWY_TARGET != HWY_SCALAR
-// The half-vector form of the small-triangle path below: lane l covers pixel
-// (minX + l mod h, y + l div h) with h = lanes / 2. Same edge values (same int32 bound, as
-// |dx| < h <= 8), same depth expression per pixel, so the same bytes.
-HWY_NOINLINE uint32_t DepthTriangleRowPairs(float* depth, size_t stride, const SetupTriangle& t,
-                                            const SpanPlanes& planes) {
+// Rows r of a block live in lanes [r * W, (r + 1) * W), W = Lanes(d) / R: R rows of W
+// consecutive floats become one vector.
+template <int R, class D>
+HWY_INLINE hn::Vec<D> loadRows(D d, const float* row, size_t stride) {
+  if constexpr (R == 1) {
+    return hn::LoadU(d, row);
+  } else {
+    const hn::Half<D> dh;
+    return hn::Combine(d, loadRows<R / 2>(dh, row + stride * (R / 2), stride),
+                       loadRows<R / 2>(dh, row, stride));
+  }
+}
+
+template <int R, class D>
+HWY_INLINE void storeRows(D d, hn::Vec<D> v, float* row, size_t stride) {
+  if constexpr (R == 1) {
+    hn::StoreU(v, d, row);
+  } else {
+    const hn::Half<D> dh;
+    storeRows<R / 2>(dh, hn::LowerHalf(dh, v), row, stride);
+    storeRows<R / 2>(dh, hn::UpperHalf(dh, v), row + stride * (R / 2), stride);
+  }
+}
+
+// Small triangles of shadow maps, drawn in blocks of R rows x W = lanes / R columns per
+// vector, the block's left edge at minX (not aligned): lane l covers pixel
+// (x + l mod W, y + l div W). A 16-lane vector holds 4x4 pixels for triangles at most 4
+// wide, 2x8 for at most 8, and 1x16 otherwise (then several vectors per row when wider).
+// Lanes outside [minX, maxX) x [minY, maxY) are masked and written back unchanged, so the
+// caller leaves R - 1 rows and a vector of slack past the map (ShadowMap does).
+//
+// Same bytes as the reference: the edge values are spec §4's (int32 is exact by the
+// bound above, as the block reaches at most 15 pixels right of and R - 1 rows below the
+// bounding box); the per-row value is computed in int64 and then stepped by exact int32
+// additions; each lane's depth is (z00 + dzdx*fx) + dzdy*fy with the same binary32 fx, fy.
+template <int R>
+HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const SetupTriangle& t) {
   const DF df;
   const DI di;
-  const hn::Half<DF> dfh;
-  const hn::Half<DI> dih;
-  const VI dx = hn::Combine(di, hn::Iota(dih, 0), hn::Iota(dih, 0));
-  const MI inColumns = hn::Lt(dx, hn::Set(di, t.maxX - t.minX));
-  const VF fx = hn::ConvertTo(df, hn::Add(dx, hn::Set(di, t.minX - planes.ox)));
-  const VF zRow =
-      hn::Add(hn::Set(df, planes.depth.z00), hn::Mul(hn::Set(df, planes.depth.dzdx), fx));
-  const int64_t xc = int64_t{256} * t.minX + 128;
-  auto edgeRows = [&](const Edge& g, int32_t y) {
-    auto at = [&](int32_t row) {
-      return static_cast<int32_t>(g.a * xc + g.b * (int64_t{256} * row + 128) + g.c - g.bias);
-    };
-    return hn::Add(hn::Combine(di, hn::Set(dih, at(y + 1)), hn::Set(dih, at(y))),
-                   hn::Mul(hn::Set(di, static_cast<int32_t>(g.a * 256)), dx));
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const int32_t w = lanes / R;  // columns per block
+  int log2w = 0;
+  while ((1 << log2w) < w) ++log2w;
+  const VI lane = hn::Iota(di, 0);
+  const VI dx = hn::And(lane, hn::Set(di, w - 1));
+  const VI dy = hn::ShiftRightSame(lane, log2w);
+  const Edge& g0 = t.edges[0];
+  const Edge& g1 = t.edges[1];
+  const Edge& g2 = t.edges[2];
+  // E at lane offsets from the block's corner pixel, and E's step between block rows.
+  auto laneOffsets = [&](const Edge& g) {
+    return hn::Add(hn::Mul(hn::Set(di, static_cast<int32_t>(g.a * 256)), dx),
+                   hn::Mul(hn::Set(di, static_cast<int32_t>(g.b * 256)), dy));
   };
-  const MI lower = hn::Lt(hn::Iota(di, 0), hn::Set(di, static_cast<int32_t>(hn::Lanes(dih))));
+  const VI off0 = laneOffsets(g0), off1 = laneOffsets(g1), off2 = laneOffsets(g2);
+  const VI blockStep0 = hn::Set(di, static_cast<int32_t>(g0.b * 256 * R));
+  const VI blockStep1 = hn::Set(di, static_cast<int32_t>(g1.b * 256 * R));
+  const VI blockStep2 = hn::Set(di, static_cast<int32_t>(g2.b * 256 * R));
+  const VF dzdx = hn::Set(df, t.depth.dzdx), dzdy = hn::Set(df, t.depth.dzdy);
+  const VF z00 = hn::Set(df, t.depth.z00);
+  const VF fyLane = hn::ConvertTo(df, dy);  // y - minY of the block's first row is added below
+  const int64_t yc = int64_t{256} * t.minY + 128;
   uint32_t passed = 0;
-  for (int32_t y = t.minY; y < t.maxY; y += 2) {
-    const VI e0 = edgeRows(t.edges[0], y), e1 = edgeRows(t.edges[1], y),
-             e2 = edgeRows(t.edges[2], y);
-    MI covered = hn::And(inColumns, hn::And(GeI(e0, hn::Zero(di)),
-                                            hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
-    if (y + 1 >= t.maxY) covered = hn::And(covered, lower);
-    if (hn::AllFalse(di, covered)) continue;
-    const float fy0 = static_cast<float>(y - planes.oy),
-                fy1 = static_cast<float>(y + 1 - planes.oy);
-    const VF z = hn::Add(zRow, hn::Combine(df, hn::Set(dfh, planes.depth.dzdy * fy1),
-                                           hn::Set(dfh, planes.depth.dzdy * fy0)));
-    float* row0 = depth + stride * static_cast<size_t>(y) + t.minX;
-    float* row1 = row0 + stride;
-    const VF old = hn::Combine(df, hn::LoadU(dfh, row1), hn::LoadU(dfh, row0));
-    const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
-    const VF result = hn::IfThenElse(pass, z, old);
-    hn::StoreU(hn::LowerHalf(dfh, result), dfh, row0);
-    hn::StoreU(hn::UpperHalf(dfh, result), dfh, row1);
-    passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+  for (int32_t x = t.minX; x < t.maxX; x += w) {
+    const int64_t xc = int64_t{256} * x + 128;
+    auto cornerValue = [&](const Edge& g, const VI& off) {
+      return hn::Add(hn::Set(di, static_cast<int32_t>(g.a * xc + g.b * yc + g.c - g.bias)), off);
+    };
+    VI e0 = cornerValue(g0, off0), e1 = cornerValue(g1, off1), e2 = cornerValue(g2, off2);
+    const VI column = hn::Add(dx, hn::Set(di, x - t.minX));
+    const MI inColumns = hn::Lt(column, hn::Set(di, t.maxX - t.minX));
+    const VF zColumn = hn::Add(z00, hn::Mul(dzdx, hn::ConvertTo(df, column)));
+    for (int32_t y = t.minY; y < t.maxY; y += R) {
+      MI covered = hn::And(
+          inColumns,
+          hn::And(GeI(e0, hn::Zero(di)), hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
+      e0 = hn::Add(e0, blockStep0);
+      e1 = hn::Add(e1, blockStep1);
+      e2 = hn::Add(e2, blockStep2);
+      if (R > 1 && y + R > t.maxY) covered = hn::And(covered, hn::Lt(dy, hn::Set(di, t.maxY - y)));
+      if (hn::AllFalse(di, covered)) continue;
+      const VF fy = hn::Add(fyLane, hn::Set(df, static_cast<float>(y - t.minY)));
+      const VF z = hn::Add(zColumn, hn::Mul(dzdy, fy));
+      float* corner = depth + stride * static_cast<size_t>(y) + x;
+      const VF old = loadRows<R>(df, corner, stride);
+      const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
+      storeRows<R>(df, hn::IfThenElse(pass, z, old), corner, stride);
+      passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+    }
   }
   return passed;
 }
@@ -173,12 +219,18 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
     return passed;
   }
 #if HWY_TARGET != HWY_SCALAR
-  // Narrow triangles (at most half a vector wide) take two rows per vector: shadow maps
-  // only (no ids), where one thread owns the whole map and writing back unchanged lanes
-  // past the bounding box is harmless (ShadowMap leaves room for it).
-  if (id == nullptr && static_cast<size_t>(t.maxX - t.minX) * 2 <= hn::Lanes(DF()) &&
-      hn::Lanes(DF()) >= 8) {
-    return DepthTriangleRowPairs(depth, stride, t, planes);
+  // Shadow maps (no ids) take the block path: one thread owns the whole map, so writing
+  // back unchanged lanes past the bounding box is harmless (ShadowMap leaves room for it).
+  if (id == nullptr) {
+    constexpr size_t kMaxLanes = hn::MaxLanes(DF());
+    const size_t width = static_cast<size_t>(t.maxX - t.minX), lanes = hn::Lanes(DF());
+    if constexpr (kMaxLanes >= 16) {
+      if (lanes >= 16 && width * 4 <= lanes) return DepthTriangleBlocks<4>(depth, stride, t);
+    }
+    if constexpr (kMaxLanes >= 8) {
+      if (lanes >= 8 && width * 2 <= lanes) return DepthTriangleBlocks<2>(depth, stride, t);
+    }
+    return DepthTriangleBlocks<1>(depth, stride, t);
   }
 #endif
   const DF df;

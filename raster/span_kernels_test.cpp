@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -84,26 +85,35 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(15);
-  // Half the triangles span at most 64 pixels (the int32 half-space path), half are larger.
+  // A quarter of the triangles are large (the exact-run path), the rest span at most 40
+  // pixels (int32 edge tests): one vector per row (<= 40 px), two rows per vector
+  // (<= 10 px) and 4x4 blocks (<= 5 px, on 16-lane targets). Centres range past every
+  // border of the 64x64 buffer, so boxes get clipped at the map's edges.
   std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256), offset(-40 * 256, 40 * 256);
   std::uniform_real_distribution<float> z(0.0f, 1.0f);
-  // One spare row and a vector of slack: the row-pair path may rewrite unchanged lanes there.
-  std::vector<float> a(65 * 64 + 16, 0.6f), b = a;
+  // Three spare rows and a vector of slack: the block paths may rewrite unchanged lanes
+  // there (as ShadowMap allows).
+  std::vector<float> a(67 * 64 + 16, 0.6f), b = a;
   std::vector<uint32_t> ida(64 * 64, 0), idb = ida;
-  for (int trial = 0; trial < 1500; ++trial) {
+  for (int trial = 0; trial < 4000; ++trial) {
     std::array<SnappedVertex, 3> v;
     const int32_t cx = coord(rng), cy = coord(rng);
+    const int32_t shrink = std::array<int32_t, 4>{1, 2, 8, 16}[size_t(trial % 4)];
     for (auto& p : v) {
-      // Wide, small (<= 40 px) and narrow (<= 10 px: two rows per vector) triangles.
-      const int32_t shrink = trial % 3 == 1 ? 2 : 8;
-      p.x = trial % 3 == 0 ? coord(rng) : cx + offset(rng) / shrink;
-      p.y = trial % 3 == 0 ? coord(rng) : cy + offset(rng) / shrink;
+      p.x = trial % 4 == 0 ? coord(rng) : cx + offset(rng) / shrink;
+      p.y = trial % 4 == 0 ? coord(rng) : cy + offset(rng) / shrink;
       p.z = z(rng);
+    }
+    // Some slivers and single-pixel triangles: two vertices close together.
+    if (trial % 7 == 3) v[2] = {v[1].x + 1, v[1].y + (trial % 3) - 1, v[2].z, {}};
+    if (trial % 11 == 5) {
+      v[1] = {v[0].x + 200, v[0].y + 17, v[1].z, {}};
+      v[2] = {v[0].x + 60, v[0].y + 230, v[2].z, {}};
     }
     SetupTriangle t;
     if (!setupTriangle(v, 64, 64, t)) continue;
-    uint32_t* idA = trial % 2 ? ida.data() : nullptr;
-    uint32_t* idB = trial % 2 ? idb.data() : nullptr;
+    uint32_t* idA = trial % 3 == 2 ? ida.data() : nullptr;
+    uint32_t* idB = trial % 3 == 2 ? idb.data() : nullptr;
     ASSERT_EQ(ref.depthTriangle(a.data(), idA, 64, t, uint32_t(trial)),
               k.depthTriangle(b.data(), idB, 64, t, uint32_t(trial)));
     ASSERT_EQ(std::memcmp(a.data(), b.data(), 4 * a.size()), 0) << trial;
