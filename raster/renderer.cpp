@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "raster/aligned_vector.h"
 #include "raster/job_pool.h"
 #include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
@@ -84,8 +85,8 @@ struct ObjectTriangle {
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
 struct Worker {
   ShadowMap shadowMap;
-  std::vector<uint32_t> s;                  // packed S of the current pass; zero between passes
-  std::vector<uint16_t> acc;                // r, g, b planes: sum of this thread's per-pass amounts
+  AlignedVector<uint32_t> s;                // packed S of the current pass; zero between passes
+  AlignedVector<uint16_t> acc;              // r, g, b planes: sum of this thread's per-pass amounts
   std::vector<int32_t> passBegin, passEnd;  // per row: run of the current pass
   std::vector<int32_t> touchedBegin, touchedEnd;       // per row: union over this frame
   int32_t mapX0 = 0, mapY0 = 0, mapX1 = 0, mapY1 = 0;  // what the last pass wrote
@@ -112,18 +113,21 @@ struct Renderer::Impl {
   std::vector<SetupTriangle> staticSubs;
   std::vector<uint32_t> staticSubOwner;      // original triangle index of each sub-triangle
   std::vector<uint32_t> firstSubOfTriangle;  // triangle t -> subs [first[t], first[t+1])
-  std::vector<float> staticDepth;
-  std::vector<uint32_t> staticId;
+  AlignedVector<float> staticDepth;
+  AlignedVector<uint32_t> staticId;
   // Row runs of every static sub-triangle, computed once (spec §4): the camera is fixed.
   // Sub-triangle s has rows [minY, maxY) at spanStart[s]; empty runs have xa >= xb.
   std::vector<uint32_t> spanStart;
   std::vector<std::pair<int32_t, int32_t>> spans;
+  std::vector<uint32_t> triangleCoverage;  // pixels of each static triangle's runs
+  std::vector<uint32_t> passOrder;         // this frame's passes, longest first
+  std::vector<uint64_t> passCost;
 
   // Frame buffers. depth and id equal the static cache except in tiles that hold object
   // pixels; rgba holds a tile's base colours only while the tile is being drawn.
-  std::vector<uint8_t> rgba;
-  std::vector<float> depth;
-  std::vector<uint32_t> id;
+  AlignedVector<uint8_t> rgba;
+  AlignedVector<float> depth;
+  AlignedVector<uint32_t> id;
   std::vector<uint8_t> tileHasObject, tileHadObject;
   std::vector<ObjectTriangle> objectTriangles;
   std::vector<uint32_t> objectFirstSub;  // object triangle g -> [first[g], first[g + 1])
@@ -240,6 +244,13 @@ void Renderer::Impl::buildStaticCache() {
     });
   }
   spanStart[staticSubs.size()] = static_cast<uint32_t>(spans.size());
+  triangleCoverage.assign(triangles, 0);
+  for (size_t s = 0; s < staticSubs.size(); ++s) {
+    for (uint32_t k = spanStart[s]; k < spanStart[s + 1]; ++k) {
+      const auto [xa, xb] = spans[k];
+      if (xa < xb) triangleCoverage[staticSubOwner[s]] += static_cast<uint32_t>(xb - xa);
+    }
+  }
 }
 
 void Renderer::Impl::prepareObjects(const FrameContent& frame) {
@@ -586,8 +597,22 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   });
   r.stats.msObjects = msSince(start);
   const auto passesStart = Clock::now();
-  r.pool.parallelFor(frame.passes.size(),
-                     [&](size_t i, int worker) { r.runPass(frame, i, r.workers[size_t(worker)]); });
+  // Longest passes first (by their receivers' covered pixels), so that the workers finish
+  // together instead of one running a long pass alone at the end. The order cannot change
+  // a byte: each pass adds into its thread's sums, and sums commute (spec §8).
+  r.passOrder.resize(frame.passes.size());
+  r.passCost.resize(frame.passes.size());
+  for (size_t i = 0; i < frame.passes.size(); ++i) {
+    r.passOrder[i] = static_cast<uint32_t>(i);
+    uint64_t cost = 0;
+    for (uint32_t t : frame.passes[i].receiverTriangles) cost += r.triangleCoverage[t];
+    r.passCost[i] = cost + 64 * frame.passes[i].objectTriangles.size();
+  }
+  std::stable_sort(r.passOrder.begin(), r.passOrder.end(),
+                   [&](uint32_t a, uint32_t b) { return r.passCost[a] > r.passCost[b]; });
+  r.pool.parallelFor(frame.passes.size(), [&](size_t i, int worker) {
+    r.runPass(frame, r.passOrder[i], r.workers[size_t(worker)]);
+  });
   r.stats.msPasses = msSince(passesStart);
   const auto finishStart = Clock::now();
   r.pool.parallelFor(

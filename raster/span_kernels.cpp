@@ -212,6 +212,30 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
   uint32_t passed = 0;
   if (!isSmall(t)) {
+    if (id == nullptr) {
+      // Shadow maps: vectors start at the run (not at the aligned lane), which saves a
+      // partial vector on most rows; lanes past the run are written back unchanged (see the
+      // block path below). Same depth expression per pixel as DepthLess.
+      const DF df;
+      const DI di;
+      const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+      const VF dzdx = hn::Set(df, t.depth.dzdx);
+      const VF laneX = hn::ConvertTo(df, hn::Iota(di, 0));
+      forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+        float* row = depth + stride * static_cast<size_t>(y);
+        const VF zy = hn::Set(df, t.depth.dzdy * static_cast<float>(y - t.minY));
+        for (int32_t x = xa; x < xb; x += lanes) {
+          const auto inRun = hn::Lt(laneX, hn::Set(df, static_cast<float>(xb - x)));
+          const VF fx = hn::Add(laneX, hn::Set(df, static_cast<float>(x - t.minX)));
+          const VF z = hn::Add(hn::Add(hn::Set(df, t.depth.z00), hn::Mul(dzdx, fx)), zy);
+          const VF old = hn::LoadU(df, row + x);
+          const auto pass = hn::And(inRun, hn::Lt(z, old));
+          hn::StoreU(hn::IfThenElse(pass, z, old), df, row + x);
+          passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+        }
+      });
+      return passed;
+    }
     forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
       const size_t row = stride * static_cast<size_t>(y);
       passed +=
@@ -477,6 +501,9 @@ void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
       const VF sx = hn::Add(hn::ConvertTo(df, px), hn::Set(df, 0.5f));
       const MI marked = hn::RebindMask(di, hn::Ne(packed, hn::Zero(du)));
       const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + row + x), marked);
+      // M = 0 adds round(S * 0 / 255) = 0: leave the sums alone. Most vectors of a pass are
+      // lit or outside the map, so this saves most of the sweep's memory traffic.
+      if (hn::AllTrue(di, hn::Eq(m, hn::Zero(di)))) continue;
       for (int ch = 0; ch < 3; ++ch) {
         uint16_t* plane = acc + planeSize * ch + row + x;
         const VI sValue = hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
