@@ -106,6 +106,10 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
     }
     // Some slivers and single-pixel triangles: two vertices close together.
     if (trial % 7 == 3) v[2] = {v[1].x + 1, v[1].y + (trial % 3) - 1, v[2].z, {}};
+    // Horizontal and vertical edges (A = 0 or B = 0), and long slivers across the map.
+    if (trial % 13 == 7) v[1].y = v[0].y;
+    if (trial % 17 == 9) v[2].x = v[0].x;
+    if (trial % 19 == 4) v[1] = {v[0].x + 90 * 256, v[0].y + 70 * 256 + trial % 300, v[1].z, {}};
     if (trial % 11 == 5) {
       v[1] = {v[0].x + 200, v[0].y + 17, v[1].z, {}};
       v[2] = {v[0].x + 60, v[0].y + 230, v[2].z, {}};
