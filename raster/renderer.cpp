@@ -389,6 +389,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     if (!setupTriangle(tri, size, size, mapTriangle)) return;
     w.mapPixels += kernels->depthTriangle(w.shadowMap.origin(), nullptr,
                                           size_t(w.shadowMap.stride()), mapTriangle, 0);
+    w.shadowMap.markWritten(mapTriangle.minX, mapTriangle.minY, mapTriangle.maxX, mapTriangle.maxY);
     w.mapX0 = std::min(w.mapX0, mapTriangle.minX);
     w.mapY0 = std::min(w.mapY0, mapTriangle.minY);
     w.mapX1 = std::max(w.mapX1, mapTriangle.maxX);
@@ -416,6 +417,8 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.stride = w.shadowMap.stride();
   lookup.bias = pass.depthBias;
   lookup.pcf2x2 = pass.pcf2x2;
+  lookup.blocks = w.shadowMap.blocks();
+  lookup.blocksPerRow = w.shadowMap.blocksPerRow();
 
   // S of one run into the scratch, remembering which rows the sweep must visit.
   int32_t rowLo = height, rowHi = 0;

@@ -440,6 +440,21 @@ HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& secon
 #endif
 }
 
+// False when no valid lane's footprint, starting at texel (i, j), can reach a written texel
+// (ShadowMap::blocks): then M = 0 without the texel gathers. The block table is a few KB
+// and stays in L1, where the map's texels (256 KB) come from L2.
+HWY_INLINE bool anyBlockWritten(const ShadowLookup& s, VI i, VI j, MI valid) {
+  if (s.blocks == nullptr) return true;
+  const DI di;
+  const DU du;
+  const VI eight = hn::Set(di, 8);
+  const VI block =
+      hn::Add(hn::Mul(hn::ShiftRight<3>(hn::Add(j, eight)), hn::Set(di, s.blocksPerRow)),
+              hn::ShiftRight<3>(hn::Add(i, eight)));
+  const VU written = hn::GatherIndex(du, s.blocks, hn::IfThenElseZero(valid, block));
+  return !hn::AllFalse(di, hn::And(valid, hn::RebindMask(di, hn::Ne(written, hn::Zero(du)))));
+}
+
 // The mask M of spec §7 as int32 lanes in [0, 255]. Lanes outside `marked` (S = 0, which
 // adds nothing) may get M = 0 instead of their value.
 HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
@@ -462,11 +477,12 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
     // Often a whole vector of receivers lies outside the light's map (about a third of the
     // showroom's): no division for d and no gather then.
     if (hn::AllFalse(df, inside)) return hn::Zero(di);
-    const VF d = hn::Div(row(2), q3);
     const MI valid = hn::RebindMask(di, inside);
     // Truncation equals floor here: u, v >= 0 in valid lanes; others are masked.
     const VI i = hn::ConvertTo(di, hn::IfThenElseZero(inside, u));
     const VI j = hn::ConvertTo(di, hn::IfThenElseZero(inside, v));
+    if (!anyBlockWritten(s, i, j, valid)) return hn::Zero(di);
+    const VF d = hn::Div(row(2), q3);
     return hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Set(di, 255));
   }
   const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
@@ -474,11 +490,12 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
   const auto inside = hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
                                              hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
   if (hn::AllFalse(df, inside)) return hn::Zero(di);  // as above
-  const VF d = hn::Div(row(2), q3);
   const MI valid = hn::RebindMask(di, inside);
   const VF fu = hn::Floor(hn::IfThenElseZero(inside, up));
   const VF fv = hn::Floor(hn::IfThenElseZero(inside, vp));
   const VI i = hn::ConvertTo(di, fu), j = hn::ConvertTo(di, fv);
+  if (!anyBlockWritten(s, i, j, valid)) return hn::Zero(di);
+  const VF d = hn::Div(row(2), q3);
   const VF k256 = hn::Set(df, 256.0f);
   const VI wu =
       hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));

@@ -206,6 +206,81 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
   }
 }
 
+// The block table lets kernels skip lanes whose texels are all +inf. Maps drawn by
+// depthTriangle over part of the map (blocks marked as the renderer marks them), lookups
+// sweeping across drawn, undrawn and border texels: the same sums as the reference, which
+// ignores the table.
+TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(16);
+  std::uniform_int_distribution<int32_t> pos(0, 111), corner(0, 40 * 256), extent(0, 12 * 256);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  const int32_t size = 48, rows = 6;
+  const size_t plane = size_t{kRow} * rows;
+  ShadowMap map;
+  map.reset(size);
+  for (int trial = 0; trial < 1500; ++trial) {
+    if (trial % 50 == 0) {
+      // A new map: a few small triangles in one part, the rest +inf.
+      map.clear(0, 0, size, size);
+      const int32_t cx = corner(rng), cy = corner(rng);
+      for (int n = 0; n < 1 + trial % 7; ++n) {
+        std::array<SnappedVertex, 3> v;
+        for (auto& p : v) {
+          p.x = cx + extent(rng);
+          p.y = cy + extent(rng);
+          p.z = 0.3f + 0.2f * (f(rng) + 1.0f);
+        }
+        SetupTriangle t;
+        if (!setupTriangle(v, uint32_t(size), uint32_t(size), t)) continue;
+        ref.depthTriangle(map.origin(), nullptr, size_t(map.stride()), t, 0);
+        map.markWritten(t.minX, t.minY, t.maxX, t.maxY);
+      }
+    }
+    std::vector<float> depth(plane);
+    std::vector<uint32_t> sA(plane, 0);
+    std::vector<uint16_t> accA(3 * plane);
+    for (float& v : depth) v = 0.55f + 0.45f * f(rng);
+    for (auto& v : accA) v = static_cast<uint16_t>(bits(rng) % 30000);
+    std::vector<int32_t> xa(rows), xb(rows);
+    for (int r = 0; r < rows; ++r) {
+      xa[r] = pos(rng);
+      xb[r] = pos(rng);
+      if (xa[r] > xb[r]) std::swap(xa[r], xb[r]);
+      for (int32_t x = xa[r]; x < xb[r]; ++x) {
+        if (bits(rng) % 5 != 0) sA[size_t(r) * kRow + size_t(x)] = bits(rng) | 1u;
+      }
+    }
+    std::vector<uint32_t> sB = sA;
+    std::vector<uint16_t> accB = accA;
+    ShadowLookup lookup{};
+    // Pixels (0..111, 0..5) to texels around (-2..50): across the drawn part and the border.
+    lookup.p[0] = 0.45f + 0.02f * f(rng);
+    lookup.p[1] = 0.05f * f(rng);
+    lookup.p[3] = -2.0f + 2.0f * f(rng);
+    lookup.p[4] = 0.05f * f(rng);
+    lookup.p[5] = 1.0f + 0.5f * f(rng);
+    lookup.p[7] = 48.0f * (f(rng) + 1.0f) / 2.0f;
+    lookup.p[10] = 1.0f;
+    lookup.p[15] = 1.0f;
+    lookup.map = map.origin();
+    lookup.size = size;
+    lookup.stride = map.stride();
+    lookup.bias = 0.005f;
+    lookup.pcf2x2 = trial % 3 != 0;
+    lookup.blocks = map.blocks();
+    lookup.blocksPerRow = map.blocksPerRow();
+    ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),
+                       xb.data(), lookup);
+    k.accumulateRows(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(),
+                     xb.data(), lookup);
+    ASSERT_EQ(accA, accB) << "trial " << trial;
+    ASSERT_EQ(sA, sB) << "trial " << trial;
+  }
+}
+
 TEST_P(SpanKernelsOnTarget, SubtractAccumulatedMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
