@@ -3,6 +3,7 @@
 //   build/release/bin/penumbra_bench --benchmark_filter=MaskSubtract
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -81,6 +82,45 @@ void BM_DepthLess(benchmark::State& state, simd::Isa isa) {
   state.SetItemsProcessed(int64_t(state.iterations()) * kRun);
 }
 
+// Depth-only triangles into a 256x256 shadow map (spec §6 step 1), each at most
+// `state.range(0)` pixels wide and tall: 4 and 8 take the 4x4 and 2x8 blocks on 16-lane
+// targets, 16 and 48 the one-row blocks, 160 the large-triangle path. Items are triangles;
+// px_per_triangle counts the pixels that passed the depth test.
+void BM_DepthTriangle(benchmark::State& state, simd::Isa isa) {
+  const int32_t extent = int32_t(state.range(0)) * 256;
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int32_t> corner(0, 256 * 256 - extent), offset(0, extent);
+  std::uniform_real_distribution<float> z(0.0f, 1.0f);
+  std::vector<raster::SetupTriangle> triangles;
+  while (triangles.size() < 512) {
+    const int32_t x0 = corner(rng), y0 = corner(rng);
+    std::array<raster::SnappedVertex, 3> v;
+    for (auto& p : v) {
+      p.x = x0 + offset(rng);
+      p.y = y0 + offset(rng);
+      p.z = z(rng);
+    }
+    raster::SetupTriangle t;
+    if (raster::setupTriangle(v, 256, 256, t)) triangles.push_back(t);
+  }
+  raster::ShadowMap map;
+  map.reset(256);
+  const raster::SpanKernels& k = raster::spanKernelsFor(isa);
+  uint64_t pixels = 0;
+  for (auto _ : state) {
+    state.PauseTiming();  // clearing 256 KB would outweigh 512 small triangles
+    map.clear(0, 0, 256, 256);
+    state.ResumeTiming();
+    for (const raster::SetupTriangle& t : triangles) {
+      pixels += k.depthTriangle(map.origin(), nullptr, size_t(map.stride()), t, 0);
+    }
+    benchmark::DoNotOptimize(map.origin());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(triangles.size()));
+  state.counters["px_per_triangle"] =
+      double(pixels) / double(state.iterations()) / double(triangles.size());
+}
+
 raster::FrameTrace benchTrace() {
   const auto path = std::filesystem::path(PENUMBRA_DATA_DIR) / "traces" / "showroom-50.json";
   if (std::filesystem::exists(path)) return raster::loadTrace(path);
@@ -111,6 +151,12 @@ void registerAll() {
                                  false);
     benchmark::RegisterBenchmark(("AccumulateRows/pcf2x2/" + n).c_str(), BM_AccumulateRows, isa,
                                  true);
+    benchmark::RegisterBenchmark(("DepthTriangle/" + n).c_str(), BM_DepthTriangle, isa)
+        ->Arg(4)
+        ->Arg(8)
+        ->Arg(16)
+        ->Arg(48)
+        ->Arg(160);
     benchmark::RegisterBenchmark(("Frame/" + n).c_str(), BM_Frame, isa)
         ->Arg(1)
         ->Arg(2)

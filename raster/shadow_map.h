@@ -2,11 +2,14 @@
 //
 // A lookup one texel outside the map then reads "no occluder" by itself, which is what spec
 // §7 asks for texels outside [0, size), so the SIMD 2x2 filter needs no per-texel bounds
-// test. The allocation also leaves room for a SIMD vector (16 floats) past the last texel.
+// test. The allocation also leaves room for three rows and a SIMD vector (16 floats) past
+// the last texel: the small-triangle kernel reads and rewrites unchanged blocks of up to
+// four rows there.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -17,12 +20,37 @@ class ShadowMap {
   // Every texel (and the border) to +inf, at a new size.
   void reset(int32_t size) {
     size_ = size;
-    texels_.assign(size_t(stride()) * size_t(stride()) + kVectorSlack, kInfinity);
+    texels_.assign(size_t(stride()) * size_t(stride() + kSlackRows) + kVectorSlack, kInfinity);
+    blocks_.assign(size_t(blocksPerRow()) * size_t(blocksPerRow()), 0);
   }
-  // Texels [x0, x1) x [y0, y1) back to +inf.
+  // Coarse occupancy for the mask sweep: block (bx, by) covers the texels (i, j) with
+  // (i + 8) >> 3 == bx and (j + 8) >> 3 == by (so i = -1, the border, falls in block 0).
+  // It is nonzero when some texel of [8bx - 8, 8bx] x [8by - 8, 8by] (the block and the
+  // column and row after it) may have been written, i.e. when a lane whose 2x2 PCF
+  // footprint starts in the block may see a finite texel. Zero blocks promise +inf texels.
+  int32_t blocksPerRow() const { return (size_ + 2 + 7) / 8 + 1; }
+  const uint32_t* blocks() const { return blocks_.data(); }
+  // Records that texels [x0, x1) x [y0, y1) may have been written (x0 < x1, y0 < y1):
+  // lanes with i in [x0 - 1, x1 - 1] and j in [y0 - 1, y1 - 1] reach them.
+  void markWritten(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    const int32_t bpr = blocksPerRow();
+    for (int32_t by = (y0 - 1 + 8) >> 3; by <= (y1 - 1 + 8) >> 3; ++by) {
+      for (int32_t bx = (x0 - 1 + 8) >> 3; bx <= (x1 - 1 + 8) >> 3; ++bx) {
+        blocks_[size_t(by) * size_t(bpr) + size_t(bx)] = 1;
+      }
+    }
+  }
+  // Texels [x0, x1) x [y0, y1) back to +inf, and every block to "not written".
+  // Copies from a row of +inf: g++ -O2 leaves std::fill of a float value as a scalar loop
+  // (a 256x256 map is then 65,536 single stores per pass); memcpy runs in vectors.
   void clear(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-    for (int32_t y = y0; y < y1; ++y)
-      std::fill(origin() + rowOffset(y) + x0, origin() + rowOffset(y) + x1, kInfinity);
+    std::fill(blocks_.begin(), blocks_.end(), 0u);
+    if (x0 >= x1) return;
+    if (infinities_.size() < size_t(x1 - x0)) infinities_.assign(size_t(stride()), kInfinity);
+    for (int32_t y = y0; y < y1; ++y) {
+      std::memcpy(origin() + rowOffset(y) + x0, infinities_.data(),
+                  sizeof(float) * size_t(x1 - x0));
+    }
   }
   int32_t size() const { return size_; }
   int32_t stride() const { return size_ + 2; }
@@ -32,9 +60,12 @@ class ShadowMap {
 
  private:
   static constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  static constexpr size_t kSlackRows = 3;
   static constexpr size_t kVectorSlack = 16;
   ptrdiff_t rowOffset(int32_t y) const { return ptrdiff_t(y) * stride(); }
   std::vector<float> texels_;
+  std::vector<float> infinities_;  // a row of +inf to clear from
+  std::vector<uint32_t> blocks_;
   int32_t size_ = 0;
 };
 

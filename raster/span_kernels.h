@@ -27,6 +27,10 @@ struct ShadowLookup {
   int32_t stride;
   float bias;
   bool pcf2x2;
+  // Optional (may be null): ShadowMap::blocks(). Kernels may answer M = 0 for lanes whose
+  // block is zero (all their texels are +inf, so nothing occludes: the same M).
+  const uint32_t* blocks = nullptr;
+  int32_t blocksPerRow = 0;
 };
 
 // One triangle's interpolants, with the plane origin (ox, oy) of spec §5.

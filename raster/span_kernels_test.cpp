@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -84,26 +85,39 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(15);
-  // Half the triangles span at most 64 pixels (the int32 half-space path), half are larger.
+  // A quarter of the triangles are large (the exact-run path), the rest span at most 40
+  // pixels (int32 edge tests): one vector per row (<= 40 px), two rows per vector
+  // (<= 10 px) and 4x4 blocks (<= 5 px, on 16-lane targets). Centres range past every
+  // border of the 64x64 buffer, so boxes get clipped at the map's edges.
   std::uniform_int_distribution<int32_t> coord(-20 * 256, 90 * 256), offset(-40 * 256, 40 * 256);
   std::uniform_real_distribution<float> z(0.0f, 1.0f);
-  // One spare row and a vector of slack: the row-pair path may rewrite unchanged lanes there.
-  std::vector<float> a(65 * 64 + 16, 0.6f), b = a;
+  // Three spare rows and a vector of slack: the block paths may rewrite unchanged lanes
+  // there (as ShadowMap allows).
+  std::vector<float> a(67 * 64 + 16, 0.6f), b = a;
   std::vector<uint32_t> ida(64 * 64, 0), idb = ida;
-  for (int trial = 0; trial < 1500; ++trial) {
+  for (int trial = 0; trial < 4000; ++trial) {
     std::array<SnappedVertex, 3> v;
     const int32_t cx = coord(rng), cy = coord(rng);
+    const int32_t shrink = std::array<int32_t, 4>{1, 2, 8, 16}[size_t(trial % 4)];
     for (auto& p : v) {
-      // Wide, small (<= 40 px) and narrow (<= 10 px: two rows per vector) triangles.
-      const int32_t shrink = trial % 3 == 1 ? 2 : 8;
-      p.x = trial % 3 == 0 ? coord(rng) : cx + offset(rng) / shrink;
-      p.y = trial % 3 == 0 ? coord(rng) : cy + offset(rng) / shrink;
+      p.x = trial % 4 == 0 ? coord(rng) : cx + offset(rng) / shrink;
+      p.y = trial % 4 == 0 ? coord(rng) : cy + offset(rng) / shrink;
       p.z = z(rng);
+    }
+    // Some slivers and single-pixel triangles: two vertices close together.
+    if (trial % 7 == 3) v[2] = {v[1].x + 1, v[1].y + (trial % 3) - 1, v[2].z, {}};
+    // Horizontal and vertical edges (A = 0 or B = 0), and long slivers across the map.
+    if (trial % 13 == 7) v[1].y = v[0].y;
+    if (trial % 17 == 9) v[2].x = v[0].x;
+    if (trial % 19 == 4) v[1] = {v[0].x + 90 * 256, v[0].y + 70 * 256 + trial % 300, v[1].z, {}};
+    if (trial % 11 == 5) {
+      v[1] = {v[0].x + 200, v[0].y + 17, v[1].z, {}};
+      v[2] = {v[0].x + 60, v[0].y + 230, v[2].z, {}};
     }
     SetupTriangle t;
     if (!setupTriangle(v, 64, 64, t)) continue;
-    uint32_t* idA = trial % 2 ? ida.data() : nullptr;
-    uint32_t* idB = trial % 2 ? idb.data() : nullptr;
+    uint32_t* idA = trial % 3 == 2 ? ida.data() : nullptr;
+    uint32_t* idB = trial % 3 == 2 ? idb.data() : nullptr;
     ASSERT_EQ(ref.depthTriangle(a.data(), idA, 64, t, uint32_t(trial)),
               k.depthTriangle(b.data(), idB, 64, t, uint32_t(trial)));
     ASSERT_EQ(std::memcmp(a.data(), b.data(), 4 * a.size()), 0) << trial;
@@ -189,6 +203,81 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
     ASSERT_EQ(accA, accB) << "trial " << trial;
     ASSERT_EQ(sA, sB) << "trial " << trial;
     for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+  }
+}
+
+// The block table lets kernels skip lanes whose texels are all +inf. Maps drawn by
+// depthTriangle over part of the map (blocks marked as the renderer marks them), lookups
+// sweeping across drawn, undrawn and border texels: the same sums as the reference, which
+// ignores the table.
+TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(16);
+  std::uniform_int_distribution<int32_t> pos(0, 111), corner(0, 40 * 256), extent(0, 12 * 256);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  const int32_t size = 48, rows = 6;
+  const size_t plane = size_t{kRow} * rows;
+  ShadowMap map;
+  map.reset(size);
+  for (int trial = 0; trial < 1500; ++trial) {
+    if (trial % 50 == 0) {
+      // A new map: a few small triangles in one part, the rest +inf.
+      map.clear(0, 0, size, size);
+      const int32_t cx = corner(rng), cy = corner(rng);
+      for (int n = 0; n < 1 + trial % 7; ++n) {
+        std::array<SnappedVertex, 3> v;
+        for (auto& p : v) {
+          p.x = cx + extent(rng);
+          p.y = cy + extent(rng);
+          p.z = 0.3f + 0.2f * (f(rng) + 1.0f);
+        }
+        SetupTriangle t;
+        if (!setupTriangle(v, uint32_t(size), uint32_t(size), t)) continue;
+        ref.depthTriangle(map.origin(), nullptr, size_t(map.stride()), t, 0);
+        map.markWritten(t.minX, t.minY, t.maxX, t.maxY);
+      }
+    }
+    std::vector<float> depth(plane);
+    std::vector<uint32_t> sA(plane, 0);
+    std::vector<uint16_t> accA(3 * plane);
+    for (float& v : depth) v = 0.55f + 0.45f * f(rng);
+    for (auto& v : accA) v = static_cast<uint16_t>(bits(rng) % 30000);
+    std::vector<int32_t> xa(rows), xb(rows);
+    for (int r = 0; r < rows; ++r) {
+      xa[r] = pos(rng);
+      xb[r] = pos(rng);
+      if (xa[r] > xb[r]) std::swap(xa[r], xb[r]);
+      for (int32_t x = xa[r]; x < xb[r]; ++x) {
+        if (bits(rng) % 5 != 0) sA[size_t(r) * kRow + size_t(x)] = bits(rng) | 1u;
+      }
+    }
+    std::vector<uint32_t> sB = sA;
+    std::vector<uint16_t> accB = accA;
+    ShadowLookup lookup{};
+    // Pixels (0..111, 0..5) to texels around (-2..50): across the drawn part and the border.
+    lookup.p[0] = 0.45f + 0.02f * f(rng);
+    lookup.p[1] = 0.05f * f(rng);
+    lookup.p[3] = -2.0f + 2.0f * f(rng);
+    lookup.p[4] = 0.05f * f(rng);
+    lookup.p[5] = 1.0f + 0.5f * f(rng);
+    lookup.p[7] = 48.0f * (f(rng) + 1.0f) / 2.0f;
+    lookup.p[10] = 1.0f;
+    lookup.p[15] = 1.0f;
+    lookup.map = map.origin();
+    lookup.size = size;
+    lookup.stride = map.stride();
+    lookup.bias = 0.005f;
+    lookup.pcf2x2 = trial % 3 != 0;
+    lookup.blocks = map.blocks();
+    lookup.blocksPerRow = map.blocksPerRow();
+    ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),
+                       xb.data(), lookup);
+    k.accumulateRows(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(),
+                     xb.data(), lookup);
+    ASSERT_EQ(accA, accB) << "trial " << trial;
+    ASSERT_EQ(sA, sB) << "trial " << trial;
   }
 }
 
