@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "lighting/capture_synth.h"
 
@@ -13,10 +14,16 @@ int main(int argc, char** argv) {
   std::string scenePath, dir;
   app.add_option("SCENE", scenePath, "scene file (the truth)")->required();
   app.add_option("DIR", dir, "output folder")->required();
+  std::vector<double> gains;
+  app.add_option("--gains", gains, "the synthetic camera's channel gains R,G,B (default 1,0.8,1.2)")
+      ->expected(3)
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
+  penumbra::lighting::SyntheticCaptureOptions options;
+  if (!gains.empty()) options.gains = {gains[0], gains[1], gains[2]};
   try {
     const penumbra::lighting::SyntheticCapture c =
-        penumbra::lighting::writeSyntheticCapture(scenePath, dir);
+        penumbra::lighting::writeSyntheticCapture(scenePath, dir, options);
     std::printf("manifest %s\nfocal_px %.3f\nprobe_scale %.5g %.5g %.5g\n",
                 c.manifest.string().c_str(), c.intrinsics.fx, c.probeScale.x, c.probeScale.y,
                 c.probeScale.z);

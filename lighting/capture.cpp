@@ -88,7 +88,7 @@ class Reader {
   fs::path path(const json& v, const std::string& field) const {
     if (!v.is_string() || v.get<std::string>().empty()) fail(field, "must be a file name");
     const fs::path p = v.get<std::string>();
-    return p.is_absolute() ? p : file_.parent_path() / p;
+    return p.is_absolute() ? p : fs::absolute(file_).parent_path() / p;
   }
 
  private:
@@ -408,7 +408,12 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
   ProbeProjectionOptions po;
   po.saturationLevel = m.probeSaturation;
   po.threads = options.threads;
-  ProbeProjection proj = projectProbe(probe, mesh, rays, po);
+  ProbeProjection proj;
+  try {
+    proj = projectProbe(probe, mesh, rays, po);
+  } catch (const std::invalid_argument& e) {
+    throw CaptureError(src + ": probe: " + e.what());
+  }
   for (const std::string& w : proj.warnings) s.warnings.push_back("probe: " + w);
   s.probeSeenPatches = proj.seenPatches;
   s.probeEmitters = proj.emitters;

@@ -307,7 +307,7 @@ TEST(Capture, MismatchedInputsAreErrors) {
   EXPECT_THROW(runCapture(missing), std::exception);
   CaptureManifest outside = m;
   outside.probePosition = dvec3(-5, 1, 1);  // outside the room: sees no patch's front
-  EXPECT_THROW(runCapture(outside), std::invalid_argument);
+  EXPECT_THROW(runCapture(outside), CaptureError);
   CaptureManifest same = m;
   same.exposures[1].seconds = same.exposures[0].seconds;  // duplicate exposure times
   EXPECT_THROW(runCapture(same), HdrError);
