@@ -55,6 +55,7 @@ int runCaptureCommand(const CaptureFlags& f) {
               s.principalOffsetPx);
   const glm::dvec3 eye = s.pose.centre();
   std::printf("camera_centre %.4f %.4f %.4f\n", eye.x, eye.y, eye.z);
+  std::printf("intrinsics_error_px %.4f\n", s.intrinsicsErrorPx);
   std::printf("reprojection_error_px %.4f\n", s.reprojectionErrorPx);
   std::printf("dynamic_range stops %.1f decades %.2f (clipped bright %zu dark %zu pixels)\n",
               s.dynamicRangeStops, s.dynamicRangeStops * std::log10(2.0), s.clippedBright,

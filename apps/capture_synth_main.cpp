@@ -18,9 +18,18 @@ int main(int argc, char** argv) {
   app.add_option("--gains", gains, "the synthetic camera's channel gains R,G,B (default 1,0.8,1.2)")
       ->expected(3)
       ->delimiter(',');
+  std::vector<double> offset;
+  bool chessboard = false;
+  app.add_option("--principal-offset", offset, "principal point offset DX,DY from the centre (px)")
+      ->expected(2)
+      ->delimiter(',');
+  app.add_flag("--chessboard", chessboard,
+               "calibrate from chessboard photos and room corners instead of vanishing marks");
   CLI11_PARSE(app, argc, argv);
   penumbra::lighting::SyntheticCaptureOptions options;
   if (!gains.empty()) options.gains = {gains[0], gains[1], gains[2]};
+  if (!offset.empty()) options.principalOffsetPx = {offset[0], offset[1]};
+  options.chessboard = chessboard;
   try {
     const penumbra::lighting::SyntheticCapture c =
         penumbra::lighting::writeSyntheticCapture(scenePath, dir, options);

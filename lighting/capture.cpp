@@ -286,7 +286,7 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
     pose.rotation = vc.pose.rotation;
     pose.translation = vc.pose.translation - vc.pose.rotation * m.vanishingOriginWorld;
     s.calibrationMethod = "vanishing points";
-    s.reprojectionErrorPx = vc.rmsPx;
+    s.reprojectionErrorPx = s.intrinsicsErrorPx = vc.rmsPx;
   } else {
     const scene::ChessboardCalibration cc = scene::calibrateFromChessboards(
         m.chessboardPhotos, {m.chessboardCols, m.chessboardRows}, m.chessboardSquare);
@@ -295,7 +295,7 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
     }
     intr = cc.intrinsics;
     s.calibrationMethod = "chessboard";
-    s.reprojectionErrorPx = cc.rmsPx;
+    s.reprojectionErrorPx = s.intrinsicsErrorPx = cc.rmsPx;
   }
   if (!m.corners.empty()) {
     const scene::PoseFit fit =
@@ -315,21 +315,25 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
       scene::toCamera(intr, pose, scene.camera.zNear, scene.camera.zFar, &s.principalOffsetPx);
   scene.width = uint32_t(width);
   scene.height = uint32_t(height);
-  if (s.principalOffsetPx > 1.0) {
-    // The renderer's frustum is symmetric (scene/camera_intrinsics.h): the product and its
-    // shadows are drawn as if the principal point were at the centre, i.e. shifted by up to
-    // this many pixels against the photograph.
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "principal point %.1f px from the image centre: the renderer's symmetric "
-                  "frustum ignores it (overlays shift by up to that much)",
-                  s.principalOffsetPx);
-    s.warnings.push_back(buf);
-  }
+  // toCamera's frustum is symmetric; an off-centre principal point becomes an off-axis
+  // frustum instead (scene::Camera::principalNdc), so the renderer puts every room point on
+  // the pixel the calibrated camera does. The principal point sits at window position
+  // (cx + 0.5, cy + 0.5) (scene/camera_intrinsics.h).
+  scene.camera.principalNdc = {(intr.cx + 0.5) / (0.5 * width) - 1.0,
+                               1.0 - (intr.cy + 0.5) / (0.5 * height)};
+  // Lens distortion is not modelled: how far it moves the image corner tells whether that
+  // matters.
   if (intr.hasDistortion()) {
-    s.warnings.push_back(
-        "lens distortion (k1 " + std::to_string(intr.k1) +
-        ") is not modelled: the photographs are used as taken, overlays assume a pinhole");
+    const glm::dvec3 corner((0 - intr.cx) / intr.fx, (0 - intr.cy) / intr.fy, 1.0);
+    const double shift = glm::length(intr.project(corner));
+    if (shift > 0.5) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "lens distortion moves the image corner by %.1f px and is not modelled: "
+                    "the photographs are used as taken, overlays assume a pinhole",
+                    shift);
+      s.warnings.push_back(buf);
+    }
   }
   endStage();
 

@@ -80,8 +80,10 @@ struct CaptureSummary {
   std::string calibrationMethod;  // "vanishing points", "chessboard", "+ room corners"
   scene::Intrinsics intrinsics;
   scene::Pose pose;
-  double reprojectionErrorPx = 0;
-  double principalOffsetPx = 0;  // |principal point - image centre|, not modelled
+  double reprojectionErrorPx = 0;  // RMS of the marks that gave the pose
+  double intrinsicsErrorPx = 0;    // RMS of the intrinsics' fit (chessboard corners) or the same
+  // |principal point - image centre|; modelled by an off-axis frustum (Camera::principalNdc).
+  double principalOffsetPx = 0;
   // Light.
   double dynamicRangeStops = 0;  // merged HDR max / min over unclipped values, log2
   size_t clippedBright = 0, clippedDark = 0;

@@ -32,6 +32,72 @@ json point(const dvec2& p, double step) {
   return json::array({roundTo(p.x, step), roundTo(p.y, step)});
 }
 
+// Nine photos of a 9 x 6 (inner corners) chessboard with 10 cm squares and a one-square
+// white border, held 1.4-1.5 m in front (squares ~30 px: cornerSubPix's
+// 23 x 23 window must not reach the next corner) of the camera at different tilts, rendered through
+// the true camera with 4 x 4 supersampling. Returns the manifest's chessboard object.
+json writeChessboards(const std::filesystem::path& dir, const scene::Intrinsics& k) {
+  constexpr int kCols = 9, kRows = 6;
+  constexpr double kSquare = 0.1;
+  const double bw = (kCols + 3) * kSquare, bh = (kRows + 3) * kSquare;  // with the border
+  struct BoardPose {
+    double rx, ry, rz;
+    dvec3 centre;
+  };
+  // Nine poses spread over the view (the corners of the image constrain the distortion
+  // and the principal point), each tilted 20-35 degrees a different way.
+  const BoardPose poses[] = {{0, 0, 0, {0, 0, 1.4}},
+                             {25, -30, 5, {-0.25, -0.15, 1.4}},
+                             {-25, 30, -5, {0.25, -0.15, 1.4}},
+                             {25, 30, 10, {-0.25, 0.15, 1.4}},
+                             {-25, -30, -10, {0.25, 0.15, 1.4}},
+                             {35, 0, 0, {0, -0.15, 1.5}},
+                             {-35, 0, 0, {0, 0.15, 1.5}},
+                             {0, 35, 0, {-0.3, 0, 1.5}},
+                             {0, -35, 0, {0.3, 0, 1.5}}};
+  json images = json::array();
+  for (size_t n = 0; n < std::size(poses); ++n) {
+    const BoardPose& bp = poses[n];
+    const double d2r = std::numbers::pi / 180;
+    const double a = bp.rx * d2r, b = bp.ry * d2r, g = bp.rz * d2r;
+    const glm::dmat3 rx(1, 0, 0, 0, std::cos(a), std::sin(a), 0, -std::sin(a), std::cos(a));
+    const glm::dmat3 ry(std::cos(b), 0, -std::sin(b), 0, 1, 0, std::sin(b), 0, std::cos(b));
+    const glm::dmat3 rz(std::cos(g), std::sin(g), 0, -std::sin(g), std::cos(g), 0, 0, 0, 1);
+    const glm::dmat3 r = rx * ry * rz;  // board -> camera
+    const dvec3 normal = r * dvec3(0, 0, 1);
+    std::vector<uint8_t> rgba(size_t(k.width) * size_t(k.height) * 4, 255);
+    for (int v = 0; v < k.height; ++v) {
+      for (int u = 0; u < k.width; ++u) {
+        double sum = 0;
+        for (int sy = 0; sy < 4; ++sy) {
+          for (int sx = 0; sx < 4; ++sx) {
+            const dvec3 d((u + (sx + 0.5) / 4 - 0.5 - k.cx) / k.fx,
+                          (v + (sy + 0.5) / 4 - 0.5 - k.cy) / k.fy, 1.0);
+            const double t = glm::dot(bp.centre, normal) / glm::dot(d, normal);
+            const dvec3 local = glm::transpose(r) * (t * d - bp.centre);
+            const double bx = local.x + 0.5 * bw, by = local.y + 0.5 * bh;
+            double value = 110;  // the wall behind the board
+            if (bx >= 0 && by >= 0 && bx < bw && by < bh) {
+              const int i = int(std::floor(bx / kSquare)) - 1,
+                        j = int(std::floor(by / kSquare)) - 1;
+              const bool square = i >= 0 && j >= 0 && i <= kCols && j <= kRows;
+              value = square && (i + j) % 2 == 0 ? 25 : 230;
+            }
+            sum += value;
+          }
+        }
+        const uint8_t c = uint8_t(std::lround(sum / 16));
+        uint8_t* px = &rgba[(size_t(v) * size_t(k.width) + size_t(u)) * 4];
+        px[0] = px[1] = px[2] = c;
+      }
+    }
+    const std::string name = "chess-" + std::to_string(n) + ".png";
+    scene::writePng(dir / name, uint32_t(k.width), uint32_t(k.height), rgba);
+    images.push_back(name);
+  }
+  return {{"images", images}, {"cols", kCols}, {"rows", kRows}, {"square", kSquare}};
+}
+
 }  // namespace
 
 SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
@@ -47,8 +113,8 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
   k.width = w;
   k.height = h;
   k.fx = k.fy = 0.5 * h / std::tan(0.5 * sc.camera.fovYDegrees * std::numbers::pi / 180);
-  k.cx = 0.5 * (w - 1);
-  k.cy = 0.5 * (h - 1);
+  k.cx = 0.5 * (w - 1) + o.principalOffsetPx.x;
+  k.cy = 0.5 * (h - 1) + o.principalOffsetPx.y;
   const dvec3 forward = glm::normalize(sc.camera.target - sc.camera.eye);
   const dvec3 right = glm::normalize(glm::cross(forward, sc.camera.up));
   const dvec3 down = glm::cross(forward, right);
@@ -151,19 +217,34 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
                     {"distance", 0.8}}}}}};
   std::ofstream(dir / "marks.json") << marks.dump(2) << "\n";
 
-  const json manifest = {
-      {"format", "penumbra-capture"},
-      {"version", 1},
-      {"scene", std::filesystem::absolute(scenePath).string()},
-      {"calibration",
-       {{"vanishing", "marks.json"}, {"origin_world", {origin.x, origin.y, origin.z}}}},
-      {"exposures", exposures},
-      {"live_exposure", {{"index", o.liveIndex}}},
-      {"probe",
-       {{"image", "probe.exr"},
-        {"mapping", "latlong"},
-        {"position", {o.probePosition.x, o.probePosition.y, o.probePosition.z}},
-        {"yaw_deg", o.probeYawDegrees}}}};
+  json calibration = {{"vanishing", "marks.json"},
+                      {"origin_world", {origin.x, origin.y, origin.z}}};
+  if (o.chessboard) {
+    calibration = {{"chessboard", writeChessboards(dir, k)}, {"corners", "corners.json"}};
+    // Room corners (and the desk's) the camera sees, for the pose (solvePnP).
+    json corners = json::array();
+    const dvec3 points[] = {{6, 0, 5},        {0, 0, 5},        {6, 3, 5},        {0, 3, 5},
+                            {6, 0, 0},        {6, 3, 0},        {4.4, 0, 3.4},    {5.8, 0, 3.4},
+                            {4.4, 0.75, 3.4}, {5.8, 0.75, 3.4}, {4.4, 0.75, 4.2}, {4.4, 0, 4.2}};
+    for (const dvec3& q : points) {
+      if (!inView(q)) continue;
+      corners.push_back({{"name", "corner " + std::to_string(corners.size())},
+                         {"world", {q.x, q.y, q.z}},
+                         {"image", point(project(q), o.markRoundingPx)}});
+    }
+    std::ofstream(dir / "corners.json") << json{{"corners", corners}}.dump(2) << "\n";
+  }
+  const json manifest = {{"format", "penumbra-capture"},
+                         {"version", 1},
+                         {"scene", std::filesystem::absolute(scenePath).string()},
+                         {"calibration", calibration},
+                         {"exposures", exposures},
+                         {"live_exposure", {{"index", o.liveIndex}}},
+                         {"probe",
+                          {{"image", "probe.exr"},
+                           {"mapping", "latlong"},
+                           {"position", {o.probePosition.x, o.probePosition.y, o.probePosition.z}},
+                           {"yaw_deg", o.probeYawDegrees}}}};
   out.manifest = dir / "capture.json";
   std::ofstream f(out.manifest);
   f << manifest.dump(2) << "\n";

@@ -33,6 +33,12 @@ struct SyntheticCaptureOptions {
   int probeWidth = 1024;        // lat-long, width x width / 2
   int bounces = 30;             // gathering steps of the truth (rho <= 0.8: 0.8^30 ~ 1e-3)
   double markRoundingPx = 0.1;  // vanishing marks rounded to this (a user's clicks)
+  // Principal point offset from the image centre (pixels). Vanishing points assume it is 0,
+  // so a non-zero offset wants `chessboard`.
+  glm::dvec2 principalOffsetPx{0.0};
+  // Calibrate from chessboard photos (chess-N.png, 9 x 6 inner corners, 10 cm squares, nine
+  // poses) and room-corner marks (corners.json) instead of vanishing marks.
+  bool chessboard = false;
 };
 
 struct SyntheticCapture {
@@ -44,8 +50,9 @@ struct SyntheticCapture {
   glm::dvec3 probeScale{1.0};        // probe units -> merged photo units (g(128) = 0)
 };
 
-// Writes bracket-N.png, probe.exr, marks.json and capture.json into `dir` (created).
-// The camera is the scene file's (principal point at the image centre). Throws
+// Writes bracket-N.png, probe.exr, marks.json (or chess-N.png and corners.json) and
+// capture.json into `dir` (created). The camera is the scene file's view, square pixels,
+// principal point at the centre plus options.principalOffsetPx. Throws
 // std::runtime_error when a marked line is not in view.
 SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
                                        const std::filesystem::path& dir,
