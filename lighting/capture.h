@@ -3,8 +3,8 @@
 // pipeline). docs/capture.md documents the manifest and every stage.
 //
 //   calibration  vanishing-point marks (§3, eq. 1) or chessboard photos, optionally room
-//                corners for the pose -> scene::Camera (symmetric frustum; the principal
-//                point's offset from the image centre is reported, not modelled)
+//                corners for the pose -> scene::Camera (an off-centre principal point
+//                becomes an off-axis frustum; lens distortion is reported, not modelled)
 //   response     the bracket -> g() per channel (Debevec & Malik); channels brought to one
 //                grey scale so a single T() reproduces the photograph
 //   HDR          the bracket merged to radiance (hat weights, clipped codes ignored)
