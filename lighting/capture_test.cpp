@@ -305,6 +305,46 @@ TEST(Capture, ChessboardOffCentreCameraClosedLoop) {
   fs::remove_all(dir);
 }
 
+// live_exposure {"seconds": t}: no photograph at that time, so the background is the
+// merged HDR through the bundle's T() at t. At t = the bracket's 1 s exposure it must
+// reproduce that photograph: the check that the response, the grey-unit rescaling and
+// T() fit together.
+TEST(Capture, LiveExposureByTimeReproducesThePhotograph) {
+  const fs::path dir = tempDir("capture-live");
+  SyntheticCaptureOptions so;
+  so.bounces = 2;
+  const SyntheticCapture truth = writeSyntheticCapture(kShowroom, dir, so);
+  CaptureManifest m = loadCaptureManifest(truth.manifest);
+  m.liveIndex.reset();
+  m.liveSeconds = so.seconds[size_t(so.liveIndex)];
+  PrecomputeOptions o;
+  o.irradianceVolume = false;
+  const CaptureResult r = runCapture(m, o);
+  const scene::PhotoRgb8 photo =
+      scene::readPhotoRgb8(dir / ("bracket-" + std::to_string(so.liveIndex) + ".png"));
+  size_t n = 0, within2 = 0;
+  int worst = 0;
+  for (size_t i = 0; i < photo.rgb.size(); ++i) {
+    const int want = photo.rgb[i];
+    if (want < 8 || want > 247) continue;  // clipped or at the noise floor
+    const int got = r.bundle.background[4 * (i / 3) + i % 3];
+    worst = std::max(worst, std::abs(got - want));
+    within2 += std::abs(got - want) <= 2;
+    ++n;
+  }
+  std::cout << "background through T(): " << within2 << " of " << n
+            << " channel values within 2 codes of the photograph, worst " << worst << "\n";
+  EXPECT_GE(double(within2), 0.99 * double(n));
+  EXPECT_LE(worst, 3);
+
+  // precompute refuses a background of the wrong size.
+  scene::SceneDescription sc = scene::loadSceneFile(kShowroom);
+  o.background.assign(16, 0);
+  std::vector<StageTiming> timings;
+  EXPECT_THROW(precomputeBundle(sc, o, timings), std::invalid_argument);
+  fs::remove_all(dir);
+}
+
 TEST(Capture, ManifestErrorsNameFileAndField) {
   const fs::path dir = tempDir("capture-manifest");
   auto expectError = [&](const std::string& text, const std::string& needle) {
