@@ -214,7 +214,14 @@ AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 
   const int64_t gy = roundDiv<int64_t>(256 * nY, t.det);
   const Int128 ox = int64_t{256} * t.minX + 128 - t.v[0].x;
   const Int128 oy = int64_t{256} * t.minY + 128 - t.v[0].y;
-  const int64_t c = v[0] + static_cast<int64_t>(roundDiv<Int128>(nX * ox + nY * oy, Int128{t.det}));
+  // The 128-bit quotient (a library call, ~100 cycles) only when the numerator needs it:
+  // for the usual small offsets it fits in 62 bits and the int64 quotient is the same.
+  const Int128 n = nX * ox + nY * oy;
+  constexpr int64_t kFits = int64_t{1} << 61;
+  const int64_t q = n >= -kFits && n <= kFits
+                        ? roundDiv<int64_t>(static_cast<int64_t>(n), t.det)
+                        : static_cast<int64_t>(roundDiv<Int128>(n, Int128{t.det}));
+  const int64_t c = v[0] + q;
   // Reduction modulo 2^32 is the arithmetic of spec §5.
   return {static_cast<uint32_t>(c), static_cast<uint32_t>(gx), static_cast<uint32_t>(gy)};
 }

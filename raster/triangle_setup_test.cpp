@@ -239,6 +239,63 @@ TEST(Setup, MatchesTheDirectFormulasFieldForField) {
   EXPECT_GT(rejected, 20000);
 }
 
+// Spec §5's attribute plane with every origin quotient in 128 bits; attributePlane takes
+// an int64 quotient when the numerator fits, which must not change a bit.
+AttributePlane referencePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners) {
+  __extension__ typedef __int128 Int128;
+  auto roundDiv = [](Int128 n, Int128 d) {  // floor((2n + d) / 2d), d > 0
+    const Int128 num = 2 * n + d, den = 2 * d;
+    const Int128 q = num / den;
+    return num % den != 0 && num < 0 ? q - 1 : q;
+  };
+  std::array<Int128, 3> v;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = Int128{t.v[i].w[0]} * corners[0] + Int128{t.v[i].w[1]} * corners[1] +
+           Int128{t.v[i].w[2]} * corners[2];
+  }
+  const Int128 dv1 = v[1] - v[0], dv2 = v[2] - v[0];
+  const Int128 nX = dv1 * (t.v[2].y - t.v[0].y) - dv2 * (t.v[1].y - t.v[0].y);
+  const Int128 nY = dv2 * (t.v[1].x - t.v[0].x) - dv1 * (t.v[2].x - t.v[0].x);
+  const Int128 ox = Int128{256} * t.minX + 128 - t.v[0].x;
+  const Int128 oy = Int128{256} * t.minY + 128 - t.v[0].y;
+  const Int128 c = v[0] + roundDiv(nX * ox + nY * oy, t.det);
+  return {static_cast<uint32_t>(static_cast<uint64_t>(c)),
+          static_cast<uint32_t>(static_cast<uint64_t>(roundDiv(256 * nX, t.det))),
+          static_cast<uint32_t>(static_cast<uint64_t>(roundDiv(256 * nY, t.det)))};
+}
+
+TEST(Setup, AttributePlaneMatches128BitQuotients) {
+  std::mt19937 rng(12);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_int_distribution<int32_t> weight(0, 65536);
+  int checked = 0, wide = 0;
+  for (int trial = 0; trial < 100000; ++trial) {
+    // Guard-band-sized triangles (origin numerators beyond 2^61, the 128-bit path) and
+    // small ones (the int64 path), with clipped-vertex weights.
+    const int32_t range = trial % 3 == 0 ? (1 << 22) : (trial % 3 == 1 ? 40 * 256 : 600 * 256);
+    std::uniform_int_distribution<int32_t> coord(-range / 2, range);
+    std::array<SnappedVertex, 3> v;
+    for (SnappedVertex& p : v) {
+      p = sv(coord(rng), coord(rng));
+      const int32_t w1 = weight(rng), w2 = weight(rng) % (65537 - w1);
+      p.w = {65536 - w1 - w2, w1, w2};
+    }
+    SetupTriangle t;
+    if (!setupTriangle(v, 4096, 4096, t)) continue;
+    const std::array<uint8_t, 3> corners{uint8_t(byte(rng)), uint8_t(byte(rng)),
+                                         uint8_t(byte(rng))};
+    const AttributePlane a = referencePlane(t, corners), b = attributePlane(t, corners);
+    ASSERT_EQ(a.c, b.c) << trial;
+    ASSERT_EQ(a.gx, b.gx) << trial;
+    ASSERT_EQ(a.gy, b.gy) << trial;
+    ++checked;
+    const double ox = 256.0 * t.minX + 128 - t.v[0].x;
+    wide += std::abs(ox) > double(1 << 20) ? 1 : 0;
+  }
+  EXPECT_GT(checked, 50000);
+  EXPECT_GT(wide, 1000);
+}
+
 TEST(Spans, TileClassificationIsExact) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int32_t> coord(-4000, 70 * 256);
