@@ -6,6 +6,7 @@
 #include <array>
 #include <filesystem>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "raster/renderer.h"
@@ -121,6 +122,65 @@ void BM_DepthTriangle(benchmark::State& state, simd::Isa isa) {
       double(pixels) / double(state.iterations()) / double(triangles.size());
 }
 
+// S of one receiver triangle's runs (spec §5, §6 step 4): 12 rows of 20-pixel runs
+// (the showroom's receivers are mostly this short), ids 3 in 4 matching. `perRow` calls
+// interpolateS once per row (before round 3), otherwise interpolateRuns once. Items are
+// run pixels.
+void BM_InterpolateRuns(benchmark::State& state, simd::Isa isa, bool perRow) {
+  constexpr int32_t kRows = 12, kStride = 128;
+  std::vector<uint32_t> id(kRows * kStride), s(kRows * kStride);
+  std::mt19937 rng(4);
+  for (auto& v : id) v = rng() % 4 == 0 ? 2u : 1u;
+  std::vector<std::pair<int32_t, int32_t>> runs(kRows);
+  for (int32_t y = 0; y < kRows; ++y) runs[size_t(y)] = {5 + 3 * y, 25 + 3 * y};
+  raster::SpanPlanes p{};
+  p.rgb[0] = {40u << 16, 3000u, 2000u};
+  p.rgb[1] = {90u << 16, 0u - 1000u, 500u};
+  p.rgb[2] = {10u << 16, 200u, 0u - 700u};
+  std::vector<int32_t> begin(kRows, kStride), end(kRows, 0);
+  const raster::SpanKernels& k = raster::spanKernelsFor(isa);
+  for (auto _ : state) {
+    if (perRow) {
+      for (int32_t y = 0; y < kRows; ++y) {
+        const size_t row = size_t(y) * kStride;
+        benchmark::DoNotOptimize(k.interpolateS(&s[row], &id[row], runs[size_t(y)].first,
+                                                runs[size_t(y)].second, y, p, 1));
+      }
+    } else {
+      benchmark::DoNotOptimize(k.interpolateRuns(s.data(), id.data(), kStride, 0, kRows,
+                                                 runs.data(), p, 1, begin.data(), end.data()));
+    }
+    benchmark::DoNotOptimize(s.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * kRows * 20);
+}
+
+// Triangle setup (spec §4–5) of shadow-map-sized triangles, as every pass does for each
+// occluder triangle, up to 12 texels wide: items are triangles; drawn_share is the share
+// that covers a pixel centre (the rest are rejected by their bounding box or det = 0).
+void BM_SetupTriangle(benchmark::State& state) {
+  std::mt19937 rng(6);
+  std::uniform_int_distribution<int32_t> corner(0, 250 * 256), offset(0, 12 * 256);
+  std::uniform_real_distribution<float> z(0.0f, 1.0f);
+  std::vector<std::array<raster::SnappedVertex, 3>> input(1024);
+  for (auto& v : input) {
+    const int32_t x0 = corner(rng), y0 = corner(rng);
+    for (auto& p : v) {
+      p.x = x0 + offset(rng);
+      p.y = y0 + offset(rng);
+      p.z = z(rng);
+    }
+  }
+  raster::SetupTriangle t;
+  int64_t drawn = 0;
+  for (auto _ : state) {
+    for (const auto& v : input) drawn += raster::setupTriangle(v, 256, 256, t) ? 1 : 0;
+    benchmark::DoNotOptimize(t);
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(input.size()));
+  state.counters["drawn_share"] = double(drawn) / double(state.iterations()) / double(input.size());
+}
+
 raster::FrameTrace benchTrace() {
   const auto path = std::filesystem::path(PENUMBRA_DATA_DIR) / "traces" / "showroom-50.json";
   if (std::filesystem::exists(path)) return raster::loadTrace(path);
@@ -143,6 +203,7 @@ void BM_Frame(benchmark::State& state, simd::Isa isa) {
 }
 
 void registerAll() {
+  benchmark::RegisterBenchmark("SetupTriangle", BM_SetupTriangle);
   for (simd::Isa isa : simd::supportedIsas()) {
     const std::string n = simd::isaName(isa);
     benchmark::RegisterBenchmark(("ProductU8/" + n).c_str(), BM_ProductU8, isa);
@@ -151,6 +212,10 @@ void registerAll() {
                                  false);
     benchmark::RegisterBenchmark(("AccumulateRows/pcf2x2/" + n).c_str(), BM_AccumulateRows, isa,
                                  true);
+    benchmark::RegisterBenchmark(("InterpolateRuns/per_row/" + n).c_str(), BM_InterpolateRuns, isa,
+                                 true);
+    benchmark::RegisterBenchmark(("InterpolateRuns/per_triangle/" + n).c_str(), BM_InterpolateRuns,
+                                 isa, false);
     benchmark::RegisterBenchmark(("DepthTriangle/" + n).c_str(), BM_DepthTriangle, isa)
         ->Arg(4)
         ->Arg(8)

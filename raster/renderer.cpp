@@ -420,19 +420,19 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.blocks = w.shadowMap.blocks();
   lookup.blocksPerRow = w.shadowMap.blocksPerRow();
 
-  // S of one run into the scratch, remembering which rows the sweep must visit.
+  // S of one (sub-)triangle's runs into the scratch, remembering which rows the sweep must
+  // visit (the kernel widens passBegin / passEnd of the rows it matched; rows of the
+  // triangle without a match keep an empty run, which the sweep passes over).
   int32_t rowLo = height, rowHi = 0;
-  auto addRun = [&](int32_t y, int32_t xa, int32_t xb, const SpanPlanes& planes,
-                    uint32_t triangleId) {
-    const size_t row = stride * size_t(y);
+  auto addRuns = [&](const SetupTriangle& st, const std::pair<int32_t, int32_t>* runs,
+                     const SpanPlanes& planes, uint32_t triangleId) {
     const uint32_t matched =
-        kernels->interpolateS(&w.s[row], &id[row], xa, xb, y, planes, triangleId);
+        kernels->interpolateRuns(w.s.data(), id.data(), stride, st.minY, st.maxY, runs, planes,
+                                 triangleId, w.passBegin.data(), w.passEnd.data());
     if (matched == 0) return;
     w.passPixels += matched;
-    w.passBegin[y] = std::min(w.passBegin[y], xa);
-    w.passEnd[y] = std::max(w.passEnd[y], xb);
-    rowLo = std::min(rowLo, y);
-    rowHi = std::max(rowHi, y + 1);
+    rowLo = std::min(rowLo, st.minY);
+    rowHi = std::max(rowHi, st.maxY);
   };
   // The mask sweep over those rows (spec §6 step 4), then the scratch is clean again.
   auto sweep = [&](float bias) {
@@ -464,12 +464,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     const Rgb8* s = &pass.receiverS[3 * k];
     for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
       const SetupTriangle& st = staticSubs[sub];
-      const SpanPlanes planes = planesOf(st, s[0], s[1], s[2]);
-      const auto* run = &spans[spanStart[sub]];
-      for (int32_t y = st.minY; y < st.maxY; ++y) {
-        const auto [xa, xb] = run[y - st.minY];
-        if (xa < xb) addRun(y, xa, xb, planes, t);
-      }
+      addRuns(st, &spans[spanStart[sub]], planesOf(st, s[0], s[1], s[2]), t);
     }
   }
   sweep(pass.depthBias);
@@ -481,12 +476,8 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     const Rgb8* s = &pass.objectS[3 * k];
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
       const SetupTriangle& st = objectTriangles[sub].t;
-      const SpanPlanes planes = planesOf(st, s[0], s[1], s[2]);
-      const auto* run = &objectSpans[objectSpanStart[sub]];
-      for (int32_t y = st.minY; y < st.maxY; ++y) {
-        const auto [xa, xb] = run[y - st.minY];
-        if (xa < xb) addRun(y, xa, xb, planes, kObjectBase + g);
-      }
+      addRuns(st, &objectSpans[objectSpanStart[sub]], planesOf(st, s[0], s[1], s[2]),
+              kObjectBase + g);
     }
   }
   sweep(pass.objectDepthBias);

@@ -545,6 +545,56 @@ uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb
   return static_cast<uint32_t>(matched);
 }
 
+// InterpolateS over a triangle's rows (see SpanKernels::interpolateRuns). The planes are
+// broadcast once per triangle and the row term once per row; v is summed in another order
+// than attributeAt's (c + gy fy + 0x8000 first), which wrapping 32-bit addition allows
+// (spec §5), so every lane is the same.
+uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
+                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+  const DI di;
+  const DU du;
+  const int32_t lanes = static_cast<int32_t>(hn::Lanes(du));
+  const AttributePlane pr = planes.rgb[0], pg = planes.rgb[1], pb = planes.rgb[2];
+  const int32_t ox = planes.ox, oy = planes.oy;
+  const VU gxR = hn::Set(du, pr.gx), gxG = hn::Set(du, pg.gx), gxB = hn::Set(du, pb.gx);
+  const VU want = hn::Set(du, triangleId);
+  const VI zero = hn::Zero(di), top = hn::Set(di, 255);
+  auto channel = [&](VU rowValue, VU gx, VU fx) {
+    const VI a = hn::ShiftRight<16>(hn::BitCast(di, hn::Add(rowValue, hn::Mul(gx, fx))));
+    return hn::Min(hn::Max(a, zero), top);
+  };
+  size_t matched = 0;
+  for (int32_t y = y0; y < y1; ++y) {
+    const auto [xa, xb] = runs[y - y0];
+    if (xa >= xb) continue;
+    const size_t row = stride * static_cast<size_t>(y);
+    const uint32_t fy = static_cast<uint32_t>(y - oy);
+    const VU rowR = hn::Set(du, pr.c + pr.gy * fy + 0x8000u);
+    const VU rowG = hn::Set(du, pg.c + pg.gy * fy + 0x8000u);
+    const VU rowB = hn::Set(du, pb.c + pb.gy * fy + 0x8000u);
+    size_t rowMatched = 0;
+    for (int32_t x = alignDown(xa); x < xb; x += lanes) {
+      const Chunk c = chunkAt(x, xa, xb);
+      const auto active =
+          hn::And(hn::RebindMask(du, c.inRun), hn::Eq(hn::LoadU(du, id + row + x), want));
+      if (hn::AllFalse(du, active)) continue;
+      rowMatched += hn::CountTrue(du, active);
+      const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, ox)));
+      const VI packed =
+          hn::Or(hn::Or(channel(rowR, gxR, fx), hn::ShiftLeft<8>(channel(rowG, gxG, fx))),
+                 hn::ShiftLeft<16>(channel(rowB, gxB, fx)));
+      uint32_t* out = sOut + row + x;
+      hn::StoreU(hn::IfThenElse(active, hn::BitCast(du, packed), hn::LoadU(du, out)), du, out);
+    }
+    if (rowMatched == 0) continue;
+    matched += rowMatched;
+    begin[y] = std::min(begin[y], xa);
+    end[y] = std::max(end[y], xb);
+  }
+  return static_cast<uint32_t>(matched);
+}
+
 void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
                     int32_t y0, int32_t y1, const int32_t* xaRow, const int32_t* xbRow,
                     const ShadowLookup& lookup) {
@@ -629,8 +679,9 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
 }
 
 const SpanKernels* Table() {
-  static const SpanKernels kernels{&DepthLess,    &DepthTriangle,  &ColourLess,
-                                   &InterpolateS, &AccumulateRows, &SubtractAccumulated};
+  static const SpanKernels kernels{&DepthLess,      &DepthTriangle,  &ColourLess,
+                                   &InterpolateS,   &AccumulateRows, &SubtractAccumulated,
+                                   &InterpolateRuns};
   return &kernels;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 
 #include "raster/triangle_setup.h"
 #include "simd/targets.h"
@@ -74,6 +75,15 @@ struct SpanKernels {
   //    of the row; acc[i] is accumulator i's r plane at that row.
   void (*subtractAccumulated)(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
                               size_t planeSize, int32_t xa, int32_t xb);
+  // 1 over all rows of one receiver (sub-)triangle, in one call: rows y0 <= y < y1 with
+  // runs[y - y0] = {xa, xb} (empty when xa >= xb), `stride` pixels apart, pointers at pixel
+  // (0, 0). The same s as interpolateS on every run; for each row where some pixel matched,
+  // begin[y] = min(begin[y], xa) and end[y] = max(end[y], xb). Returns the pixels matched.
+  // (One call per row cost more than the pixels of the short runs.)
+  uint32_t (*interpolateRuns)(uint32_t* s, const uint32_t* id, size_t stride, int32_t y0,
+                              int32_t y1, const std::pair<int32_t, int32_t>* runs,
+                              const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
+                              int32_t* end);
 };
 
 // The kernels of `isa`; the caller checks simd::isSupported(isa).

@@ -147,8 +147,25 @@ void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
   }
 }
 
-const SpanKernels kScalar{&depthLess,    &depthTriangle,  &colourLess,
-                          &interpolateS, &accumulateRows, &subtractAccumulated};
+uint32_t interpolateRuns(uint32_t* s, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
+                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+  uint32_t matched = 0;
+  for (int32_t y = y0; y < y1; ++y) {
+    const auto [xa, xb] = runs[y - y0];
+    if (xa >= xb) continue;
+    const size_t row = stride * static_cast<size_t>(y);
+    const uint32_t n = interpolateS(s + row, id + row, xa, xb, y, planes, triangleId);
+    if (n == 0) continue;
+    matched += n;
+    begin[y] = std::min(begin[y], xa);
+    end[y] = std::max(end[y], xb);
+  }
+  return matched;
+}
+
+const SpanKernels kScalar{&depthLess,      &depthTriangle,       &colourLess,     &interpolateS,
+                          &accumulateRows, &subtractAccumulated, &interpolateRuns};
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <limits>
@@ -139,6 +140,58 @@ TEST_P(SpanKernelsOnTarget, InterpolateSMatchesScalar) {
     ASSERT_EQ(ref.interpolateS(a.data(), rows.id.data(), xa, xb, trial % 40, p, 1),
               k.interpolateS(b.data(), rows.id.data(), xa, xb, trial % 40, p, 1));
     ASSERT_EQ(a, b) << trial;
+  }
+}
+
+// The per-triangle form against its definition: interpolateS of the scalar reference on
+// each row's run, the row bounds widened only where a pixel matched.
+TEST_P(SpanKernelsOnTarget, InterpolateRunsMatchesPerRowScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(14);
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> any(0, 0xFFFFFFFFu);
+  constexpr int32_t kRows = 24;
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<uint32_t> id(size_t(kRow) * kRows);
+    for (auto& v : id) v = any(rng) % 3;  // the kernels look for 1 (or 2, below)
+    std::vector<uint32_t> expected(id.size());
+    for (auto& v : expected) v = any(rng);  // lanes not matched must keep their value
+    std::vector<uint32_t> got = expected;
+    std::vector<int32_t> beginA(kRows), endA(kRows);
+    for (int32_t y = 0; y < kRows; ++y) {
+      beginA[y] = pos(rng);
+      endA[y] = pos(rng);
+    }
+    std::vector<int32_t> beginB = beginA, endB = endA;
+    const int32_t y0 = trial % 5, y1 = kRows - trial % 3;
+    std::vector<std::pair<int32_t, int32_t>> runs(size_t(y1 - y0));
+    for (auto& r : runs) {
+      r = {pos(rng), pos(rng)};
+      if (trial % 4 != 0 && r.first > r.second) std::swap(r.first, r.second);  // else empty
+    }
+    SpanPlanes p = randomPlanes(rng);
+    p.ox = trial % 7;
+    p.oy = y0 + trial % 2;
+    const uint32_t want = 1 + uint32_t(trial % 2);
+    uint32_t matched = 0;
+    for (int32_t y = y0; y < y1; ++y) {
+      const auto [xa, xb] = runs[size_t(y - y0)];
+      if (xa >= xb) continue;
+      const size_t row = size_t(kRow) * size_t(y);
+      const uint32_t n = ref.interpolateS(&expected[row], &id[row], xa, xb, y, p, want);
+      if (n == 0) continue;
+      matched += n;
+      beginA[y] = std::min(beginA[y], xa);
+      endA[y] = std::max(endA[y], xb);
+    }
+    ASSERT_EQ(k.interpolateRuns(got.data(), id.data(), kRow, y0, y1, runs.data(), p, want,
+                                beginB.data(), endB.data()),
+              matched)
+        << trial;
+    ASSERT_EQ(got, expected) << trial;
+    ASSERT_EQ(beginB, beginA) << trial;
+    ASSERT_EQ(endB, endA) << trial;
   }
 }
 

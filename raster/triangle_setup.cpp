@@ -143,17 +143,32 @@ void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, u
 
 bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint32_t height,
                    SetupTriangle& t) {
+  // Shadow maps set up ~24 k triangles per frame, many covering no pixel centre: the
+  // bounding box (which does not depend on the winding) is tested before anything else.
+  const int32_t x0 = vin[0].x, x1 = vin[1].x, x2 = vin[2].x;
+  const int32_t y0 = vin[0].y, y1 = vin[1].y, y2 = vin[2].y;
+  const int64_t loX = std::min({x0, x1, x2}), hiX = std::max({x0, x1, x2});
+  const int64_t loY = std::min({y0, y1, y2}), hiY = std::max({y0, y1, y2});
+  // Pixel px is a candidate when its centre 256 px + 128 lies in [lo, hi]: px >=
+  // ceil((lo - 128) / 256) and px <= floor((hi - 128) / 256). Arithmetic shifts are the
+  // floor of a division by 256 for every int64 (g++ and Clang shift arithmetically).
+  const int64_t minX = std::max<int64_t>(0, (loX - 128 + 255) >> 8);
+  const int64_t maxX = std::min<int64_t>(width, ((hiX - 128) >> 8) + 1);
+  const int64_t minY = std::max<int64_t>(0, (loY - 128 + 255) >> 8);
+  const int64_t maxY = std::min<int64_t>(height, ((hiY - 128) >> 8) + 1);
+  if (minX >= maxX || minY >= maxY) return false;
+  int64_t det = int64_t{x1 - x0} * (y2 - y0) - int64_t{x2 - x0} * (y1 - y0);
+  if (det == 0) return false;
   t.v = vin;
-  auto detOf = [](const std::array<SnappedVertex, 3>& v) {
-    return int64_t{v[1].x - v[0].x} * (v[2].y - v[0].y) -
-           int64_t{v[2].x - v[0].x} * (v[1].y - v[0].y);
-  };
-  t.det = detOf(t.v);
-  if (t.det == 0) return false;
-  if (t.det < 0) {
+  if (det < 0) {
     std::swap(t.v[1], t.v[2]);
-    t.det = -t.det;
+    det = -det;
   }
+  t.det = det;
+  t.minX = static_cast<int32_t>(minX);
+  t.maxX = static_cast<int32_t>(maxX);
+  t.minY = static_cast<int32_t>(minY);
+  t.maxY = static_cast<int32_t>(maxY);
   for (int i = 0; i < 3; ++i) {
     const SnappedVertex& a = t.v[i];
     const SnappedVertex& b = t.v[(i + 1) % 3];
@@ -164,25 +179,17 @@ bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint
     const bool topLeft = e.a > 0 || (e.a == 0 && e.b > 0);
     e.bias = topLeft ? 0 : 1;
   }
-  const int32_t xs[3] = {t.v[0].x, t.v[1].x, t.v[2].x};
-  const int32_t ys[3] = {t.v[0].y, t.v[1].y, t.v[2].y};
-  const int64_t loX = *std::min_element(xs, xs + 3), hiX = *std::max_element(xs, xs + 3);
-  const int64_t loY = *std::min_element(ys, ys + 3), hiY = *std::max_element(ys, ys + 3);
-  // Pixel px is a candidate when its centre 256 px + 128 lies in [lo, hi].
-  t.minX = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loX - 128, 256)));
-  t.maxX = static_cast<int32_t>(std::min<int64_t>(width, floorDiv<int64_t>(hiX - 128, 256) + 1));
-  t.minY = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv<int64_t>(loY - 128, 256)));
-  t.maxY = static_cast<int32_t>(std::min<int64_t>(height, floorDiv<int64_t>(hiY - 128, 256) + 1));
-  if (t.minX >= t.maxX || t.minY >= t.maxY) return false;
 
-  // Depth plane (spec §5), binary64 then rounded once to binary32.
-  const double det = static_cast<double>(t.det);
+  // Depth plane (spec §5), binary64 then rounded once to binary32. The two quotients are
+  // one two-lane division: each lane is the same correctly rounded IEEE quotient.
+  typedef double Double2 __attribute__((vector_size(16)));
   const double dx1 = t.v[1].x - t.v[0].x, dy1 = t.v[1].y - t.v[0].y;
   const double dx2 = t.v[2].x - t.v[0].x, dy2 = t.v[2].y - t.v[0].y;
   const double z0 = t.v[0].z;
   const double dz1 = static_cast<double>(t.v[1].z) - z0, dz2 = static_cast<double>(t.v[2].z) - z0;
-  const double gX = (dz1 * dy2 - dz2 * dy1) / det;
-  const double gY = (dz2 * dx1 - dz1 * dx2) / det;
+  const double detD = static_cast<double>(det);
+  const Double2 g = Double2{dz1 * dy2 - dz2 * dy1, dz2 * dx1 - dz1 * dx2} / Double2{detD, detD};
+  const double gX = g[0], gY = g[1];
   const double ox = 256.0 * t.minX + 128.0 - t.v[0].x;
   const double oy = 256.0 * t.minY + 128.0 - t.v[0].y;
   const double zc = z0 + gX * ox + gY * oy;
@@ -207,7 +214,14 @@ AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 
   const int64_t gy = roundDiv<int64_t>(256 * nY, t.det);
   const Int128 ox = int64_t{256} * t.minX + 128 - t.v[0].x;
   const Int128 oy = int64_t{256} * t.minY + 128 - t.v[0].y;
-  const int64_t c = v[0] + static_cast<int64_t>(roundDiv<Int128>(nX * ox + nY * oy, Int128{t.det}));
+  // The 128-bit quotient (a library call, ~100 cycles) only when the numerator needs it:
+  // for the usual small offsets it fits in 62 bits and the int64 quotient is the same.
+  const Int128 n = nX * ox + nY * oy;
+  constexpr int64_t kFits = int64_t{1} << 61;
+  const int64_t q = n >= -kFits && n <= kFits
+                        ? roundDiv<int64_t>(static_cast<int64_t>(n), t.det)
+                        : static_cast<int64_t>(roundDiv<Int128>(n, Int128{t.det}));
+  const int64_t c = v[0] + q;
   // Reduction modulo 2^32 is the arithmetic of spec §5.
   return {static_cast<uint32_t>(c), static_cast<uint32_t>(gx), static_cast<uint32_t>(gy)};
 }

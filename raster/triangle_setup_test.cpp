@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -138,6 +139,161 @@ TEST(Spans, RowWalkerEqualsRowSpanOnEveryRow) {
       }
     }
   }
+}
+
+// Spec §4–5 written out directly (integer quotients by / and %, two scalar binary64
+// divisions, det tested before the box): setupTriangle, which tests the box first, uses
+// shifts and one two-lane division, must give the same answer and the same fields.
+bool referenceSetup(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint32_t height,
+                    SetupTriangle& t) {
+  auto floorDiv = [](int64_t n, int64_t d) { return n / d - (n % d != 0 && n < 0 ? 1 : 0); };
+  auto ceilDiv = [](int64_t n, int64_t d) { return n / d + (n % d != 0 && n > 0 ? 1 : 0); };
+  t.v = vin;
+  t.det = int64_t{t.v[1].x - t.v[0].x} * (t.v[2].y - t.v[0].y) -
+          int64_t{t.v[2].x - t.v[0].x} * (t.v[1].y - t.v[0].y);
+  if (t.det == 0) return false;
+  if (t.det < 0) {
+    std::swap(t.v[1], t.v[2]);
+    t.det = -t.det;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const SnappedVertex& a = t.v[i];
+    const SnappedVertex& b = t.v[(i + 1) % 3];
+    t.edges[i].a = int64_t{a.y} - b.y;
+    t.edges[i].b = int64_t{b.x} - a.x;
+    t.edges[i].c = int64_t{a.x} * b.y - int64_t{a.y} * b.x;
+    t.edges[i].bias = t.edges[i].a > 0 || (t.edges[i].a == 0 && t.edges[i].b > 0) ? 0 : 1;
+  }
+  int64_t loX = t.v[0].x, hiX = t.v[0].x, loY = t.v[0].y, hiY = t.v[0].y;
+  for (const SnappedVertex& v : t.v) {
+    loX = std::min<int64_t>(loX, v.x);
+    hiX = std::max<int64_t>(hiX, v.x);
+    loY = std::min<int64_t>(loY, v.y);
+    hiY = std::max<int64_t>(hiY, v.y);
+  }
+  t.minX = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv(loX - 128, 256)));
+  t.maxX = static_cast<int32_t>(std::min<int64_t>(width, floorDiv(hiX - 128, 256) + 1));
+  t.minY = static_cast<int32_t>(std::max<int64_t>(0, ceilDiv(loY - 128, 256)));
+  t.maxY = static_cast<int32_t>(std::min<int64_t>(height, floorDiv(hiY - 128, 256) + 1));
+  if (t.minX >= t.maxX || t.minY >= t.maxY) return false;
+  const double det = static_cast<double>(t.det);
+  const double dx1 = t.v[1].x - t.v[0].x, dy1 = t.v[1].y - t.v[0].y;
+  const double dx2 = t.v[2].x - t.v[0].x, dy2 = t.v[2].y - t.v[0].y;
+  const double z0 = t.v[0].z;
+  const double dz1 = static_cast<double>(t.v[1].z) - z0, dz2 = static_cast<double>(t.v[2].z) - z0;
+  const double gX = (dz1 * dy2 - dz2 * dy1) / det;
+  const double gY = (dz2 * dx1 - dz1 * dx2) / det;
+  const double zc =
+      z0 + gX * (256.0 * t.minX + 128.0 - t.v[0].x) + gY * (256.0 * t.minY + 128.0 - t.v[0].y);
+  t.depth.z00 = static_cast<float>(zc);
+  t.depth.dzdx = static_cast<float>(gX * 256.0);
+  t.depth.dzdy = static_cast<float>(gY * 256.0);
+  return true;
+}
+
+TEST(Setup, MatchesTheDirectFormulasFieldForField) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> depth(0.0f, 1.0f);
+  int drawn = 0, rejected = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    // Tiny (sub-pixel, many without a pixel centre), map-sized and guard-band-sized
+    // triangles, some with centres exactly on pixel-centre boundaries, some degenerate.
+    const int32_t range = trial % 4 == 0 ? (1 << 22) : (trial % 4 == 1 ? 300 * 256 : 3 * 256);
+    const int32_t base = trial % 4 == 0 ? -(1 << 21) : -256;
+    std::uniform_int_distribution<int32_t> coord(base, base + range);
+    std::array<SnappedVertex, 3> v;
+    for (SnappedVertex& p : v) {
+      p = sv(coord(rng), coord(rng));
+      if (trial % 7 == 0) p.x = (p.x & ~255) + 128;  // on a pixel centre column
+      p.z = depth(rng);
+    }
+    if (trial % 11 == 0) v[2] = v[1];  // det = 0
+    SetupTriangle a, b;
+    const bool ra = referenceSetup(v, 256, 240, a);
+    const bool rb = setupTriangle(v, 256, 240, b);
+    ASSERT_EQ(ra, rb) << "trial " << trial;
+    if (!ra) {
+      ++rejected;
+      continue;
+    }
+    ++drawn;
+    ASSERT_EQ(a.det, b.det);
+    ASSERT_EQ(a.minX, b.minX);
+    ASSERT_EQ(a.maxX, b.maxX);
+    ASSERT_EQ(a.minY, b.minY);
+    ASSERT_EQ(a.maxY, b.maxY);
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(a.v[i].x, b.v[i].x);
+      ASSERT_EQ(a.v[i].y, b.v[i].y);
+      ASSERT_EQ(a.edges[i].a, b.edges[i].a);
+      ASSERT_EQ(a.edges[i].b, b.edges[i].b);
+      ASSERT_EQ(a.edges[i].c, b.edges[i].c);
+      ASSERT_EQ(a.edges[i].bias, b.edges[i].bias);
+    }
+    // Bit patterns: the same binary32 values, not merely equal ones.
+    ASSERT_EQ(std::bit_cast<uint32_t>(a.depth.z00), std::bit_cast<uint32_t>(b.depth.z00));
+    ASSERT_EQ(std::bit_cast<uint32_t>(a.depth.dzdx), std::bit_cast<uint32_t>(b.depth.dzdx));
+    ASSERT_EQ(std::bit_cast<uint32_t>(a.depth.dzdy), std::bit_cast<uint32_t>(b.depth.dzdy));
+  }
+  EXPECT_GT(drawn, 50000);
+  EXPECT_GT(rejected, 20000);
+}
+
+// Spec §5's attribute plane with every origin quotient in 128 bits; attributePlane takes
+// an int64 quotient when the numerator fits, which must not change a bit.
+AttributePlane referencePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners) {
+  __extension__ typedef __int128 Int128;
+  auto roundDiv = [](Int128 n, Int128 d) {  // floor((2n + d) / 2d), d > 0
+    const Int128 num = 2 * n + d, den = 2 * d;
+    const Int128 q = num / den;
+    return num % den != 0 && num < 0 ? q - 1 : q;
+  };
+  std::array<Int128, 3> v;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = Int128{t.v[i].w[0]} * corners[0] + Int128{t.v[i].w[1]} * corners[1] +
+           Int128{t.v[i].w[2]} * corners[2];
+  }
+  const Int128 dv1 = v[1] - v[0], dv2 = v[2] - v[0];
+  const Int128 nX = dv1 * (t.v[2].y - t.v[0].y) - dv2 * (t.v[1].y - t.v[0].y);
+  const Int128 nY = dv2 * (t.v[1].x - t.v[0].x) - dv1 * (t.v[2].x - t.v[0].x);
+  const Int128 ox = Int128{256} * t.minX + 128 - t.v[0].x;
+  const Int128 oy = Int128{256} * t.minY + 128 - t.v[0].y;
+  const Int128 c = v[0] + roundDiv(nX * ox + nY * oy, t.det);
+  return {static_cast<uint32_t>(static_cast<uint64_t>(c)),
+          static_cast<uint32_t>(static_cast<uint64_t>(roundDiv(256 * nX, t.det))),
+          static_cast<uint32_t>(static_cast<uint64_t>(roundDiv(256 * nY, t.det)))};
+}
+
+TEST(Setup, AttributePlaneMatches128BitQuotients) {
+  std::mt19937 rng(12);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_int_distribution<int32_t> weight(0, 65536);
+  int checked = 0, wide = 0;
+  for (int trial = 0; trial < 100000; ++trial) {
+    // Guard-band-sized triangles (origin numerators beyond 2^61, the 128-bit path) and
+    // small ones (the int64 path), with clipped-vertex weights.
+    const int32_t range = trial % 3 == 0 ? (1 << 22) : (trial % 3 == 1 ? 40 * 256 : 600 * 256);
+    std::uniform_int_distribution<int32_t> coord(-range / 2, range);
+    std::array<SnappedVertex, 3> v;
+    for (SnappedVertex& p : v) {
+      p = sv(coord(rng), coord(rng));
+      const int32_t w1 = weight(rng), w2 = weight(rng) % (65537 - w1);
+      p.w = {65536 - w1 - w2, w1, w2};
+    }
+    SetupTriangle t;
+    if (!setupTriangle(v, 4096, 4096, t)) continue;
+    const std::array<uint8_t, 3> corners{uint8_t(byte(rng)), uint8_t(byte(rng)),
+                                         uint8_t(byte(rng))};
+    const AttributePlane a = referencePlane(t, corners), b = attributePlane(t, corners);
+    ASSERT_EQ(a.c, b.c) << trial;
+    ASSERT_EQ(a.gx, b.gx) << trial;
+    ASSERT_EQ(a.gy, b.gy) << trial;
+    ++checked;
+    const double ox = 256.0 * t.minX + 128 - t.v[0].x;
+    wide += std::abs(ox) > double(1 << 20) ? 1 : 0;
+  }
+  EXPECT_GT(checked, 50000);
+  EXPECT_GT(wide, 1000);
 }
 
 TEST(Spans, TileClassificationIsExact) {
