@@ -88,7 +88,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1'000'000));
   apps::addRenderFlags(&app, flags);
   app.add_option("--hashes", hashesPath, "write `sha256 <hex>` of each displayed frame");
-  auto* video = app.add_option("--video", videoPath, "write an MP4 video (needs OpenCV)");
+#ifdef PENUMBRA_HAVE_OPENCV
+  auto* video = app.add_option("--video", videoPath, "write an MP4 video (OpenCV VideoWriter)");
+#else
+  auto* video = app.add_option("--video", videoPath, "MP4 video: not in this build (no OpenCV)");
+#endif
   auto* dir = app.add_option("--frames-dir", framesDir, "write every frame as DIR/frame-NNNN.png");
   video->excludes(dir);
   app.add_option("--strip", stripPath, "write a PNG strip of evenly spaced frames");
