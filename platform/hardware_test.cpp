@@ -17,6 +17,9 @@
 #ifdef PENUMBRA_HAVE_SDL2
 #include "platform/sdl_display.h"
 #endif
+#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+#include "platform/opencv_camera.h"
+#endif
 
 namespace penumbra::platform {
 namespace {
@@ -46,6 +49,19 @@ TEST(LibcameraBackend, ManagerStartsAndListsNoCamera) {
     FAIL();
   } catch (const HardwareUnavailable& e) {
     EXPECT_NE(std::string(e.what()).find("no camera found"), std::string::npos) << e.what();
+  }
+}
+#endif
+
+#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+TEST(OpenCvCameraBackend, MissingDeviceFailsCleanly) {
+  try {
+    OpenCvCamera c("/dev/video-penumbra-absent", 640, 480);
+    FAIL();
+  } catch (const HardwareUnavailable& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/video-penumbra-absent: no such device"),
+              std::string::npos)
+        << e.what();
   }
 }
 #endif
