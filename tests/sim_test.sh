@@ -3,7 +3,7 @@
 # function of the session file, so its per-frame hashes are fixed.
 #   golden  SIM SESSION GOLDEN [EMULATOR...]: the first N frames (N = lines of GOLDEN) at 1
 #           and 2 threads equal the golden hashes (run natively and under qemu-aarch64 NEON).
-#   invariance SIM SESSION: the whole session at threads 1/2/4 (best ISA) and at every x86 ISA
+#   invariance SIM SESSION [FRAMES]: the whole session (or its first FRAMES) at threads 1/2/4 (best ISA) and at every x86 ISA
 #           (2 threads) gives one and the same hash list; the summary is printed.
 #   bundle  PENUMBRA SHOWROOM_JSON BUNDLE: the committed bundle equals a fresh precompute.
 set -euo pipefail
@@ -32,18 +32,19 @@ case "$mode" in
     [ ! -e "$tmp/bad.txt" ] || fail "hash file written for a bad session"
     ;;
   invariance)
-    sim=$1 session=$2
-    "$sim" "$session" --threads 1 --hashes "$tmp/ref.txt"
+    sim=$1 session=$2 frames=${3:-}
+    if [ -n "$frames" ]; then f=(--frames "$frames"); else f=(); fi
+    "$sim" "$session" "${f[@]}" --threads 1 --hashes "$tmp/ref.txt"
     n=$(wc -l <"$tmp/ref.txt")
     for t in 2 4; do
-      "$sim" "$session" --threads "$t" --hashes "$tmp/t$t.txt" >/dev/null
+      "$sim" "$session" "${f[@]}" --threads "$t" --hashes "$tmp/t$t.txt" >/dev/null
       cmp "$tmp/ref.txt" "$tmp/t$t.txt" || fail "threads $t differ from threads 1"
     done
     for isa in scalar sse4 avx2 avx512; do
       if ! "$sim" "$session" --frames 1 --isa "$isa" --hashes /dev/null >/dev/null 2>&1; then
         echo "isa $isa: not on this CPU, skipped"; continue
       fi
-      "$sim" "$session" --threads 2 --isa "$isa" --hashes "$tmp/$isa.txt" >/dev/null
+      "$sim" "$session" "${f[@]}" --threads 2 --isa "$isa" --hashes "$tmp/$isa.txt" >/dev/null
       cmp "$tmp/ref.txt" "$tmp/$isa.txt" || fail "isa $isa differs"
       echo "isa $isa: $n frames identical"
     done
