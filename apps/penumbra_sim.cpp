@@ -1,0 +1,210 @@
+// `penumbra-sim SESSION.json`: a whole kiosk session on the simulated board (issue 6 §5,
+// docs/kiosk.md). The kiosk loop of platform/ runs with the simulated camera, buttons and
+// LED of firmware-sim/, on a virtual clock advanced by the board's cost model, so every
+// displayed frame — HUD included — is a pure function of the session: `--hashes` writes one
+// `sha256 <64 hex>` line per frame (of the displayed RGBA8 frame, HUD included), the same
+// for any --threads, --isa or machine.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "apps/render_flags.h"
+#include "firmware-sim/session.h"
+#include "firmware-sim/sim_run.h"
+#include "scene/image_io.h"
+#include "scene/sha256.h"
+#ifdef PENUMBRA_HAVE_OPENCV
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#endif
+
+using namespace penumbra;
+
+namespace {
+
+int64_t percentile(std::vector<int64_t> v, int pct) {
+  if (v.empty()) return -1;
+  std::sort(v.begin(), v.end());
+  // Nearest rank: the smallest value with at least pct % of the samples at or below it.
+  size_t rank = (v.size() * static_cast<size_t>(pct) + 99) / 100;
+  if (rank == 0) rank = 1;
+  return v[rank - 1];
+}
+
+double ms(int64_t ns) {
+  return static_cast<double>(ns) * 1e-6;
+}
+
+// A strip of `count` frames side by side in two rows, each reduced 4× by a 4×4 box average
+// (integers), for README/docs pictures without a video player.
+class Strip {
+ public:
+  Strip(uint32_t w, uint32_t h, uint32_t count)
+      : tw_(w / 4),
+        th_(h / 4),
+        cols_((count + 1) / 2),
+        pixels_(size_t{tw_} * cols_ * th_ * 2 * 4) {}
+  void add(const std::vector<uint8_t>& rgba, uint32_t w, uint32_t slot) {
+    const uint32_t ox = (slot % cols_) * tw_, oy = (slot / cols_) * th_;
+    const uint32_t stride = tw_ * cols_;
+    for (uint32_t y = 0; y < th_; ++y) {
+      for (uint32_t x = 0; x < tw_; ++x) {
+        for (uint32_t c = 0; c < 4; ++c) {
+          uint32_t sum = 0;
+          for (uint32_t dy = 0; dy < 4; ++dy) {
+            for (uint32_t dx = 0; dx < 4; ++dx) {
+              sum += rgba[((size_t{y} * 4 + dy) * w + x * 4 + dx) * 4 + c];
+            }
+          }
+          pixels_[((size_t{oy} + y) * stride + ox + x) * 4 + c] =
+              static_cast<uint8_t>((sum + 8) / 16);
+        }
+      }
+    }
+  }
+  void write(const std::string& path) const {
+    scene::writePng(path, tw_ * cols_, th_ * 2, pixels_);
+  }
+
+ private:
+  uint32_t tw_, th_, cols_;
+  std::vector<uint8_t> pixels_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"penumbra-sim: replay a kiosk session on the simulated board (docs/kiosk.md)"};
+  std::string sessionPath, hashesPath, videoPath, framesDir, stripPath;
+  uint32_t frames = 0, stripCount = 6;
+  bool bench = false, echoLog = false;
+  apps::RenderFlags flags;
+  app.add_option("SESSION", sessionPath, "session file (.json)")->required();
+  app.add_option("--frames", frames, "frames to run (default: the session's)")
+      ->check(CLI::Range(1, 1'000'000));
+  apps::addRenderFlags(&app, flags);
+  app.add_option("--hashes", hashesPath, "write `sha256 <hex>` of each displayed frame");
+#ifdef PENUMBRA_HAVE_OPENCV
+  auto* video = app.add_option("--video", videoPath, "write an MP4 video (OpenCV VideoWriter)");
+#else
+  auto* video = app.add_option("--video", videoPath, "MP4 video: not in this build (no OpenCV)");
+#endif
+  auto* dir = app.add_option("--frames-dir", framesDir, "write every frame as DIR/frame-NNNN.png");
+  video->excludes(dir);
+  app.add_option("--strip", stripPath, "write a PNG strip of evenly spaced frames");
+  app.add_option("--strip-frames", stripCount, "frames in the strip")->check(CLI::Range(2, 12));
+  app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
+  app.add_flag("--log", echoLog, "echo the kiosk log to stderr");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const firmware_sim::Session session = firmware_sim::loadSession(sessionPath);
+    const uint32_t n = frames ? frames : session.frames;
+    firmware_sim::SimOptions options;
+    options.render = apps::toOptions(flags);
+    options.logEcho = echoLog ? stderr : nullptr;
+
+    std::ofstream hashes;
+    if (!hashesPath.empty()) {
+      hashes.open(hashesPath);
+      if (!hashes) throw std::runtime_error(hashesPath + ": cannot write");
+    }
+    if (!framesDir.empty()) std::filesystem::create_directories(framesDir);
+#ifdef PENUMBRA_HAVE_OPENCV
+    cv::VideoWriter writer;
+#else
+    if (!videoPath.empty()) {
+      throw std::invalid_argument(
+          "--video needs a build with OpenCV (PENUMBRA_WITH_OPENCV); "
+          "use --frames-dir or --strip");
+    }
+#endif
+
+    firmware_sim::SimRun run(session, options);
+    const uint32_t w = run.width(), h = run.height();
+#ifdef PENUMBRA_HAVE_OPENCV
+    if (!videoPath.empty()) {
+      const double fps = 1e9 / static_cast<double>(session.kiosk.fastFrameNs);
+      writer.open(videoPath, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
+                  cv::Size(static_cast<int>(w), static_cast<int>(h)));
+      if (!writer.isOpened()) throw std::runtime_error(videoPath + ": OpenCV cannot write it");
+    }
+#endif
+    std::unique_ptr<Strip> strip;
+    if (!stripPath.empty()) strip = std::make_unique<Strip>(w, h, stripCount);
+
+    std::vector<int64_t> latency, wallNs;
+    std::vector<uint32_t> passes;
+    uint32_t degraded = 0, stale = 0, attract = 0;
+    int64_t firstStart = 0, lastEnd = 0;
+    for (uint32_t f = 0; f < n; ++f) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const platform::FrameReport r = run.step();
+      wallNs.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                           std::chrono::steady_clock::now() - t0)
+                           .count());
+      if (f == 0) firstStart = r.startNs;
+      lastEnd = r.endNs;
+      if (r.latencyNs >= 0) latency.push_back(r.latencyNs);
+      passes.push_back(r.passes);
+      degraded += r.led != platform::LedState::kReady;
+      stale += r.stale;
+      attract += r.attract;
+      const std::vector<uint8_t>& rgba = run.frame();
+      if (hashes) hashes << "sha256 " << scene::sha256Hex(rgba) << "\n";
+      if (!framesDir.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame-%04u.png", f + 1);
+        scene::writePng(std::filesystem::path(framesDir) / name, w, h, rgba);
+      }
+#ifdef PENUMBRA_HAVE_OPENCV
+      if (writer.isOpened()) {
+        cv::Mat in(static_cast<int>(h), static_cast<int>(w), CV_8UC4,
+                   const_cast<uint8_t*>(rgba.data()));
+        cv::Mat bgr;
+        cv::cvtColor(in, bgr, cv::COLOR_RGBA2BGR);
+        writer.write(bgr);
+      }
+#endif
+      if (strip && stripCount > 0) {
+        // Evenly spaced, the last frame included.
+        for (uint32_t k = 0; k < stripCount; ++k) {
+          if (f == static_cast<uint64_t>(n - 1) * k / (stripCount - 1)) strip->add(rgba, w, k);
+        }
+      }
+    }
+    if (hashes) {
+      hashes.close();
+      if (!hashes) throw std::runtime_error(hashesPath + ": write failed");
+    }
+    if (strip) strip->write(stripPath);
+
+    const int64_t span = lastEnd - firstStart;
+    std::vector<uint32_t> sorted = passes;
+    std::sort(sorted.begin(), sorted.end());
+    std::printf("session %s: %u frames, %.2f s on the virtual clock\n",
+                session.file.filename().c_str(), n, ms(span) * 1e-3);
+    std::printf("fps %.2f (simulated board)\n",
+                span > 0 ? static_cast<double>(n) * 1e9 / static_cast<double>(span) : 0.0);
+    std::printf("passes median %u min %u max %u\n", sorted[sorted.size() / 2], sorted.front(),
+                sorted.back());
+    std::printf(
+        "latency camera->screen median %.2f ms p99 %.2f ms (%zu frames with a camera frame)\n",
+        ms(percentile(latency, 50)), ms(percentile(latency, 99)), latency.size());
+    std::printf("led degraded %u frames, stale camera %u frames, attract %u frames\n", degraded,
+                stale, attract);
+    if (bench) {
+      std::printf("wall ms/frame on this machine: median %.2f p99 %.2f (%d threads, %s)\n",
+                  ms(percentile(wallNs, 50)), ms(percentile(wallNs, 99)), flags.threads,
+                  flags.isa.c_str());
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "penumbra-sim: error: " << e.what() << "\n";
+    return 1;
+  }
+}

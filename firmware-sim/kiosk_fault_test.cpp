@@ -1,0 +1,262 @@
+// The kiosk's faults (issue 6), each on the simulated board: the camera disappears and
+// returns; frames come late, twice or not at all; a frame of the wrong size or format; no
+// GPIO chip; a bouncing button; a stuck button; a frame over budget; a corrupt bundle or
+// product model at start-up. Every frame of every test is also checked against the kiosk's
+// promise: never a black frame, never an old or missing camera frame on screen without the
+// LED and the log saying so.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "firmware-sim/session.h"
+#include "firmware-sim/sim_run.h"
+#include "platform/bundle_guard.h"
+
+namespace penumbra::firmware_sim {
+namespace {
+
+namespace fs = std::filesystem;
+using platform::FrameReport;
+using platform::LedState;
+
+const fs::path kBundle = fs::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle";
+
+// A session file: the showroom bundle, the common board (unless `extra` has its own), plus
+// `extra` top-level members (JSON text).
+Session session(const std::string& name, const std::string& extra, uint32_t frames) {
+  const fs::path dir = fs::temp_directory_path() / "penumbra-kiosk-fault-test";
+  fs::create_directories(dir);
+  const fs::path file = dir / (name + ".json");
+  std::string text = R"({"format": "penumbra-session", "version": 1, "bundle": ")" +
+                     kBundle.string() + "\", \"frames\": " + std::to_string(frames);
+  if (extra.find("\"board\"") == std::string::npos) {
+    text += R"(, "board": {"fixed_us": 7000, "per_pass_us": 0, "per_texel_ps": 2000,
+                           "per_pixel_ps": 14000})";
+  }
+  if (!extra.empty()) text += ", " + extra;
+  std::ofstream(file) << text << "}";
+  return loadSession(file);
+}
+
+struct Played {
+  std::vector<FrameReport> frames;
+  std::vector<std::string> hashes;
+};
+
+bool contains(const std::vector<std::string>& v, const std::string& needle) {
+  return std::any_of(v.begin(), v.end(),
+                     [&](const std::string& s) { return s.find(needle) != std::string::npos; });
+}
+
+// Runs the session and checks the kiosk's promise on every frame.
+Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs) {
+  Played p;
+  for (uint32_t i = 0; i < frames; ++i) {
+    FrameReport r = run.step();
+    const std::vector<uint8_t>& rgba = run.frame();
+    // Never black: the camera's room (or the calibration photograph) is always behind.
+    uint64_t sum = 0;
+    for (size_t k = 0; k < rgba.size(); k += 4) sum += rgba[k] + rgba[k + 1] + rgba[k + 2];
+    EXPECT_GT(sum / (rgba.size() / 4), 20u) << "frame " << r.frame << " is (nearly) black";
+    // An old frame, or no camera frame: the LED is not ready, the HUD and the log say so.
+    const bool old = r.backgroundSequence == 0 || r.backgroundAgeNs > staleAfterNs;
+    if (old) {
+      EXPECT_NE(r.led, LedState::kReady) << "frame " << r.frame << ": frozen picture, LED ready";
+      EXPECT_FALSE(r.warnings.empty()) << "frame " << r.frame;
+      EXPECT_TRUE(run.log().contains("camera:", r.startNs)) << "frame " << r.frame;
+    }
+    EXPECT_EQ(r.led == LedState::kReady, r.warnings.empty()) << "frame " << r.frame;
+    p.hashes.push_back(std::string(reinterpret_cast<const char*>(rgba.data()), 64));
+    p.frames.push_back(std::move(r));
+  }
+  return p;
+}
+
+constexpr int64_t kStale = 100'000'000;
+
+TEST(KioskFaults, CameraDisappearsAndReturns) {
+  // Camera frames 30..74 never come: the camera is gone for 1.5 s.
+  const Session s = session("disconnect", R"("camera": {"faults": [
+      {"kind": "disconnect", "frame": 30, "count": 45}]})",
+                            150);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  bool sawLost = false;
+  for (const FrameReport& r : p.frames) {
+    if (contains(r.warnings, "CAMERA LOST")) {
+      sawLost = true;
+      EXPECT_EQ(r.led, LedState::kDegraded);
+      EXPECT_FALSE(r.cameraFrameNew);
+    }
+  }
+  EXPECT_TRUE(sawLost);
+  EXPECT_TRUE(run.log().contains("camera: disconnected"));
+  EXPECT_TRUE(run.log().contains("camera: reconnected"));
+  // Back: the last 20 frames are live again, new camera frames, LED ready.
+  for (size_t i = p.frames.size() - 20; i < p.frames.size(); ++i) {
+    EXPECT_EQ(p.frames[i].led, LedState::kReady) << "frame " << p.frames[i].frame;
+    EXPECT_LE(p.frames[i].backgroundAgeNs, kStale);
+  }
+}
+
+TEST(KioskFaults, LateDuplicatedAndMissingFrames) {
+  const Session s = session("late", R"("camera": {"faults": [
+      {"kind": "drop", "frame": 20, "count": 6},
+      {"kind": "late", "frame": 50, "count": 3, "delay_ms": 150},
+      {"kind": "duplicate", "frame": 70}]})",
+                            100);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  uint64_t last = 0;
+  bool frozenDuringDrop = false;
+  for (const FrameReport& r : p.frames) {
+    EXPECT_GE(r.backgroundSequence, last) << "frame " << r.frame << " went back in time";
+    last = r.backgroundSequence;
+    // Dropped camera frames 20..25 (sequences 21..26) are never shown.
+    EXPECT_FALSE(r.backgroundSequence >= 21 && r.backgroundSequence <= 26) << r.frame;
+    if (r.stale && r.backgroundSequence == 20) frozenDuringDrop = true;
+  }
+  EXPECT_TRUE(frozenDuringDrop);  // 6 frames = 200 ms gap > 100 ms: said, not hidden
+  EXPECT_TRUE(run.log().contains("delivered again (already shown), ignored"));
+  EXPECT_TRUE(run.log().contains("no new frame for"));
+  EXPECT_TRUE(run.log().contains("live again"));
+  EXPECT_EQ(p.frames.back().led, LedState::kReady);
+}
+
+TEST(KioskFaults, WrongSizeAndFormatFramesAreRefused) {
+  const Session s = session("wrong", R"("camera": {"faults": [
+      {"kind": "wrong_size", "frame": 20}, {"kind": "wrong_format", "frame": 30, "count": 2}]})",
+                            60);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  bool said = false;
+  for (const FrameReport& r : p.frames) {
+    EXPECT_NE(r.backgroundSequence, 21u);  // camera frame 20: 320x240
+    EXPECT_NE(r.backgroundSequence, 31u);  // 30, 31: YUYV
+    EXPECT_NE(r.backgroundSequence, 32u);
+    said = said || contains(r.warnings, "BAD CAMERA FRAME REFUSED");
+  }
+  EXPECT_TRUE(said);
+  EXPECT_TRUE(run.log().contains("frame 21 refused: frame size 320x240"));
+  EXPECT_TRUE(run.log().contains("frame 31 refused: frame format 640x480 YUYV"));
+}
+
+TEST(KioskFaults, GpioChipMissing) {
+  const Session s = session("nogpio", R"("kiosk": {"attract_after_ms": 1000},
+      "gpio": {"chip": "missing"})",
+                            60);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  EXPECT_TRUE(run.log().contains("no such GPIO chip"));
+  EXPECT_TRUE(run.log().contains("running attract mode only"));
+  for (const FrameReport& r : p.frames) {
+    EXPECT_EQ(r.led, LedState::kDegraded);
+    EXPECT_TRUE(contains(r.warnings, "NO BUTTONS"));
+  }
+  EXPECT_TRUE(p.frames.back().attract);  // without buttons the kiosk still shows products
+  EXPECT_NE(p.frames[40].pose.x, p.frames[59].pose.x);
+}
+
+TEST(KioskFaults, BouncingButtonActsOnce) {
+  const Session s = session("bounce", R"("gpio": {"presses": [
+      {"at_ms": 300, "button": "next", "bounces": 5, "bounce_us": 1500}]})",
+                            40);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  int changes = 0;
+  for (size_t i = 1; i < p.frames.size(); ++i) {
+    changes += p.frames[i].pose.product != p.frames[i - 1].pose.product;
+  }
+  EXPECT_EQ(changes, 1);
+  EXPECT_EQ(
+      std::count_if(run.log().lines().begin(), run.log().lines().end(),
+                    [](const platform::LogLine& l) { return l.text.rfind("product: ", 0) == 0; }),
+      1);
+}
+
+TEST(KioskFaults, StuckButtonIsIgnoredUntilReleased) {
+  const Session s = session("stuck", R"("kiosk": {"stuck_after_ms": 1000},
+      "gpio": {"presses": [{"at_ms": 200, "button": "right", "hold_ms": 3000}]})",
+                            130);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  EXPECT_TRUE(run.log().contains("button right: held for over 1.0 S, taken as stuck"));
+  EXPECT_TRUE(run.log().contains("button right: released, usable again"));
+  bool sawStuck = false;
+  float xWhenStuck = 0;
+  for (const FrameReport& r : p.frames) {
+    if (contains(r.warnings, "BUTTON STUCK: right")) {
+      EXPECT_EQ(r.led, LedState::kDegraded);
+      if (!sawStuck) xWhenStuck = r.pose.x;
+      sawStuck = true;
+      EXPECT_EQ(r.pose.x, xWhenStuck) << "a stuck button kept moving the product";
+    }
+  }
+  EXPECT_TRUE(sawStuck);
+  EXPECT_GT(xWhenStuck, p.frames[0].pose.x);  // it did repeat while merely held
+  EXPECT_EQ(p.frames.back().led, LedState::kReady);
+}
+
+TEST(KioskFaults, OverrunDropsPassesWithinTwoFrames) {
+  const Session s = session("overrun", R"("board": {"fixed_us": 7000, "per_pass_us": 0,
+      "per_texel_ps": 2000, "per_pixel_ps": 14000, "overruns": [{"frame": 80, "extra_ms": 60}]})",
+                            90);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  const uint32_t before = p.frames[78].passes;  // frame 79: steady state
+  ASSERT_GE(before, 8u);
+  const uint32_t after = std::min(p.frames[80].passes, p.frames[81].passes);  // frames 81, 82
+  EXPECT_LT(after, before) << "passes did not drop within two frames of the overrun";
+}
+
+TEST(KioskFaults, CorruptBundleFallsBackToLastGood) {
+  const Session s = session("corrupt", R"("startup": {"corrupt_bundle": true})", 10);
+  SimRun run(s, {});
+  EXPECT_TRUE(run.bundle().fellBack);
+  EXPECT_NE(run.bundle().refusal.find("checksum"), std::string::npos) << run.bundle().refusal;
+  EXPECT_TRUE(run.log().contains("bundle: refused"));
+  EXPECT_TRUE(run.log().contains("running on the last good bundle"));
+  play(run, s.frames, kStale);
+}
+
+TEST(KioskFaults, CorruptBundleWithoutLastGoodIsRefusedWithReason) {
+  const fs::path bad = fs::temp_directory_path() / "penumbra-kiosk-fault-test" / "cut.bundle";
+  fs::create_directories(bad.parent_path());
+  fs::copy_file(kBundle, bad, fs::copy_options::overwrite_existing);
+  fs::resize_file(bad, fs::file_size(bad) / 2);
+  platform::KioskLog log;
+  try {
+    platform::loadBundleKeepingLastGood(bad, {}, log, 0);
+    FAIL() << "a truncated bundle was accepted";
+  } catch (const platform::NoUsableBundle& e) {
+    EXPECT_NE(std::string(e.what()).find("cut.bundle"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(log.contains("bundle: refused"));
+}
+
+TEST(KioskFaults, CorruptProductIsLeftOut) {
+  const Session s = session("product", R"("startup": {"corrupt_product": "teapot"})", 10);
+  SimRun run(s, {});
+  EXPECT_EQ(run.loop().carousel().size(), 2u);
+  EXPECT_TRUE(run.log().contains("refused product teapot: mesh a vertex is not a finite number"));
+  play(run, s.frames, kStale);
+}
+
+TEST(KioskSession, StrictLoading) {
+  EXPECT_THROW(session("unknown", R"("kiosk": {"fps": 30, "fsp": 1})", 10), SessionError);
+  try {
+    session("type", R"("camera": {"faults": [{"kind": "melt", "frame": 1}]})", 10);
+    FAIL();
+  } catch (const SessionError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("type.json"), std::string::npos) << m;
+    EXPECT_NE(m.find("kind"), std::string::npos) << m;
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::firmware_sim

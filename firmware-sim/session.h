@@ -1,0 +1,53 @@
+// A simulated kiosk session (issue 6 §5): which bundle, how the simulated board costs its
+// frames, what the camera films and when it fails, which buttons are pressed when, and the
+// start-up faults — everything that decides the displayed frames, in one JSON file
+// (docs/kiosk.md, "Session files"). Loading is strict: an unknown key, a wrong type or an
+// out-of-range value is refused with a SessionError naming the file and the field.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "firmware-sim/virtual_camera.h"
+#include "firmware-sim/virtual_gpio.h"
+#include "platform/kiosk_loop.h"
+#include "shadow/clock.h"
+
+namespace penumbra::firmware_sim {
+
+class SessionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An extra cost charged to one frame (a page fault storm, a kernel hiccup): the
+// controller must drop passes within two frames (Gibson 2003 §8, fast path).
+struct Overrun {
+  uint32_t frame = 0;  // 1-based kiosk frame number
+  int64_t extraNs = 0;
+};
+
+struct Session {
+  std::filesystem::path file;
+  std::filesystem::path bundle;    // resolved against the session file's folder
+  std::filesystem::path lastGood;  // empty: none
+  uint32_t frames = 600;
+  platform::KioskOptions kiosk;
+  // The simulated board: cost of a frame in virtual time (shadow::CostModel).
+  shadow::CostModel::Params cost;
+  std::vector<shadow::CostModel::LoadStep> loadSteps;
+  std::vector<Overrun> overruns;
+  bool cameraPresent = true;
+  CameraScript camera;
+  bool gpioPresent = true;
+  std::vector<ScriptedPress> presses;
+  bool corruptBundle = false;  // start-up: the configured bundle is a corrupted copy
+  std::string corruptProduct;  // start-up: this product's mesh holds a NaN vertex
+};
+
+Session loadSession(const std::filesystem::path& path);
+
+}  // namespace penumbra::firmware_sim

@@ -1,0 +1,100 @@
+#include "firmware-sim/sim_run.h"
+
+#include <unistd.h>
+#include <fstream>
+#include <limits>
+
+namespace penumbra::firmware_sim {
+
+SimTimebase::SimTimebase(shadow::CostModel model, std::vector<Overrun> overruns)
+    : model_(std::move(model)), overruns_(std::move(overruns)) {}
+
+void SimTimebase::sleepUntil(int64_t ns) {
+  const int64_t now = clock_.nowNanoseconds();
+  if (ns > now) clock_.advance(ns - now);
+}
+
+void SimTimebase::charge(const platform::FrameWork& w) {
+  int64_t ns = model_.frameNs(w.startNs, w.passes, w.passPixels, w.shadowMapSize);
+  for (const Overrun& o : overruns_) {
+    if (o.frame == w.frame) ns += o.extraNs;
+  }
+  clock_.advance(ns);
+}
+
+namespace {
+
+// The start-up faults of a session: a corrupted copy of the bundle (bytes flipped in the
+// middle, as a failing SD card would), written next to the system's temporary files.
+std::filesystem::path corruptedCopy(const std::filesystem::path& bundle) {
+  std::ifstream in(bundle, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw SessionError(bundle.string() + ": cannot read");
+  for (size_t i = bytes.size() / 2; i < bytes.size() && i < bytes.size() / 2 + 64; ++i) {
+    bytes[i] = static_cast<char>(bytes[i] ^ 0x5A);
+  }
+  const std::filesystem::path out =
+      std::filesystem::temp_directory_path() /
+      ("penumbra-sim-corrupt-" + std::to_string(::getpid()) + ".bundle");
+  std::ofstream o(out, std::ios::binary);
+  o.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!o) throw SessionError(out.string() + ": cannot write the corrupted bundle copy");
+  return out;
+}
+
+}  // namespace
+
+SimRun::SimRun(const Session& s, const SimOptions& options)
+    : log_(options.logEcho), time_(shadow::CostModel(s.cost, s.loadSteps), s.overruns) {
+  if (s.corruptBundle) {
+    // The configured bundle is corrupt; the session's bundle plays the last good one.
+    const std::filesystem::path bad = corruptedCopy(s.bundle);
+    try {
+      bundle_ = std::make_unique<platform::GuardedBundle>(
+          platform::loadBundleKeepingLastGood(bad, s.bundle, log_, 0));
+    } catch (...) {
+      std::filesystem::remove(bad);
+      throw;
+    }
+    std::filesystem::remove(bad);
+  } else {
+    bundle_ = std::make_unique<platform::GuardedBundle>(
+        platform::loadBundleKeepingLastGood(s.bundle, s.lastGood, log_, 0));
+  }
+  if (!s.corruptProduct.empty()) {
+    bool found = false;
+    for (shadow::ProductModel& p : bundle_->bundle.products) {
+      if (p.name == s.corruptProduct && !p.mesh.positions.empty()) {
+        p.mesh.positions[p.mesh.positions.size() / 2].y = std::numeric_limits<float>::quiet_NaN();
+        found = true;
+      }
+    }
+    if (!found) {
+      throw SessionError(s.file.string() + ": startup.corrupt_product: no product named '" +
+                         s.corruptProduct + "' in " + s.bundle.string());
+    }
+  }
+  const shadow::SceneBundle& b = bundle_->bundle;
+  platform::Peripherals io;
+  io.led = &led_;
+  io.time = &time_;
+  io.log = &log_;
+  if (s.cameraPresent) {
+    camera_ = std::make_unique<VirtualCamera>(b.background, b.view.width, b.view.height, s.camera);
+    io.camera = camera_.get();
+  } else {
+    log_.write(0, platform::LogLevel::kWarning, "camera: none found (simulated: absent)");
+  }
+  try {
+    if (!s.gpioPresent) throw GpioUnavailable("/dev/gpiochip0: no such GPIO chip (simulated)");
+    gpio_ = std::make_unique<VirtualGpio>(s.presses);
+    io.buttons = gpio_.get();
+  } catch (const GpioUnavailable& e) {
+    log_.write(0, platform::LogLevel::kWarning, std::string("gpio: ") + e.what());
+  }
+  loop_ = std::make_unique<platform::KioskLoop>(b, s.kiosk, io, options.render);
+}
+
+SimRun::~SimRun() = default;
+
+}  // namespace penumbra::firmware_sim

@@ -1,0 +1,67 @@
+// The simulated twin of the kiosk camera (issue 6 §5): frames made from a still image (the
+// bundle's photograph of the empty room) on the virtual clock, with scripted synthetic
+// changes — exposure drift, a person walking through — and every camera fault the kiosk must
+// survive: dropped, late and duplicated frames, frames of the wrong size or format, and the
+// camera disappearing and coming back. Integers only: the same frames on every machine.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "platform/frame_source.h"
+
+namespace penumbra::firmware_sim {
+
+enum class CameraFaultKind { kDrop, kLate, kDuplicate, kWrongSize, kWrongFormat, kDisconnect };
+const char* cameraFaultName(CameraFaultKind kind);
+
+// Applies to camera frames [frame, frame + count) (frame k is captured at k × period).
+struct CameraFault {
+  CameraFaultKind kind;
+  uint64_t frame = 0;
+  uint64_t count = 1;
+  int64_t delayNs = 0;  // kLate: extra delay before the frame reaches the kiosk
+};
+
+struct CameraScript {
+  int64_t periodNs = 33'333'333;    // 30 fps sensor
+  int64_t transportNs = 8'000'000;  // capture → in memory (readout + ISP + copy)
+  // Exposure drift: gain 1 + amplitude·tri(k / period), a triangle wave in ‰.
+  uint32_t driftPermille = 0;
+  uint32_t driftPeriodFrames = 0;  // 0: no drift
+  // A person (dark silhouette) walking from the left edge to the right one over camera
+  // frames [personFrom, personTo); personTo == 0: nobody.
+  uint64_t personFrom = 0, personTo = 0;
+  uint32_t personWidth = 60, personHeight = 300;
+  std::vector<CameraFault> faults;
+};
+
+class VirtualCamera final : public platform::FrameSource {
+ public:
+  // `still`: RGBA8 width × height, the scene the camera sees.
+  VirtualCamera(std::vector<uint8_t> still, uint32_t width, uint32_t height, CameraScript script);
+
+  platform::GrabStatus grab(int64_t nowNs, platform::CameraFrame& out) override;
+  bool reopen(int64_t nowNs) override;
+  std::string describe() const override;
+
+  // The image of camera frame k as the kiosk receives it (before any format fault): for
+  // tests that compare what is shown with what was filmed.
+  void render(uint64_t k, platform::CameraFrame& out) const;
+  int64_t arrivalNs(uint64_t k) const;  // -1: dropped
+
+ private:
+  bool faulted(CameraFaultKind kind, uint64_t k, const CameraFault** which = nullptr) const;
+  bool disconnectedAt(int64_t nowNs) const;
+
+  std::vector<uint8_t> still_;
+  uint32_t width_, height_;
+  CameraScript script_;
+  bool open_ = true;
+  bool delivered_ = false;
+  uint64_t lastDelivered_ = 0;  // frame index
+  bool duplicatePending_ = false;
+};
+
+}  // namespace penumbra::firmware_sim

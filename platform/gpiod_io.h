@@ -1,0 +1,53 @@
+// The kiosk's buttons and status LED on libgpiod 1.6 (C++ bindings, design.md §6): one
+// input line per button, requested for both edges with the internal pull-up and active-low
+// (buttons switch to ground), read without blocking each frame; debouncing is the kiosk's
+// (platform/buttons.h: libgpiod 1.6 has none). The LED is one output line.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "platform/buttons.h"
+#include "platform/hardware.h"
+#include "platform/status.h"
+
+namespace penumbra::platform {
+
+struct GpioConfig {
+  std::string chip = "/dev/gpiochip0";
+  // Line offsets in Button order (next, previous, left, right, forward, back, rotate,
+  // quality); the defaults are docs/kiosk.md's wiring table (BCM numbers).
+  std::array<uint32_t, kButtonCount> lines{5, 6, 13, 19, 26, 16, 20, 21};
+  int32_t ledLine = 12;  // -1: no LED
+};
+
+class GpiodButtons final : public ButtonSource {
+ public:
+  // Throws HardwareUnavailable naming the chip (and the line) when the chip cannot be opened
+  // or a line cannot be requested (missing, busy, no permission).
+  explicit GpiodButtons(const GpioConfig& config);
+  ~GpiodButtons() override;
+  void poll(int64_t nowNs, std::vector<RawEdge>& out) override;
+  std::string describe() const override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// ready: on; degraded: blinking at 2 Hz (toggled by set(), from the kiosk clock); error: off.
+class GpiodLed final : public StatusLed {
+ public:
+  explicit GpiodLed(const GpioConfig& config);  // throws HardwareUnavailable
+  ~GpiodLed() override;
+  void set(LedState state) override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace penumbra::platform

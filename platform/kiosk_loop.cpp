@@ -1,0 +1,458 @@
+#include "platform/kiosk_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include "scene/portable_trig.h"
+
+namespace penumbra::platform {
+
+void SteadyTimebase::sleepUntil(int64_t ns) {
+  const int64_t now = nowNanoseconds();
+  if (ns > now) std::this_thread::sleep_for(std::chrono::nanoseconds(ns - now));
+}
+
+namespace {
+
+bool meshUsable(const raster::Mesh& m, std::string& why) {
+  if (m.positions.empty() || m.indices.empty() || m.indices.size() % 3 != 0) {
+    why = "empty or not triangles";
+    return false;
+  }
+  for (uint32_t i : m.indices) {
+    if (i >= m.positions.size()) {
+      why = "index " + std::to_string(i) + " past " + std::to_string(m.positions.size()) +
+            " vertices";
+      return false;
+    }
+  }
+  for (const raster::Vec3& p : m.positions) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      why = "a vertex is not a finite number";
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string seconds(int64_t ns) {
+  const int64_t tenths = ns / 100'000'000;
+  return std::to_string(tenths / 10) + "." + std::to_string(tenths % 10) + " S";
+}
+
+}  // namespace
+
+std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
+                                       std::vector<std::string>& why) {
+  std::vector<uint32_t> usable;
+  for (uint32_t i = 0; i < bundle.products.size(); ++i) {
+    const shadow::ProductModel& p = bundle.products[i];
+    std::string reason;
+    // (Built with append: GCC 12's -Wrestrict misfires on "literal" + std::string here.)
+    std::string name = p.name;
+    if (name.empty()) name.append("#").append(std::to_string(i));
+    if (!meshUsable(p.mesh, reason)) {
+      why.push_back("product " + name + ": mesh " + reason);
+    } else if (!meshUsable(p.proxy, reason)) {
+      why.push_back("product " + name + ": shadow proxy " + reason);
+    } else if (p.proxy.triangleCount() > 5000) {
+      why.push_back("product " + name + ": shadow proxy has " +
+                    std::to_string(p.proxy.triangleCount()) +
+                    " triangles (Gibson 2003 §7.2 uses 100-500)");
+    } else {
+      usable.push_back(i);
+    }
+  }
+  return usable;
+}
+
+struct KioskLoop::State {
+  State(const shadow::SceneBundle& b, const KioskOptions& o, const raster::RenderOptions& r)
+      : debouncer(o.debounce), compositor(b, {}), renderer(b.view, r), background(b.background) {}
+
+  Debouncer debouncer;
+  std::unique_ptr<shadow::FrameRateController> controller;
+  shadow::FrameCompositor compositor;
+  raster::Renderer renderer;
+  raster::FrameContent frame;
+  shadow::CompositeStats stats;
+  std::vector<uint8_t> masks;
+  std::vector<RawEdge> edges;
+  std::vector<ButtonAction> actions;
+  std::vector<Debouncer::StuckChange> stuck;
+
+  shadow::ProductPose pose;
+  size_t carouselIndex = 0;
+  bool quality = false;
+  bool attract = false;
+  int64_t attractStartNs = 0;
+  size_t attractFirstProduct = 0;
+  int64_t lastInputNs = 0;
+
+  // Camera.
+  CameraFrame grabbed;
+  std::vector<uint8_t> background;  // the last good camera frame, or the bundle's photograph
+  std::vector<uint8_t> converted;
+  uint64_t backgroundSequence = 0;
+  int64_t backgroundCaptureNs = -1;  // -1: no camera frame yet
+  bool haveSequence = false;
+  uint64_t lastSequence = 0;
+  bool disconnected = false;
+  int64_t disconnectedAtNs = 0;
+  int64_t nextReopenNs = 0;
+  int64_t lastBadFrameNs = INT64_MIN;
+  bool staleSaid = false;
+  int64_t staleSinceNs = 0;
+  bool frameNew = false;
+
+  // Frame bookkeeping.
+  uint32_t frameNo = 0;
+  std::vector<int64_t> recentStarts;  // the last frames' start times, for the HUD's fps
+  LedState led = LedState::kError;
+  bool overBudget = false;
+  float minX = 0, maxX = 0, minZ = 0, maxZ = 0;
+};
+
+KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& options, Peripherals io,
+                     const raster::RenderOptions& render)
+    : bundle_(bundle), options_(options), io_(io) {
+  if (io_.led == nullptr || io_.time == nullptr || io_.log == nullptr) {
+    throw std::invalid_argument("KioskLoop: the LED, the timebase and the log are required");
+  }
+  std::vector<std::string> why;
+  carousel_ = validateProducts(bundle, why);
+  const int64_t now = io_.time->nowNanoseconds();
+  for (const std::string& w : why) warn(now, "refused " + w + " (left out of the carousel)");
+  if (carousel_.empty()) {
+    io_.led->set(LedState::kError);
+    throw std::invalid_argument("KioskLoop: the bundle has no usable product");
+  }
+  s_ = std::make_unique<State>(bundle, options_, render);
+  rgba_.assign(bundle.background.size(), 0);
+
+  // The floor's extent from the room's own triangles (the patch mesh spans the shell).
+  const auto& pos = bundle.view.staticMesh.positions;
+  s_->minX = s_->minZ = INFINITY;
+  s_->maxX = s_->maxZ = -INFINITY;
+  for (const raster::Vec3& p : pos) {
+    s_->minX = std::min(s_->minX, p.x), s_->maxX = std::max(s_->maxX, p.x);
+    s_->minZ = std::min(s_->minZ, p.z), s_->maxZ = std::max(s_->maxZ, p.z);
+  }
+  const float m = options_.floorMarginMetres;
+  s_->minX += m, s_->maxX -= m, s_->minZ += m, s_->maxZ -= m;
+  if (!(s_->minX <= s_->maxX && s_->minZ <= s_->maxZ)) {
+    throw std::invalid_argument("KioskLoop: the floor is smaller than twice the margin");
+  }
+
+  s_->pose = bundle.startPose;
+  auto start = std::find(carousel_.begin(), carousel_.end(), s_->pose.product);
+  if (start == carousel_.end()) {
+    s_->pose.product = carousel_[0];
+    start = carousel_.begin();
+  }
+  s_->carouselIndex = static_cast<size_t>(start - carousel_.begin());
+  s_->lastInputNs = now;
+  rebuildController();
+
+  info(now, "kiosk: " + std::to_string(carousel_.size()) + " products, " +
+                std::to_string(bundle.view.width) + "x" + std::to_string(bundle.view.height));
+  info(now, io_.camera ? "camera: " + io_.camera->describe()
+                       : "camera: none configured; showing the calibration photograph");
+  if (io_.buttons) {
+    info(now, "buttons: " + io_.buttons->describe());
+  } else {
+    warn(now, "buttons: none (no GPIO chip?); running attract mode only");
+  }
+}
+
+KioskLoop::~KioskLoop() = default;
+
+void KioskLoop::info(int64_t now, const std::string& text) {
+  io_.log->write(now, LogLevel::kInfo, text);
+}
+void KioskLoop::warn(int64_t now, const std::string& text) {
+  io_.log->write(now, LogLevel::kWarning, text);
+}
+
+void KioskLoop::rebuildController() {
+  shadow::FrameRateController::Options o;
+  o.targetFrameNs = s_->quality ? options_.qualityFrameNs : options_.fastFrameNs;
+  o.fixedCostNs = options_.fixedCostNs;
+  o.minPasses = options_.minPasses;
+  o.maxPasses = options_.maxPasses;
+  o.initialPasses = options_.initialPasses;
+  o.shadowMapSizes = options_.shadowMapSizes;
+  s_->controller = std::make_unique<shadow::FrameRateController>(o);
+}
+
+void KioskLoop::apply(const ButtonAction& a) {
+  shadow::ProductPose& p = s_->pose;
+  const float step = options_.moveStepMetres;
+  switch (a.button) {
+    case Button::kNext:
+    case Button::kPrevious: {
+      const size_t n = carousel_.size();
+      s_->carouselIndex =
+          a.button == Button::kNext ? (s_->carouselIndex + 1) % n : (s_->carouselIndex + n - 1) % n;
+      p.product = carousel_[s_->carouselIndex];
+      info(a.timeNs, "product: " + bundle_.products[p.product].name);
+      break;
+    }
+    case Button::kLeft:
+      p.x = std::max(s_->minX, p.x - step);
+      break;
+    case Button::kRight:
+      p.x = std::min(s_->maxX, p.x + step);
+      break;
+    case Button::kForward:
+      p.z = std::min(s_->maxZ, p.z + step);
+      break;
+    case Button::kBack:
+      p.z = std::max(s_->minZ, p.z - step);
+      break;
+    case Button::kRotate:
+      p.yawDegrees += options_.rotateStepDegrees;
+      if (p.yawDegrees >= 360.0f) p.yawDegrees -= 360.0f;
+      break;
+    case Button::kQuality:
+      s_->quality = !s_->quality;
+      rebuildController();
+      info(a.timeNs,
+           s_->quality ? "quality mode: more passes at 15 fps" : "fast mode: 30 fps, fewer passes");
+      break;
+  }
+}
+
+void KioskLoop::handleButtons(int64_t now) {
+  if (io_.buttons == nullptr) return;
+  s_->edges.clear();
+  s_->actions.clear();
+  s_->stuck.clear();
+  io_.buttons->poll(now, s_->edges);
+  s_->debouncer.update(s_->edges, now, s_->actions, s_->stuck);
+  for (const auto& c : s_->stuck) {
+    if (c.stuck) {
+      io_.log->write(c.timeNs, LogLevel::kWarning,
+                     std::string("button ") + buttonName(c.button) + ": held for over " +
+                         seconds(options_.debounce.stuckNs) +
+                         ", taken as stuck and ignored until released");
+    } else {
+      info(c.timeNs, std::string("button ") + buttonName(c.button) + ": released, usable again");
+    }
+  }
+  for (const ButtonAction& a : s_->actions) {
+    s_->lastInputNs = a.timeNs;
+    if (s_->attract) {
+      // The first press only wakes the kiosk up; the product stays where attract mode left it.
+      s_->attract = false;
+      s_->pose = attractPose(a.timeNs);
+      info(a.timeNs, "attract mode: off (button " + std::string(buttonName(a.button)) + ")");
+      continue;
+    }
+    apply(a);
+  }
+}
+
+shadow::ProductPose KioskLoop::attractPose(int64_t now) const {
+  // A slow circle around the middle of the floor, the product turning with it, and the next
+  // product every 10 s. Integer time → millidegrees, then the portable sine (design.md §3:
+  // no libm in the per-frame path).
+  const int64_t elapsedMs = (now - s_->attractStartNs) / 1'000'000;
+  const int64_t milli = (elapsedMs * options_.attractMilliDegreesPerSecond / 1000) % 360'000;
+  double s = 0, c = 0;
+  scene::sinCosDegrees(static_cast<double>(milli) / 1000.0, s, c);
+  const float cx = (s_->minX + s_->maxX) * 0.5f, cz = (s_->minZ + s_->maxZ) * 0.5f;
+  const float r = std::min(s_->maxX - s_->minX, s_->maxZ - s_->minZ) * 0.35f;
+  shadow::ProductPose p;
+  p.x = cx + r * static_cast<float>(c);
+  p.z = cz + r * static_cast<float>(s);
+  p.yawDegrees = static_cast<float>(milli % 360'000) / 1000.0f;
+  p.lift = 0;
+  const size_t n = carousel_.size();
+  p.product = carousel_[(s_->attractFirstProduct + static_cast<size_t>(elapsedMs / 10'000)) % n];
+  return p;
+}
+
+void KioskLoop::handleCamera(int64_t now) {
+  State& s = *s_;
+  s.frameNew = false;
+  if (io_.camera == nullptr) return;
+  if (s.disconnected) {
+    if (now < s.nextReopenNs) return;
+    if (!io_.camera->reopen(now)) {
+      s.nextReopenNs = now + options_.reopenEveryNs;
+      return;
+    }
+    s.disconnected = false;
+    info(now, "camera: reconnected after " + seconds(now - s.disconnectedAtNs));
+  }
+  const GrabStatus st = io_.camera->grab(now, s.grabbed);
+  if (st == GrabStatus::kDisconnected) {
+    s.disconnected = true;
+    s.disconnectedAtNs = now;
+    s.nextReopenNs = now + options_.reopenEveryNs;
+    io_.log->write(now, LogLevel::kError,
+                   "camera: disconnected (" + io_.camera->describe() +
+                       "); showing the last frame, trying to reopen every " +
+                       seconds(options_.reopenEveryNs));
+    return;
+  }
+  if (st != GrabStatus::kFrame) return;
+  if (s.haveSequence && s.grabbed.sequence <= s.lastSequence) {
+    warn(now, "camera: frame " + std::to_string(s.grabbed.sequence) +
+                  " delivered again (already shown), ignored");
+    return;
+  }
+  s.haveSequence = true;
+  s.lastSequence = s.grabbed.sequence;
+  std::string why;
+  if (!toRgba(s.grabbed, bundle_.view.width, bundle_.view.height, s.converted, why)) {
+    s.lastBadFrameNs = now;
+    warn(now, "camera: frame " + std::to_string(s.grabbed.sequence) + " refused: " + why +
+                  "; keeping the last good frame");
+    return;
+  }
+  s.background.swap(s.converted);
+  s.backgroundSequence = s.grabbed.sequence;
+  s.backgroundCaptureNs = s.grabbed.captureNs;
+  s.frameNew = true;
+}
+
+FrameReport KioskLoop::step() {
+  State& s = *s_;
+  const int64_t start = io_.time->nowNanoseconds();
+  FrameReport r;
+  r.frame = ++s.frameNo;
+  r.startNs = start;
+
+  // 1. Buttons, and attract mode when nobody has pressed one for a while.
+  handleButtons(start);
+  if (!s.attract && start - s.lastInputNs >= options_.attractAfterNs) {
+    s.attract = true;
+    s.attractStartNs = start;
+    s.attractFirstProduct = s.carouselIndex;
+    info(start, "attract mode: on (idle for " + seconds(start - s.lastInputNs) + ")");
+  }
+  const shadow::ProductPose pose = s.attract ? attractPose(start) : s.pose;
+
+  // 2. The newest camera frame becomes the background (design.md §1 step 1).
+  handleCamera(start);
+  const bool haveCamera = s.backgroundCaptureNs >= 0;
+  const int64_t age = haveCamera ? start - s.backgroundCaptureNs : -1;
+  const bool stale = !haveCamera || age > options_.staleAfterNs;
+  if (stale && !s.staleSaid) {
+    s.staleSaid = true;
+    s.staleSinceNs = start;
+    warn(start, haveCamera ? "camera: no new frame for " + seconds(age) +
+                                 "; the screen shows the last one, frozen"
+                           : "camera: no frame yet; the screen shows the calibration photograph");
+  } else if (!stale && s.staleSaid) {
+    s.staleSaid = false;
+    info(start, "camera: live again after " + seconds(start - s.staleSinceNs));
+  }
+
+  // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
+  const shadow::FrameRateController::Decision d = s.controller->next();
+  s.compositor.setShadowMapSize(d.shadowMapSize);
+  s.compositor.compose(pose, d.passes, s.frameNo, s.frame, s.stats);
+  s.frame.background = s.background;
+  s.renderer.render(s.frame, rgba_, s.compositor.probes(), s.masks,
+                    s.compositor.objectProbesFrom());
+  s.compositor.observe(s.masks);
+  const uint64_t passPixels = s.renderer.lastStats().passPixels;
+  io_.time->charge({s.frameNo, s.stats.passes, d.shadowMapSize, passPixels, start});
+  if (d.overBudget != s.overBudget) {
+    s.overBudget = d.overBudget;
+    if (d.overBudget) {
+      warn(start, "frame rate: below target even at " + std::to_string(options_.minPasses) +
+                      " passes and the smallest shadow map");
+    } else {
+      info(start, "frame rate: back within budget");
+    }
+  }
+
+  // Warnings: what the LED and the HUD say.
+  if (io_.camera == nullptr) {
+    r.warnings.push_back("NO CAMERA - CALIBRATION PHOTOGRAPH");
+  } else if (s.disconnected) {
+    r.warnings.push_back("CAMERA LOST - " +
+                         (haveCamera ? "LAST FRAME " + seconds(age) + " OLD" : "NO FRAME"));
+  } else if (stale) {
+    r.warnings.push_back(haveCamera ? "CAMERA FROZEN - FRAME " + seconds(age) + " OLD"
+                                    : "NO CAMERA FRAME YET - PHOTOGRAPH");
+  }
+  if (s.lastBadFrameNs != INT64_MIN && start - s.lastBadFrameNs <= options_.staleAfterNs) {
+    r.warnings.push_back("BAD CAMERA FRAME REFUSED");
+  }
+  if (io_.buttons == nullptr) r.warnings.push_back("NO BUTTONS");
+  if (s.debouncer.anyStuck()) {
+    std::string names;
+    for (size_t i = 0; i < kButtonCount; ++i) {
+      if (s.debouncer.isStuck(static_cast<Button>(i))) {
+        names += std::string(names.empty() ? "" : " ") + buttonName(static_cast<Button>(i));
+      }
+    }
+    r.warnings.push_back("BUTTON STUCK: " + names);
+  }
+  if (d.overBudget) r.warnings.push_back("OVER BUDGET");
+  const LedState led = r.warnings.empty() ? LedState::kReady : LedState::kDegraded;
+  if (led != s.led) {
+    std::string why;
+    for (const std::string& w : r.warnings) why += (why.empty() ? "" : "; ") + w;
+    io_.log->write(
+        start, led == LedState::kReady ? LogLevel::kInfo : LogLevel::kWarning,
+        std::string("led: ") + ledStateName(led) + (why.empty() ? "" : " (" + why + ")"));
+    s.led = led;
+  }
+  io_.led->set(led);
+
+  // HUD: fps over the last 30 frames (integer, from the kiosk clock).
+  s.recentStarts.push_back(start);
+  if (s.recentStarts.size() > 31) s.recentStarts.erase(s.recentStarts.begin());
+  uint32_t fpsTenths = 0;
+  if (s.recentStarts.size() >= 2 && s.recentStarts.back() > s.recentStarts.front()) {
+    fpsTenths =
+        static_cast<uint32_t>(static_cast<int64_t>(s.recentStarts.size() - 1) * 10'000'000'000 /
+                              (s.recentStarts.back() - s.recentStarts.front()));
+  }
+  if (options_.hud) {
+    HudInfo h;
+    h.fpsTenths = fpsTenths;
+    h.passes = s.stats.passes;
+    h.shadowMapSize = d.shadowMapSize;
+    h.product = bundle_.products[pose.product].name;
+    h.mode = s.attract ? "ATTRACT" : (s.quality ? "QUALITY" : "FAST");
+    h.warnings = r.warnings;
+    drawHud(rgba_, bundle_.view.width, bundle_.view.height, h);
+  }
+  if (io_.display != nullptr &&
+      !io_.display->show(rgba_.data(), bundle_.view.width, bundle_.view.height)) {
+    r.quit = true;
+  }
+
+  const int64_t end = io_.time->nowNanoseconds();
+  s.controller->report(end - start, s.stats.passes, passPixels);
+  const int64_t period = s.quality ? options_.qualityFrameNs : options_.fastFrameNs;
+  if (end < start + period) io_.time->sleepUntil(start + period);
+
+  r.endNs = end;
+  r.workNs = end - start;
+  r.passes = s.stats.passes;
+  r.passesAsked = d.passes;
+  r.shadowMapSize = d.shadowMapSize;
+  r.passPixels = passPixels;
+  r.pose = pose;
+  r.attract = s.attract;
+  r.quality = s.quality;
+  r.cameraFrameNew = s.frameNew;
+  r.backgroundSequence = haveCamera ? s.backgroundSequence : 0;
+  r.backgroundAgeNs = age;
+  r.latencyNs = haveCamera ? end - s.backgroundCaptureNs : -1;
+  r.stale = stale;
+  r.led = led;
+  return r;
+}
+
+}  // namespace penumbra::platform
