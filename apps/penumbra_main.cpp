@@ -4,6 +4,7 @@
 //   bench-replay TRACE  median and min ms per frame over repeated renders
 //   precompute, render, profile   the showroom pipeline (apps/scene_commands.h)
 //   calibrate           camera intrinsics and pose (apps/calibrate_command.h; with OpenCV)
+//   compare A B         image metrics and FLIP (apps/compare_command.h; with OpenCV)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "apps/calibrate_command.h"
+#include "apps/compare_command.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "raster/frame_trace.h"
@@ -128,6 +130,7 @@ int main(int argc, char** argv) {
 
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
   const std::vector<apps::Command> calibrateCommands = apps::addCalibrateCommands(app);
+  const std::vector<apps::Command> compareCommands = apps::addCompareCommands(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -135,6 +138,9 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
     }
     for (const apps::Command& c : calibrateCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : compareCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# `penumbra compare` end to end on the committed showroom renders (docs/*.png): an image
+# against itself is perfect, two different renders are not, the FLIP heat map is written,
+# and bad input (missing file, size mismatch, mask of the wrong size) fails with a message
+# naming the file, exit 1, and no JSON or heat map written.
+#   tests/compare_cli_test.sh PENUMBRA SOURCE_DIR [EMULATOR...]
+set -uo pipefail
+penumbra="$1" src="$2"
+shift 2
+run=("$@" "$penumbra")
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+check() {  # check NAME EXIT-CODE-OF-CONDITION
+  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
+}
+py=/usr/bin/python3
+bunny="$src/docs/showroom-bunny.png" chair="$src/docs/showroom-chair.png"
+fig3="$src/docs/fig3.png"
+
+"${run[@]}" compare "$bunny" "$bunny" --json "$tmp/self.json" --heatmap "$tmp/self.png" \
+  --ppd 20 >"$tmp/out" 2>"$tmp/err"
+rc=$?
+[[ $rc == 0 && -s "$tmp/self.png" ]] && $py -c "
+import json,sys; d=json.load(open(sys.argv[1])); f=d['frame']
+assert f['mean_abs']==0 and f['max_abs']==0 and f['p99_abs']==0 and f['psnr'] is None
+assert f['identical'] and d['ssim']==1.0 and f['flip_mean']==0 and d['flip_ppd']==20
+" "$tmp/self.json"
+check "self-compare: 0 error, psnr null (infinite), ssim 1, flip 0, heat map written" $?
+
+"${run[@]}" compare "$bunny" "$chair" --mask "$bunny" --ppd 20 >"$tmp/diff.json" 2>"$tmp/err"
+rc=$?
+[[ $rc == 0 ]] && $py -c "
+import json,sys; d=json.load(open(sys.argv[1])); f=d['frame']; m=d['mask']
+assert f['mean_abs']>0 and f['max_abs']>=f['p99_abs']>0 and f['psnr']>0
+assert 0<d['ssim']<1 and 0<f['flip_mean']<1 and 0<m['pixels']<=640*480
+" "$tmp/diff.json"
+check "bunny vs chair: nonzero errors on stdout JSON, with a mask" $?
+
+expect_fail() {  # expect_fail NAME NEEDLE ARGS...
+  local name="$1" needle="$2"
+  shift 2
+  rm -f "$tmp/bad.json" "$tmp/bad.png"
+  "${run[@]}" compare "$@" --json "$tmp/bad.json" --heatmap "$tmp/bad.png" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc != 0 && ! -e "$tmp/bad.json" && ! -e "$tmp/bad.png" ]] && grep -qF "$needle" "$tmp/err"
+  check "$name (stderr: $(head -c 160 "$tmp/err" | tr '\n' ' '))" $?
+}
+expect_fail "missing file" "$tmp/nope.png" "$bunny" "$tmp/nope.png"
+echo "not a png" >"$tmp/junk.png"
+expect_fail "undecodable file" "$tmp/junk.png" "$tmp/junk.png" "$bunny"
+expect_fail "size mismatch" "$fig3" "$bunny" "$fig3"
+expect_fail "mask of the wrong size" "$fig3" "$bunny" "$chair" --mask "$fig3"
+
+echo "$failures failure(s)"
+exit $((failures != 0))
