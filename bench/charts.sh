@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Regenerates every accuracy chart of issue 5 (PNG + CSV) into OUT_DIR:
+#   bench/charts.sh BUILD_DIR OUT_DIR [--small] [--reference REF.png]
+# (a) ms-vs-passes.png, (b) pareto.png   from penumbra-accuracy-sweep -> sweep.csv
+# (c) fig3.png                           from penumbra-fig3 -> fig3.csv (bench/plot_fig3.py)
+# (d) drift.png                          from penumbra-drift -> drift.csv
+# --small: a few configurations (CI). --reference: errors against this PNG (e.g. the
+# ray-traced reference) instead of a 2048-map, most-passes Penumbra render.
+# Needs the bench targets built (cmake --build BUILD_DIR --target penumbra-accuracy-sweep
+# penumbra-drift penumbra-fig3) and Debian's /usr/bin/python3 with python3-matplotlib.
+set -euo pipefail
+build="$1" out="$2"
+shift 2
+small=0 ref=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --small) small=1 ;;
+    --reference) ref=(--reference "$2"); shift ;;
+    *) echo "charts.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+here="$(cd "$(dirname "$0")" && pwd)"
+scene="$here/../data/showroom/showroom.json"
+py=/usr/bin/python3
+mkdir -p "$out"
+if [[ $small == 1 ]]; then
+  sweep=(--shares 0.5,0.9 --maps 128,256 --passes 1,5,20 --curve-share 0.9 --curve-map 256
+         --curve-passes 1,2,5,10,20,50 --frames 2)
+  drift=(--max-passes 200 --vertices 16)
+  fig3=(--trials 20)
+else
+  sweep=(--shares 0.5,0.7,0.9 --maps 64,128,256,512 --passes 1,2,5,10,20,50,100,200
+         --curve-share 0.9 --curve-map 256 --frames 7)
+  drift=(--max-passes 200)
+  fig3=()
+fi
+"$build/bin/penumbra-accuracy-sweep" "$scene" --csv "$out/sweep.csv" "${sweep[@]}" "${ref[@]}" \
+  --reference-out "$out/reference-used.png"
+"$build/bin/penumbra-drift" --csv "$out/drift.csv" "${drift[@]}"
+"$build/bin/penumbra-fig3" "$scene" --csv "$out/fig3.csv" "${fig3[@]}"
+$py "$here/plot_charts.py" "$out/sweep.csv" "$out/drift.csv" "$out"
+$py "$here/plot_fig3.py" "$out/fig3.csv" "$out/fig3.png"
+ls "$out"
