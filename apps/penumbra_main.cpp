@@ -5,6 +5,7 @@
 //   precompute, render, profile   the showroom pipeline (apps/scene_commands.h)
 //   calibrate           camera intrinsics and pose (apps/calibrate_command.h; with OpenCV)
 //   compare A B         image metrics and FLIP (apps/compare_command.h; with OpenCV)
+//   accuracy BUNDLE     ms and error against a reference per pass count (with OpenCV)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/accuracy_command.h"
 #include "apps/calibrate_command.h"
 #include "apps/compare_command.h"
 #include "apps/render_flags.h"
@@ -131,6 +133,7 @@ int main(int argc, char** argv) {
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
   const std::vector<apps::Command> calibrateCommands = apps::addCalibrateCommands(app);
   const std::vector<apps::Command> compareCommands = apps::addCompareCommands(app);
+  const std::vector<apps::Command> accuracyCommands = apps::addAccuracyCommands(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -141,6 +144,9 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
     }
     for (const apps::Command& c : compareCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : accuracyCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
