@@ -17,6 +17,7 @@
 
 #include "apps/calibrate_command.h"
 #include "apps/capture_command.h"
+#include "apps/reference_commands.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "raster/frame_trace.h"
@@ -131,6 +132,7 @@ int main(int argc, char** argv) {
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
   const std::vector<apps::Command> calibrateCommands = apps::addCalibrateCommands(app);
   const std::vector<apps::Command> captureCommands = apps::addCaptureCommands(app);
+  const std::vector<apps::Command> referenceCommands = apps::addReferenceCommands(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -141,6 +143,9 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
     }
     for (const apps::Command& c : captureCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : referenceCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
