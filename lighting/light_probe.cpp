@@ -239,4 +239,24 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
   return out;
 }
 
+void renderProbe(LightProbe& probe, const scene::PatchMesh& mesh, const EmbreeScene& rays,
+                 const std::vector<glm::dvec3>& patchRadiance) {
+  checkImage(probe.image);
+  if (patchRadiance.size() != mesh.patches.size()) {
+    throw std::invalid_argument("renderProbe: one radiance per patch needed");
+  }
+  for (uint32_t y = 0; y < uint32_t(probe.image.height); ++y) {
+    for (uint32_t x = 0; x < uint32_t(probe.image.width); ++x) {
+      float* px = probe.image.pixel(x, y);
+      px[0] = px[1] = px[2] = 0.0f;
+      glm::dvec3 d;
+      if (!probe.direction(x, y, d)) continue;
+      const std::optional<Hit> hit = rays.intersect(probe.position, d);
+      if (!hit) continue;
+      const glm::dvec3& l = patchRadiance[mesh.trianglePatch[hit->triangle]];
+      px[0] = float(l.x), px[1] = float(l.y), px[2] = float(l.z);
+    }
+  }
+}
+
 }  // namespace penumbra::lighting

@@ -99,4 +99,11 @@ struct ProbeProjection {
 ProbeProjection projectProbe(const LightProbe& probe, const scene::PatchMesh& mesh,
                              const EmbreeScene& rays, const ProbeProjectionOptions& options = {});
 
+// Ray-casts a probe image of a room whose per-patch radiance is known (synthetic tests and
+// the capture generator, lighting/capture_synth.h): every pixel of `probe.image` (already
+// sized) inside the mapping's disc shows the radiance of the patch its ray from
+// probe.position hits first, black where it hits nothing. The inverse of projectProbe.
+void renderProbe(LightProbe& probe, const scene::PatchMesh& mesh, const EmbreeScene& rays,
+                 const std::vector<glm::dvec3>& patchRadiance);
+
 }  // namespace penumbra::lighting

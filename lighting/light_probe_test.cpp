@@ -98,17 +98,7 @@ TEST(LightProbeProjection, RecoversReflectanceOfASyntheticRoom) {
   probe.position = dvec3(1.6, 1.2, 1.9);
   probe.rotation = testRotation();
   probe.image = uniformImage(1024, 1024, glm::vec3(0.0f));
-  for (uint32_t y = 0; y < uint32_t(probe.image.height); ++y) {
-    for (uint32_t x = 0; x < uint32_t(probe.image.width); ++x) {
-      dvec3 d;
-      if (!probe.direction(x, y, d)) continue;
-      const std::optional<Hit> hit = rays.intersect(probe.position, d);
-      if (!hit) continue;
-      const dvec3& l = truth[mesh.trianglePatch[hit->triangle]];
-      float* px = probe.image.pixel(x, y);
-      px[0] = float(l.x), px[1] = float(l.y), px[2] = float(l.z);
-    }
-  }
+  renderProbe(probe, mesh, rays, truth);
   const ProbeProjection out = projectProbe(probe, mesh, rays);
   // Light from unseen patches rests on §4.2's guessed reflectance (the floor behind the desk
   // is 0.30 blue, guessed 0.5): patches that gather more than 3% of their light from unseen
@@ -210,17 +200,7 @@ TEST(LightProbeProjection, MeasuredMaterialsFlowThroughPrecompute) {
   LightProbe probe;
   probe.position = dvec3(1.6, 1.2, 1.9);
   probe.image = uniformImage(512, 256, glm::vec3(0.0f));
-  for (uint32_t y = 0; y < uint32_t(probe.image.height); ++y) {
-    for (uint32_t x = 0; x < uint32_t(probe.image.width); ++x) {
-      dvec3 d;
-      ASSERT_TRUE(probe.direction(x, y, d));
-      if (const std::optional<Hit> hit = rays.intersect(probe.position, d)) {
-        const dvec3& l = truth[mesh.trianglePatch[hit->triangle]];
-        float* px = probe.image.pixel(x, y);
-        px[0] = float(l.x), px[1] = float(l.y), px[2] = float(l.z);
-      }
-    }
-  }
+  renderProbe(probe, mesh, rays, truth);
   const ProbeProjection measured = projectProbe(probe, mesh, rays);
 
   // Precompute from a scene whose own materials are all wrong: only the measurement counts.

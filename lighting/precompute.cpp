@@ -105,7 +105,14 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
     b.patches.push_back({glm::vec3(p.centre), glm::vec3(p.normal), static_cast<float>(p.area),
                          glm::vec3(p.reflectance), glm::vec3(p.emission), p.firstTriangle});
   }
-  b.tone = shadow::ToneCurve::gamma(scene.tone.exposure, scene.tone.gamma);
+  b.tone = options.tone ? *options.tone
+                        : shadow::ToneCurve::gamma(scene.tone.exposure, scene.tone.gamma);
+  if (!options.background.empty() &&
+      options.background.size() != size_t{scene.width} * scene.height * 4) {
+    throw std::invalid_argument("precompute: the background photograph is not " +
+                                std::to_string(scene.width) + "x" + std::to_string(scene.height) +
+                                " RGBA8");
+  }
   end();
 
   // Everything downstream is computed from the bundle's own (float) mesh, exactly what
@@ -127,7 +134,7 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
   end();
 
   begin("background");
-  b.background = renderBackground(b);
+  b.background = options.background.empty() ? renderBackground(b) : options.background;
   end();
 
   begin("products");

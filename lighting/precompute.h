@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct PrecomputeOptions {
   // Outgoing radiance per patch (e.g. ProbeProjection::radiance) for the irradiance volume.
   // Empty: solved from the materials with `radianceBounces` gathering steps.
   std::vector<glm::dvec3> measuredRadiance;
+  // Measured camera response and photograph (lighting/capture.h): T() at the kiosk's live
+  // exposure replaces the scene file's tone, and an RGBA8 photograph of width x height
+  // replaces the rendered background (a size mismatch throws std::invalid_argument).
+  std::optional<shadow::ToneCurve> tone;
+  std::vector<uint8_t> background;
   int radianceBounces = 1;  // 1: direct light from the emitters; each more: one interreflection
   bool irradianceVolume = true;  // false: products keep the form-factor shading
   glm::uvec3 volumeDims{20, 10, 20};

@@ -56,14 +56,19 @@ raster::Mat4 toRasterMat4(const glm::dmat4& m) {
 }
 
 glm::dmat4 Camera::projection() const {
-  return perspective(fovYDegrees * std::numbers::pi / 180.0, aspect, zNear, zFar);
+  glm::dmat4 m = perspective(fovYDegrees * std::numbers::pi / 180.0, aspect, zNear, zFar);
+  // x_ndc += principalNdc.x (w_clip = -z_eye); only when set, so symmetric cameras keep
+  // exactly the matrices (and golden frames) they had.
+  if (principalNdc.x != 0) m[2][0] = -principalNdc.x;
+  if (principalNdc.y != 0) m[2][1] = -principalNdc.y;
+  return m;
 }
 
 glm::dvec3 Camera::rayDirection(double xw, double yw, double width, double height) const {
   // Window -> NDC as the inverse of the viewport of spec §2 (y flips), then through the
   // same basis lookAt() builds.
-  const double nx = xw / (0.5 * width) - 1.0;
-  const double ny = 1.0 - yw / (0.5 * height);
+  const double nx = xw / (0.5 * width) - 1.0 - principalNdc.x;
+  const double ny = 1.0 - yw / (0.5 * height) - principalNdc.y;
   const double tanHalf = std::tan(0.5 * fovYDegrees * std::numbers::pi / 180.0);
   const glm::dvec3 f = glm::normalize(target - eye);
   const glm::dvec3 s = glm::normalize(glm::cross(f, up));

@@ -29,6 +29,9 @@ struct Camera {
   double fovYDegrees = 60;
   double aspect = 4.0 / 3.0;
   double zNear = 0.05, zFar = 20;
+  // Off-axis frustum (a calibrated camera whose principal point is not at the image centre,
+  // lighting/capture.h): the principal point's NDC position. Zero: the symmetric frustum.
+  glm::dvec2 principalNdc{0.0};
 
   glm::dmat4 view() const { return lookAt(eye, target, up); }
   glm::dmat4 projection() const;

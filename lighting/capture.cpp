@@ -1,0 +1,523 @@
+#include "lighting/capture.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "lighting/camera_response.h"
+#include "lighting/embree_scene.h"
+#include "lighting/exr_io.h"
+#include "lighting/hdr_merge.h"
+#include "scene/camera_calibration.h"
+#include "scene/photo_io.h"
+#include "scene/room_pose.h"
+#include "scene/vanishing_points.h"
+#include "shadow/intensity_transfer.h"
+
+namespace penumbra::lighting {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+// --- manifest ------------------------------------------------------------------------
+
+class Reader {
+ public:
+  explicit Reader(fs::path file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+    throw CaptureError(file_.string() + ": " + field + ": " + problem);
+  }
+
+  // Unknown fields are errors (a typo must not silently fall back to a default); fields
+  // starting with '_' are notes.
+  void onlyFields(const json& j, const std::string& where,
+                  std::initializer_list<const char*> allowed) const {
+    if (!j.is_object()) fail(where.empty() ? "(top level)" : where, "must be an object");
+    for (const auto& [key, value] : j.items()) {
+      if (!key.empty() && key[0] == '_') continue;
+      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) ==
+          allowed.end()) {
+        fail(join(where, key), "unknown field");
+      }
+    }
+  }
+
+  static std::string join(const std::string& where, const std::string& key) {
+    return where.empty() ? key : where + "." + key;
+  }
+
+  const json& need(const json& j, const std::string& where, const char* key) const {
+    if (!j.contains(key)) fail(join(where, key), "missing");
+    return j.at(key);
+  }
+
+  double number(const json& v, const std::string& field) const {
+    if (!v.is_number()) fail(field, "must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(field, "must be finite");
+    return d;
+  }
+
+  double positive(const json& v, const std::string& field) const {
+    const double d = number(v, field);
+    if (!(d > 0)) fail(field, "must be > 0");
+    return d;
+  }
+
+  int integer(const json& v, const std::string& field, int lo, int hi) const {
+    if (!v.is_number_integer()) fail(field, "must be an integer");
+    const int64_t i = v.get<int64_t>();
+    if (i < lo || i > hi) {
+      fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi));
+    }
+    return int(i);
+  }
+
+  glm::dvec3 vec3(const json& v, const std::string& field) const {
+    if (!v.is_array() || v.size() != 3) fail(field, "must be [x, y, z]");
+    return {number(v[0], field + "[0]"), number(v[1], field + "[1]"), number(v[2], field + "[2]")};
+  }
+
+  fs::path path(const json& v, const std::string& field) const {
+    if (!v.is_string() || v.get<std::string>().empty()) fail(field, "must be a file name");
+    const fs::path p = v.get<std::string>();
+    return p.is_absolute() ? p : fs::absolute(file_).parent_path() / p;
+  }
+
+ private:
+  fs::path file_;
+};
+
+// Probe frame -> room: Ry(yaw) Rx(pitch) (columns: probe axes in the room).
+glm::dmat3 probeRotation(double yawDegrees, double pitchDegrees) {
+  const double a = yawDegrees * std::numbers::pi / 180, b = pitchDegrees * std::numbers::pi / 180;
+  const glm::dmat3 ry(std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a));
+  const glm::dmat3 rx(1, 0, 0, 0, std::cos(b), std::sin(b), 0, -std::sin(b), std::cos(b));
+  return ry * rx;
+}
+
+double luminance(const glm::dvec3& c) {
+  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+CaptureManifest loadCaptureManifest(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw CaptureError(path.string() + ": cannot read");
+  std::stringstream text;
+  text << in.rdbuf();
+  const Reader r(path);
+  json j;
+  try {
+    j = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    r.fail("(json)", e.what());
+  }
+  CaptureManifest m;
+  m.source = path;
+  r.onlyFields(
+      j, "", {"format", "version", "scene", "calibration", "exposures", "live_exposure", "probe"});
+  const json& format = r.need(j, "", "format");
+  if (format != "penumbra-capture") r.fail("format", "must be \"penumbra-capture\"");
+  if (r.integer(r.need(j, "", "version"), "version", 1, 1000) != 1) {
+    r.fail("version", "must be 1");
+  }
+  m.scene = r.path(r.need(j, "", "scene"), "scene");
+
+  const json& cal = r.need(j, "", "calibration");
+  r.onlyFields(cal, "calibration", {"vanishing", "origin_world", "chessboard", "corners"});
+  if (cal.contains("vanishing") == cal.contains("chessboard")) {
+    r.fail("calibration", "exactly one of \"vanishing\" and \"chessboard\" is needed");
+  }
+  if (cal.contains("vanishing")) {
+    m.vanishingMarks = r.path(cal["vanishing"], "calibration.vanishing");
+    if (cal.contains("origin_world")) {
+      m.vanishingOriginWorld = r.vec3(cal["origin_world"], "calibration.origin_world");
+    }
+  } else {
+    if (cal.contains("origin_world")) {
+      r.fail("calibration.origin_world", "only with \"vanishing\"");
+    }
+    const json& cb = cal["chessboard"];
+    r.onlyFields(cb, "calibration.chessboard", {"images", "cols", "rows", "square"});
+    const json& images = r.need(cb, "calibration.chessboard", "images");
+    if (!images.is_array() || images.size() < 3) {
+      r.fail("calibration.chessboard.images", "must list at least 3 photos");
+    }
+    for (size_t i = 0; i < images.size(); ++i) {
+      m.chessboardPhotos.push_back(
+          r.path(images[i], "calibration.chessboard.images[" + std::to_string(i) + "]"));
+    }
+    m.chessboardCols = r.integer(r.need(cb, "calibration.chessboard", "cols"),
+                                 "calibration.chessboard.cols", 2, 100);
+    m.chessboardRows = r.integer(r.need(cb, "calibration.chessboard", "rows"),
+                                 "calibration.chessboard.rows", 2, 100);
+    if (cb.contains("square")) {
+      m.chessboardSquare = r.positive(cb["square"], "calibration.chessboard.square");
+    }
+    if (!cal.contains("corners")) {
+      r.fail("calibration.corners", "required with \"chessboard\" (the pose comes from them)");
+    }
+  }
+  if (cal.contains("corners")) m.corners = r.path(cal["corners"], "calibration.corners");
+
+  const json& ex = r.need(j, "", "exposures");
+  if (!ex.is_array() || ex.size() < 2) r.fail("exposures", "must list at least 2 photographs");
+  for (size_t i = 0; i < ex.size(); ++i) {
+    const std::string f = "exposures[" + std::to_string(i) + "]";
+    r.onlyFields(ex[i], f, {"image", "seconds"});
+    m.exposures.push_back({r.path(r.need(ex[i], f, "image"), f + ".image"),
+                           r.positive(r.need(ex[i], f, "seconds"), f + ".seconds")});
+  }
+  const json& live = r.need(j, "", "live_exposure");
+  r.onlyFields(live, "live_exposure", {"index", "seconds"});
+  if (live.contains("index") == live.contains("seconds")) {
+    r.fail("live_exposure", "exactly one of \"index\" and \"seconds\" is needed");
+  }
+  if (live.contains("index")) {
+    m.liveIndex = r.integer(live["index"], "live_exposure.index", 0, int(ex.size()) - 1);
+  } else {
+    m.liveSeconds = r.positive(live["seconds"], "live_exposure.seconds");
+  }
+
+  const json& pr = r.need(j, "", "probe");
+  r.onlyFields(pr, "probe",
+               {"image", "mapping", "fisheye_fov_deg", "position", "yaw_deg", "pitch_deg",
+                "saturation", "scale"});
+  m.probeImage = r.path(r.need(pr, "probe", "image"), "probe.image");
+  const json& mapping = r.need(pr, "probe", "mapping");
+  if (mapping == "latlong") {
+    m.probeMapping = ProbeMapping::LatLong;
+  } else if (mapping == "mirror_ball") {
+    m.probeMapping = ProbeMapping::MirrorBall;
+  } else if (mapping == "fisheye") {
+    m.probeMapping = ProbeMapping::Fisheye;
+  } else {
+    r.fail("probe.mapping", "must be \"latlong\", \"mirror_ball\" or \"fisheye\"");
+  }
+  if (pr.contains("fisheye_fov_deg")) {
+    if (m.probeMapping != ProbeMapping::Fisheye)
+      r.fail("probe.fisheye_fov_deg", "only for fisheye");
+    m.probeFisheyeFovDegrees = r.positive(pr["fisheye_fov_deg"], "probe.fisheye_fov_deg");
+    if (m.probeFisheyeFovDegrees > 360) r.fail("probe.fisheye_fov_deg", "must be <= 360");
+  }
+  m.probePosition = r.vec3(r.need(pr, "probe", "position"), "probe.position");
+  if (pr.contains("yaw_deg")) m.probeYawDegrees = r.number(pr["yaw_deg"], "probe.yaw_deg");
+  if (pr.contains("pitch_deg")) m.probePitchDegrees = r.number(pr["pitch_deg"], "probe.pitch_deg");
+  if (pr.contains("saturation")) {
+    m.probeSaturation = float(r.positive(pr["saturation"], "probe.saturation"));
+  }
+  if (pr.contains("scale")) {
+    if (pr["scale"] != "fit") {
+      const glm::dvec3 s = r.vec3(pr["scale"], "probe.scale");
+      if (!(s.x > 0 && s.y > 0 && s.z > 0)) r.fail("probe.scale", "must be > 0 (or \"fit\")");
+      m.probeScale = s;
+    }
+  }
+  return m;
+}
+
+CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
+                         const CaptureProgress& progress) {
+  const std::string src = m.source.string();
+  CaptureResult result;
+  CaptureSummary& s = result.summary;
+  constexpr int kOwnStages = 6;
+  const int kStages = kOwnStages + (options.irradianceVolume ? 6 : 5);
+  int stage = 0;
+  auto start = std::chrono::steady_clock::now();
+  auto begin = [&](const std::string& name) {
+    start = std::chrono::steady_clock::now();
+    if (progress) progress(name, stage, kStages);
+    s.timings.push_back({name, 0});
+    ++stage;
+  };
+  auto endStage = [&] {
+    s.timings.back().ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  // --- photographs --------------------------------------------------------------------
+  begin("photographs");
+  scene::SceneDescription scene = scene::loadSceneFile(m.scene);
+  std::vector<Exposure> bracket;
+  for (const CaptureManifest::Photo& p : m.exposures) {
+    const scene::PhotoRgb8 photo = scene::readPhotoRgb8(p.file);
+    if (!bracket.empty() &&
+        (photo.width != bracket[0].image.width || photo.height != bracket[0].image.height)) {
+      throw CaptureError(src + ": exposures: " + p.file.string() + " is " +
+                         std::to_string(photo.width) + "x" + std::to_string(photo.height) +
+                         ", the first photograph " + std::to_string(bracket[0].image.width) + "x" +
+                         std::to_string(bracket[0].image.height));
+    }
+    bracket.push_back(
+        {p.file.filename().string(), p.seconds, {photo.width, photo.height, photo.rgb}});
+  }
+  const int width = bracket[0].image.width, height = bracket[0].image.height;
+  endStage();
+
+  // --- calibration (Gibson & Chalmers 2003 §3) -----------------------------------------
+  begin("calibration");
+  scene::Intrinsics intr;
+  scene::Pose pose;
+  if (!m.vanishingMarks.empty()) {
+    const scene::VanishingCalibration vc =
+        scene::calibrateFromVanishingPoints(scene::loadVanishingMarks(m.vanishingMarks));
+    intr = vc.intrinsics;
+    // The marks' frame has its origin at the marked point: x_cam = R (x_room - o) + t.
+    pose.rotation = vc.pose.rotation;
+    pose.translation = vc.pose.translation - vc.pose.rotation * m.vanishingOriginWorld;
+    s.calibrationMethod = "vanishing points";
+    s.reprojectionErrorPx = s.intrinsicsErrorPx = vc.rmsPx;
+  } else {
+    const scene::ChessboardCalibration cc = scene::calibrateFromChessboards(
+        m.chessboardPhotos, {m.chessboardCols, m.chessboardRows}, m.chessboardSquare);
+    for (const scene::ChessboardImage& im : cc.images) {
+      if (!im.used) s.warnings.push_back("chessboard: " + im.problem);
+    }
+    intr = cc.intrinsics;
+    s.calibrationMethod = "chessboard";
+    s.reprojectionErrorPx = s.intrinsicsErrorPx = cc.rmsPx;
+  }
+  if (!m.corners.empty()) {
+    const scene::PoseFit fit =
+        scene::fitPose(intr, scene::loadCornerMarks(m.corners), m.corners.string());
+    pose = fit.pose;
+    s.calibrationMethod += " + room corners";
+    s.reprojectionErrorPx = fit.rmsPx;
+  }
+  if (intr.width != width || intr.height != height) {
+    throw CaptureError(src + ": calibration: the calibrated image is " +
+                       std::to_string(intr.width) + "x" + std::to_string(intr.height) +
+                       ", the photographs " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  s.intrinsics = intr;
+  s.pose = pose;
+  scene.camera =
+      scene::toCamera(intr, pose, scene.camera.zNear, scene.camera.zFar, &s.principalOffsetPx);
+  scene.width = uint32_t(width);
+  scene.height = uint32_t(height);
+  // toCamera's frustum is symmetric; an off-centre principal point becomes an off-axis
+  // frustum instead (scene::Camera::principalNdc), so the renderer puts every room point on
+  // the pixel the calibrated camera does. The principal point sits at window position
+  // (cx + 0.5, cy + 0.5) (scene/camera_intrinsics.h).
+  scene.camera.principalNdc = {(intr.cx + 0.5) / (0.5 * width) - 1.0,
+                               1.0 - (intr.cy + 0.5) / (0.5 * height)};
+  // Lens distortion is not modelled: how far it moves the image corner tells whether that
+  // matters.
+  if (intr.hasDistortion()) {
+    const glm::dvec3 corner((0 - intr.cx) / intr.fx, (0 - intr.cy) / intr.fy, 1.0);
+    const double shift = glm::length(intr.project(corner));
+    if (shift > 0.5) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "lens distortion moves the image corner by %.1f px and is not modelled: "
+                    "the photographs are used as taken, overlays assume a pinhole",
+                    shift);
+      s.warnings.push_back(buf);
+    }
+  }
+  endStage();
+
+  // --- response and HDR (§4) ------------------------------------------------------------
+  begin("camera response");
+  s.response = recoverResponse(bracket);
+  const CameraResponse& response = s.response;
+  for (const std::string& w : response.warnings) s.warnings.push_back("response: " + w);
+  // g(128) = 0 per channel leaves each channel in its own units. The bundle stores one T()
+  // (the grey curve, g averaged over channels), so each channel is rescaled to the grey
+  // curve's units: the factor that best maps g_c onto g_grey over the well-exposed codes.
+  std::array<double, 256> grey{};
+  for (int z = 0; z < 256; ++z) {
+    grey[size_t(z)] = (response.logExposure[0][size_t(z)] + response.logExposure[1][size_t(z)] +
+                       response.logExposure[2][size_t(z)]) /
+                      3;
+  }
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0;
+    for (int z = 32; z <= 223; ++z)
+      sum += grey[size_t(z)] - response.logExposure[size_t(c)][size_t(z)];
+    s.channelToGrey[c] = std::exp(sum / 192);
+  }
+  const double live = m.liveIndex ? m.exposures[size_t(*m.liveIndex)].seconds : *m.liveSeconds;
+  s.liveSeconds = live;
+  // T() at the live exposure: code z records radiance exp(g(z)) / dt (merged units).
+  std::vector<shadow::ToneCurve::Sample> samples;
+  for (const ToneSample& t : response.greyToneSamples()) {
+    samples.push_back({t.radiance / live, t.value});
+  }
+  const shadow::ToneCurve tone = shadow::ToneCurve::fromSamples(samples);
+  endStage();
+
+  begin("HDR merge");
+  MergeResult merged = mergeExposures(bracket, response);
+  for (size_t i = 0; i < merged.radiance.rgb.size(); ++i) {
+    merged.radiance.rgb[i] = float(double(merged.radiance.rgb[i]) * s.channelToGrey[int(i % 3)]);
+  }
+  s.clippedBright = merged.clippedBright;
+  s.clippedDark = merged.clippedDark;
+  if (merged.minRadiance > 0 && merged.maxRadiance > 0) {
+    s.dynamicRangeStops = std::log2(merged.maxRadiance / merged.minRadiance);
+  }
+  if (merged.clippedBright) {
+    s.warnings.push_back(std::to_string(merged.clippedBright) +
+                         " pixels clipped bright in every exposure (radiance is a lower bound): "
+                         "add a shorter exposure");
+  }
+  // The kiosk's live view: the photograph itself, or the HDR through T() at that time.
+  std::vector<uint8_t> background(size_t(width) * size_t(height) * 4, 255);
+  for (size_t i = 0; i < size_t(width) * size_t(height); ++i) {
+    for (size_t c = 0; c < 3; ++c) {
+      background[4 * i + c] = m.liveIndex ? bracket[size_t(*m.liveIndex)].image.rgb[3 * i + c]
+                                          : tone(double(merged.radiance.rgb[3 * i + c]));
+    }
+  }
+  endStage();
+
+  // --- probe -> patches (§4.2) -------------------------------------------------------------
+  begin("light probe");
+  ExrReadReport exrReport;
+  LightProbe probe;
+  probe.image = readExr(m.probeImage, &exrReport);
+  if (exrReport.clampedNegative) {
+    s.warnings.push_back(m.probeImage.filename().string() + ": " +
+                         std::to_string(exrReport.clampedNegative) +
+                         " negative values (lossy compression) clamped to 0, down to " +
+                         std::to_string(exrReport.mostNegative));
+  }
+  probe.mapping = m.probeMapping;
+  probe.fisheyeFovDegrees = m.probeFisheyeFovDegrees;
+  probe.position = m.probePosition;
+  probe.rotation = probeRotation(m.probeYawDegrees, m.probePitchDegrees);
+  const scene::PatchMesh mesh = precomputePatchMesh(scene, options);
+  const EmbreeScene rays(mesh);
+  ProbeProjectionOptions po;
+  po.saturationLevel = m.probeSaturation;
+  po.threads = options.threads;
+  ProbeProjection proj;
+  try {
+    proj = projectProbe(probe, mesh, rays, po);
+  } catch (const std::invalid_argument& e) {
+    throw CaptureError(src + ": probe: " + e.what());
+  }
+  for (const std::string& w : proj.warnings) s.warnings.push_back("probe: " + w);
+  s.probeSeenPatches = proj.seenPatches;
+  s.probeEmitters = proj.emitters;
+  endStage();
+
+  // --- probe units -> photograph units ------------------------------------------------------
+  // The probe was taken with another camera (or exposure) than the kiosk photographs, so
+  // its radiance is in other units. Reflectance L/G is a ratio and does not care, but the
+  // emission (and so every transfer and T() of the frame) does. Each seen reflector that
+  // the calibrated camera also sees gives a ratio photo / probe per channel; the median
+  // ties the units (robust to the few patches where the room model and the photo disagree).
+  begin("probe scale");
+  if (m.probeScale) {
+    s.probeScale = *m.probeScale;
+  } else {
+    const glm::dvec3 eye = pose.centre();
+    const glm::dmat3 camToWorld = glm::transpose(pose.rotation);
+    const Exposure& shortest = *std::min_element(
+        bracket.begin(), bracket.end(),
+        [](const Exposure& a, const Exposure& b) { return a.seconds < b.seconds; });
+    const Exposure& longest = *std::max_element(
+        bracket.begin(), bracket.end(),
+        [](const Exposure& a, const Exposure& b) { return a.seconds < b.seconds; });
+    std::array<std::vector<double>, 3> ratios;
+    std::vector<double> lumRatios;
+    for (size_t p = 0; p < mesh.patches.size(); ++p) {
+      if (!proj.seen[p] || proj.materials[p].emits()) continue;
+      const glm::dvec3 pr = proj.radiance[p];
+      if (!(pr.x > 0 && pr.y > 0 && pr.z > 0)) continue;
+      const glm::dvec3 cam = pose.toCamera(mesh.patches[p].centre);
+      if (cam.z <= 0) continue;
+      const glm::dvec2 uv = intr.project(cam);
+      const int u0 = int(std::lround(uv.x)), v0 = int(std::lround(uv.y));
+      if (u0 < 1 || v0 < 1 || u0 >= width - 1 || v0 >= height - 1) continue;
+      // A 3 x 3 window, every pixel of which must show this patch (its camera ray hits it)
+      // and be measured in some exposure (not clipped throughout).
+      glm::dvec3 sum(0.0);
+      int n = 0;
+      for (int dv = -1; dv <= 1; ++dv) {
+        for (int du = -1; du <= 1; ++du) {
+          const int u = u0 + du, v = v0 + dv;
+          const glm::dvec3 dir =
+              camToWorld * glm::dvec3((u - intr.cx) / intr.fx, (v - intr.cy) / intr.fy, 1.0);
+          const std::optional<Hit> hit = rays.intersect(eye, dir);
+          if (!hit || mesh.trianglePatch[hit->triangle] != p) continue;
+          const size_t i = 3 * (size_t(v) * size_t(width) + size_t(u));
+          bool clipped = false;
+          for (size_t c = 0; c < 3; ++c) {
+            clipped = clipped || shortest.image.rgb[i + c] == 255 || longest.image.rgb[i + c] == 0;
+          }
+          if (clipped) continue;
+          sum += glm::dvec3(merged.radiance.rgb[i], merged.radiance.rgb[i + 1],
+                            merged.radiance.rgb[i + 2]);
+          ++n;
+        }
+      }
+      if (n < 9) continue;
+      const glm::dvec3 photo = sum / 9.0;
+      for (int c = 0; c < 3; ++c) ratios[size_t(c)].push_back(photo[c] / pr[c]);
+      lumRatios.push_back(luminance(photo) / luminance(pr));
+    }
+    s.scalePatches = lumRatios.size();
+    if (lumRatios.size() < 8) {
+      throw CaptureError(src + ": probe: only " + std::to_string(lumRatios.size()) +
+                         " reflecting patches are seen by both the camera and the probe; cannot "
+                         "tie the probe's units to the photographs' (give probe.scale)");
+    }
+    for (int c = 0; c < 3; ++c) s.probeScale[c] = median(ratios[size_t(c)]);
+    const double mid = median(lumRatios);
+    s.scaleSpread = (quantile(lumRatios, 0.75) - quantile(lumRatios, 0.25)) / mid;
+    if (s.scaleSpread > 0.25) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "probe scale: photo/probe ratios spread %.0f%% (interquartile) over %zu "
+                    "patches: the room model, pose or probe position may be off",
+                    100 * s.scaleSpread, lumRatios.size());
+      s.warnings.push_back(buf);
+    }
+  }
+  for (size_t p = 0; p < proj.radiance.size(); ++p) {
+    proj.radiance[p] *= s.probeScale;
+    proj.materials[p].emission *= s.probeScale;
+  }
+  endStage();
+
+  // --- precompute with everything measured ----------------------------------------------------
+  options.measuredMaterials = proj.materials;
+  options.measuredRadiance = proj.radiance;
+  options.tone = tone;
+  options.background = std::move(background);
+  const int offset = stage;
+  std::vector<StageTiming> inner;
+  result.bundle = precomputeBundle(scene, options, inner, [&](const std::string& n, int i, int) {
+    if (progress) progress(n, offset + i, kStages);
+  });
+  s.timings.insert(s.timings.end(), inner.begin(), inner.end());
+  s.patches = result.bundle.patches.size();
+  s.sources = result.bundle.sets.sources.size();
+  s.receivers = result.bundle.sets.receivers.size();
+  return result;
+}
+
+}  // namespace penumbra::lighting

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# `penumbra capture` end to end: synthetic photographs, probe and marks of the showroom
+# (penumbra-capture-synth) -> bundle -> `penumbra render` draws the product with shadows;
+# bad manifests -> a clear error naming the file and the field, exit 1, no bundle.
+#   tests/capture_cli_test.sh PENUMBRA PENUMBRA_CAPTURE_SYNTH DATA_DIR
+set -uo pipefail
+penumbra="$1" synth="$2" data="$3"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+check() {  # check NAME EXIT-CODE-OF-CONDITION
+  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
+}
+value() { awk -v k="$1" '$1 == k {print $2}' "$2"; }
+
+"$synth" "$data/showroom/showroom.json" "$tmp/in" >"$tmp/synth" 2>&1
+check "synth: inputs written" $?
+
+"$penumbra" capture "$tmp/in/capture.json" -o "$tmp/c.bundle" --threads 2 >"$tmp/out" 2>"$tmp/err"
+rc=$?
+f="$(awk '$1 == "focal_px" {print $2}' "$tmp/out")"
+[[ $rc == 0 && -s "$tmp/c.bundle" ]] && grep -q "^reprojection_error_px" "$tmp/out" \
+  && grep -q "^patches 1118 sources [1-9]" "$tmp/out" && grep -q "^dynamic_range stops" "$tmp/out" \
+  && grep -q "irradiance volume" "$tmp/err" \
+  && awk -v f="$f" 'BEGIN {exit !(f > 413.6 && f < 417.8)}'
+check "capture: bundle written, summary (focal $f px, true 415.69) and progress" $?
+
+"$penumbra" render "$tmp/c.bundle" --passes 30 --out "$tmp/frame.png" >"$tmp/render" 2>&1
+rc=$?
+[[ $rc == 0 && -s "$tmp/frame.png" ]] && grep -q "^passes [1-9]" "$tmp/render"
+check "render: the captured bundle drives a frame" $?
+
+bad() {  # bad NAME SED-EXPRESSION EXPECTED-TEXT
+  sed "$2" "$tmp/in/capture.json" >"$tmp/in/bad.json"
+  "$penumbra" capture "$tmp/in/bad.json" -o "$tmp/bad.bundle" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc == 1 && ! -e "$tmp/bad.bundle" ]] && grep -q "$3" "$tmp/err"
+  check "bad manifest: $1 (exit $rc): $(grep -o 'error: .*' "$tmp/err" | head -c 160)" $?
+}
+bad "live exposure out of range" 's/"index": 4/"index": 9/' "bad.json: live_exposure.index: must be in"
+bad "unknown field" 's/"mapping"/"colour": 1, "mapping"/' "bad.json: probe.colour: unknown field"
+bad "probe outside the room" 's/"position": \[/"position": [-9, 1, 1], "_was": [/' "bad.json: probe: .*sees no patch"
+bad "missing probe file" 's/probe.exr/nope.exr/' "nope.exr: no such file"
+bad "missing photograph" 's/bracket-2.png/nope.png/' "nope.png"
+
+exit $((failures > 0))
