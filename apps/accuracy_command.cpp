@@ -15,7 +15,12 @@
 #include "apps/render_flags.h"
 #include "raster/renderer.h"
 #include "reference/image_metrics.h"
+#include "scene/image_io.h"
 #include "shadow/frame_compositor.h"
+#endif
+#if defined(PENUMBRA_HAVE_METRICS) && defined(PENUMBRA_HAVE_REFERENCE)
+#include "reference/differential.h"
+#include "reference/reference_renderer.h"
 #endif
 
 namespace penumbra::apps {
@@ -59,6 +64,14 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+void writeRgb(const std::string& path, const reference::Rgb8Image& img) {
+  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.rgb[3 * i + k];
+  }
+  scene::writePng(path, img.width, img.height, rgba);
+}
+
 nlohmann::json orNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
 }
@@ -69,6 +82,11 @@ struct AccuracyCommand {
   int frames = 5, mapSize = 256, referenceMap = 2048, referencePasses = 1000;
   double ppd = reference::FlipOptions{}.pixelsPerDegree;
   RenderFlags render;
+  std::string referenceOut, maskOut;
+  bool penumbraReference = false;  // the stand-in instead of rays (always without Embree)
+#ifdef PENUMBRA_HAVE_REFERENCE
+  reference::ReferenceOptions rays;
+#endif
 
   int run() const {
     const raster::RenderOptions ro = toOptions(render);
@@ -78,9 +96,30 @@ struct AccuracyCommand {
 
     reference::Rgb8Image ref;
     nlohmann::json refInfo;
+    reference::Mask mask;
     if (!referencePath.empty()) {
       ref = reference::loadRgb8(referencePath);
       refInfo = {{"kind", "image"}, {"file", referencePath}};
+#ifdef PENUMBRA_HAVE_REFERENCE
+    } else if (!penumbraReference) {
+      // The ray-traced ground truth (reference/reference_renderer.h, docs/reference.md): HDR
+      // differential rendering of the same room, light and placed product.
+      const auto t0 = Clock::now();
+      const reference::DifferentialFrame d = reference::composeDifferential(
+          reference::renderReference(reference::referenceSceneOf(bundle, pose), rays),
+          bundle.background, bundle.tone);
+      ref = reference::fromRgba8(d.rgba, w, h, "ray-traced reference");
+      if (maskPath.empty()) {
+        // Its visible shadow: pixels the product's shadow changes, not the product itself.
+        mask = {w, h, d.shadowMask, "ray-traced shadow mask"};
+      }
+      refInfo = {{"kind", "raytraced"},
+                 {"spp", rays.samplesPerPixel},
+                 {"light_samples", rays.lightSamples},
+                 {"bounces", rays.bounces},
+                 {"seed", rays.seed},
+                 {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};
+#endif
     } else {
       Frames r(bundle, uint32_t(referenceMap), ro);
       r.still(pose, size_t(referencePasses));
@@ -88,17 +127,16 @@ struct AccuracyCommand {
       refInfo = {{"kind", "penumbra"},
                  {"passes", r.stats.passes},
                  {"shadow_map", referenceMap},
-                 {"note", "stand-in until the ray-traced reference is available"}};
+                 {"note", "stand-in for the ray-traced reference"}};
     }
     if (ref.width != w || ref.height != h) {
       throw reference::MetricsError(ref.name + ": size " + std::to_string(ref.width) + "x" +
                                     std::to_string(ref.height) + " differs from the bundle's " +
                                     std::to_string(w) + "x" + std::to_string(h) + " view");
     }
-    reference::Mask mask;
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
-    } else {
+    } else if (mask.inside.empty()) {
       Frames zero(bundle, uint32_t(mapSize), ro);
       zero.still(pose, 0);
       mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region of the reference"};
@@ -107,6 +145,14 @@ struct AccuracyCommand {
           if (ref.rgb[3 * i + k] != zero.rgba[4 * i + k]) mask.inside[i] = 1;
         }
       }
+    }
+    if (!referenceOut.empty()) writeRgb(referenceOut, ref);
+    if (!maskOut.empty()) {
+      std::vector<uint8_t> rgba(size_t(w) * h * 4, 255);
+      for (size_t i = 0; i < size_t(w) * h; ++i) {
+        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.inside[i] ? 255 : 0;
+      }
+      scene::writePng(maskOut, w, h, rgba);
     }
 
     reference::CompareOptions co;
@@ -190,6 +236,24 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--ppd", cmd->ppd, "FLIP viewing condition: pixels per degree")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
+  c->add_option("--reference-out", cmd->referenceOut, "write the reference used as PNG");
+  c->add_option("--mask-out", cmd->maskOut, "write the shadow region used as PNG");
+  c->add_flag("--penumbra-reference", cmd->penumbraReference,
+              "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
+              "(the only choice when built without the ray tracer)");
+#ifdef PENUMBRA_HAVE_REFERENCE
+  c->add_option("--spp", cmd->rays.samplesPerPixel, "ray-traced reference: samples per pixel")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  c->add_option("--light-samples", cmd->rays.lightSamples,
+                "ray-traced reference: shadow rays per point")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  c->add_option("--bounces", cmd->rays.bounces, "ray-traced reference: indirect bounces")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  c->add_option("--seed", cmd->rays.seed, "ray-traced reference: seed")->capture_default_str();
+#endif
   addRenderFlags(c, cmd->render);
   commands.push_back({c, [cmd] { return cmd->run(); }});
 #endif

@@ -56,7 +56,7 @@ expect_fail "mask of the wrong size" "$fig3" "$bunny" "$chair" --mask "$fig3"
 # settings the frame equals the stand-in reference; a reference of the wrong size is refused.
 if "${run[@]}" precompute --help >/dev/null 2>&1; then
   "${run[@]}" precompute "$src/data/showroom/showroom.json" -o "$tmp/s.bundle" >/dev/null 2>&1
-  "${run[@]}" accuracy "$tmp/s.bundle" --passes 5,1000 --frames 1 --shadow-map 2048 \
+  "${run[@]}" accuracy "$tmp/s.bundle" --passes 5,1000 --frames 1 --shadow-map 2048 --penumbra-reference \
     --json "$tmp/acc.json" >"$tmp/out" 2>"$tmp/err"
   rc=$?
   [[ $rc == 0 ]] && $py -c "
@@ -72,6 +72,18 @@ assert r[1]['mean_abs_shadow']==0 and r[1]['psnr'] is None and r[1]['ssim']==1 a
   rc=$?
   [[ $rc != 0 && ! -e "$tmp/bad.json" ]] && grep -qF "$fig3" "$tmp/err"
   check "accuracy: reference of the wrong size (stderr: $(head -c 160 "$tmp/err"))" $?
+  if "${run[@]}" reference --help >/dev/null 2>&1; then
+    # Against the ray tracer (a quick, noisy one): errors are finite and the mask non-empty.
+    "${run[@]}" accuracy "$tmp/s.bundle" --passes 20 --frames 1 --spp 1 --light-samples 4 \
+      --json "$tmp/rt.json" >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    [[ $rc == 0 ]] && $py -c "
+import json,sys; d=json.load(open(sys.argv[1])); r=d['results'][0]
+assert d['reference']['kind']=='raytraced' and d['reference']['spp']==1
+assert r['shadow_pixels']>100 and 0<r['mean_abs_shadow']<50 and 0<r['ssim']<1 and r['psnr']>10
+" "$tmp/rt.json"
+    check "accuracy: against the ray-traced reference (spp 1)" $?
+  fi
 fi
 
 echo "$failures failure(s)"
