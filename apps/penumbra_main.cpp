@@ -4,6 +4,8 @@
 //   bench-replay TRACE  median and min ms per frame over repeated renders
 //   precompute, render, profile   the showroom pipeline (apps/scene_commands.h)
 //   calibrate           camera intrinsics and pose (apps/calibrate_command.h; with OpenCV)
+//   compare A B         image metrics and FLIP (apps/compare_command.h; with OpenCV)
+//   accuracy BUNDLE     ms and error against a reference per pass count (with OpenCV)
 //   capture             photographs + probe -> scene bundle (apps/capture_command.h)
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -15,8 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "apps/accuracy_command.h"
 #include "apps/calibrate_command.h"
 #include "apps/capture_command.h"
+#include "apps/compare_command.h"
+#include "apps/reference_commands.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "raster/frame_trace.h"
@@ -130,7 +135,10 @@ int main(int argc, char** argv) {
 
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
   const std::vector<apps::Command> calibrateCommands = apps::addCalibrateCommands(app);
+  const std::vector<apps::Command> compareCommands = apps::addCompareCommands(app);
+  const std::vector<apps::Command> accuracyCommands = apps::addAccuracyCommands(app);
   const std::vector<apps::Command> captureCommands = apps::addCaptureCommands(app);
+  const std::vector<apps::Command> referenceCommands = apps::addReferenceCommands(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -140,7 +148,16 @@ int main(int argc, char** argv) {
     for (const apps::Command& c : calibrateCommands) {
       if (c.app->parsed()) return c.run();
     }
+    for (const apps::Command& c : compareCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : accuracyCommands) {
+      if (c.app->parsed()) return c.run();
+    }
     for (const apps::Command& c : captureCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : referenceCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);

@@ -35,8 +35,8 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// "X,Y,Z" or "X,Y,Z,YAW": floor position X, Z and lift Y above the floor in metres, yaw in
-// degrees.
+}  // namespace
+
 shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
   std::vector<float> values;
   std::stringstream in(text);
@@ -55,6 +55,8 @@ shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
   }
   return {product, values[0], values[2], values.size() == 4 ? values[3] : 0.0f, values[1]};
 }
+
+namespace {
 
 struct SceneFlags {
   std::string bundle;

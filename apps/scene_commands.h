@@ -6,7 +6,10 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 #include <vector>
+
+#include "shadow/scene_bundle.h"
 
 namespace penumbra::apps {
 
@@ -16,5 +19,9 @@ struct Command {
 };
 
 std::vector<Command> addSceneCommands(CLI::App& app);
+
+// --pose "X,Y,Z" or "X,Y,Z,YAW": floor position X, Z and lift Y above the floor in metres,
+// yaw in degrees. Throws std::invalid_argument naming the bad item.
+shadow::ProductPose parsePose(const std::string& text, uint32_t product);
 
 }  // namespace penumbra::apps

@@ -70,24 +70,11 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
     throw std::invalid_argument("product pose is not finite");
   }
   const ProductModel& model = bundle_.products[pose.product];
-  double s, c;
-  scene::sinCosDegrees(pose.yawDegrees, s, c);  // not libm: same bits on every machine
-  auto place = [&](const raster::Mesh& in, raster::Mesh& out) {
-    out.indices = in.indices;
-    out.positions.resize(in.positions.size());
-    for (size_t i = 0; i < in.positions.size(); ++i) {
-      const raster::Vec3& p = in.positions[i];
-      out.positions[i] = {
-          static_cast<float>(c * p.x + s * p.z + pose.x),
-          static_cast<float>(p.y + pose.lift),  // the floor is y = 0 (scene/scene_file.h)
-          static_cast<float>(-s * p.x + c * p.z + pose.z)};
-    }
-  };
   if (pose.product != placedPose_.product) {
     productOcclusion_.assign(model.mesh.positions.size(), -1.0f);
   }
-  place(model.mesh, placedMesh_);
-  place(model.proxy, placedProxy_);
+  placeMesh(model.mesh, pose, placedMesh_);
+  placeMesh(model.proxy, pose, placedProxy_);
   productBounds_ = scene::Aabb::emptyBox();
   for (const raster::Vec3& p : placedMesh_.positions) productBounds_.extend({p.x, p.y, p.z});
   placedPose_ = pose;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scene/bundle_io.h"
+#include "scene/portable_trig.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -44,6 +45,19 @@ void addNames(BundleWriter& w, const std::vector<ProductModel>& products) {
 }
 
 }  // namespace
+
+void placeMesh(const raster::Mesh& in, const ProductPose& pose, raster::Mesh& out) {
+  double s, c;
+  scene::sinCosDegrees(pose.yawDegrees, s, c);  // not libm: same bits on every machine
+  out.indices = in.indices;
+  out.positions.resize(in.positions.size());
+  for (size_t i = 0; i < in.positions.size(); ++i) {
+    const raster::Vec3& p = in.positions[i];
+    out.positions[i] = {static_cast<float>(c * p.x + s * p.z + pose.x),
+                        static_cast<float>(p.y + pose.lift),  // the floor is y = 0
+                        static_cast<float>(-s * p.x + c * p.z + pose.z)};
+  }
+}
 
 scene::PatchMesh patchMeshOf(const SceneBundle& b) {
   scene::PatchMesh m;

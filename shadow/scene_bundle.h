@@ -50,6 +50,12 @@ struct ProductPose {
   float lift = 0;  // metres above the floor (Gibson 2003 Fig. 7: lifting a box off the floor)
 };
 
+// `in` (product space) moved to `pose`: turned by yawDegrees about +y (portable
+// sin/cos, scene/portable_trig.h), lifted, moved to (x, z), rounded to float. The one
+// placement shared by the per-frame compositor and the ray-traced reference, so both see
+// the product in the same place to the bit. The pose's product index is not used.
+void placeMesh(const raster::Mesh& in, const ProductPose& pose, raster::Mesh& out);
+
 struct SceneBundle {
   raster::StaticView view;              // image size, camera, the room's triangles
   std::vector<uint8_t> background;      // RGBA8 "photograph" of the empty room

@@ -1,0 +1,263 @@
+#include "apps/accuracy_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#ifdef PENUMBRA_HAVE_METRICS
+#include <nlohmann/json.hpp>
+
+#include "apps/render_flags.h"
+#include "raster/renderer.h"
+#include "reference/image_metrics.h"
+#include "scene/image_io.h"
+#include "shadow/frame_compositor.h"
+#endif
+#if defined(PENUMBRA_HAVE_METRICS) && defined(PENUMBRA_HAVE_REFERENCE)
+#include "reference/differential.h"
+#include "reference/reference_renderer.h"
+#endif
+
+namespace penumbra::apps {
+
+#ifdef PENUMBRA_HAVE_METRICS
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// One product in the showroom at a given shadow-map size; each step composes, renders with
+// occlusion probes and feeds the measured occlusion to the next frame (docs/fig3.md).
+struct Frames {
+  Frames(const shadow::SceneBundle& b, uint32_t mapSize, const raster::RenderOptions& o)
+      : compositor(b, options(mapSize)), renderer(b.view, o), rgba(b.background.size()) {}
+  static shadow::CompositorOptions options(uint32_t mapSize) {
+    shadow::CompositorOptions c;
+    c.shadowMapSize = mapSize;
+    return c;
+  }
+  void step(const shadow::ProductPose& p, size_t passes) {
+    compositor.compose(p, passes, ++frameNumber, frame, stats);
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
+    compositor.observe(masks);
+  }
+  // A still product: the second frame uses the first one's measured occlusion, as
+  // `penumbra render` does.
+  void still(const shadow::ProductPose& p, size_t passes) {
+    step(p, passes);
+    step(p, passes);
+  }
+  shadow::FrameCompositor compositor;
+  raster::Renderer renderer;
+  raster::FrameContent frame;
+  shadow::CompositeStats stats;
+  std::vector<uint8_t> rgba, masks;
+  uint32_t frameNumber = 0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void writeRgb(const std::string& path, const reference::Rgb8Image& img) {
+  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.rgb[3 * i + k];
+  }
+  scene::writePng(path, img.width, img.height, rgba);
+}
+
+nlohmann::json orNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
+
+struct AccuracyCommand {
+  std::string bundlePath, json, referencePath, maskPath;
+  std::vector<int> passes{10, 20, 50};
+  int frames = 5, mapSize = 256, referenceMap = 2048, referencePasses = 1000;
+  double ppd = reference::FlipOptions{}.pixelsPerDegree;
+  RenderFlags render;
+  std::string referenceOut, maskOut;
+  bool penumbraReference = false;  // the stand-in instead of rays (always without Embree)
+#ifdef PENUMBRA_HAVE_REFERENCE
+  reference::ReferenceOptions rays;
+#endif
+
+  int run() const {
+    const raster::RenderOptions ro = toOptions(render);
+    const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
+    const shadow::ProductPose pose = bundle.startPose;
+    const uint32_t w = bundle.view.width, h = bundle.view.height;
+
+    reference::Rgb8Image ref;
+    nlohmann::json refInfo;
+    reference::Mask mask;
+    if (!referencePath.empty()) {
+      ref = reference::loadRgb8(referencePath);
+      refInfo = {{"kind", "image"}, {"file", referencePath}};
+#ifdef PENUMBRA_HAVE_REFERENCE
+    } else if (!penumbraReference) {
+      // The ray-traced ground truth (reference/reference_renderer.h, docs/reference.md): HDR
+      // differential rendering of the same room, light and placed product.
+      const auto t0 = Clock::now();
+      const reference::DifferentialFrame d = reference::composeDifferential(
+          reference::renderReference(reference::referenceSceneOf(bundle, pose), rays),
+          bundle.background, bundle.tone);
+      ref = reference::fromRgba8(d.rgba, w, h, "ray-traced reference");
+      if (maskPath.empty()) {
+        // Its visible shadow: pixels the product's shadow changes, not the product itself.
+        mask = {w, h, d.shadowMask, "ray-traced shadow mask"};
+      }
+      refInfo = {{"kind", "raytraced"},
+                 {"spp", rays.samplesPerPixel},
+                 {"light_samples", rays.lightSamples},
+                 {"bounces", rays.bounces},
+                 {"seed", rays.seed},
+                 {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};
+#endif
+    } else {
+      Frames r(bundle, uint32_t(referenceMap), ro);
+      r.still(pose, size_t(referencePasses));
+      ref = reference::fromRgba8(r.rgba, w, h, "penumbra reference");
+      refInfo = {{"kind", "penumbra"},
+                 {"passes", r.stats.passes},
+                 {"shadow_map", referenceMap},
+                 {"note", "stand-in for the ray-traced reference"}};
+    }
+    if (ref.width != w || ref.height != h) {
+      throw reference::MetricsError(ref.name + ": size " + std::to_string(ref.width) + "x" +
+                                    std::to_string(ref.height) + " differs from the bundle's " +
+                                    std::to_string(w) + "x" + std::to_string(h) + " view");
+    }
+    if (!maskPath.empty()) {
+      mask = reference::loadMask(maskPath);
+    } else if (mask.inside.empty()) {
+      Frames zero(bundle, uint32_t(mapSize), ro);
+      zero.still(pose, 0);
+      mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region of the reference"};
+      for (size_t i = 0; i < size_t(w) * h; ++i) {
+        for (size_t k = 0; k < 3; ++k) {
+          if (ref.rgb[3 * i + k] != zero.rgba[4 * i + k]) mask.inside[i] = 1;
+        }
+      }
+    }
+    if (!referenceOut.empty()) writeRgb(referenceOut, ref);
+    if (!maskOut.empty()) {
+      std::vector<uint8_t> rgba(size_t(w) * h * 4, 255);
+      for (size_t i = 0; i < size_t(w) * h; ++i) {
+        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.inside[i] ? 255 : 0;
+      }
+      scene::writePng(maskOut, w, h, rgba);
+    }
+
+    reference::CompareOptions co;
+    co.flip.pixelsPerDegree = ppd;
+    nlohmann::json rows = nlohmann::json::array();
+    Frames f(bundle, uint32_t(mapSize), ro);
+    for (int n : passes) {
+      std::vector<double> ms;
+      for (int k = 0; k <= frames; ++k) {
+        shadow::ProductPose p = pose;  // slides a little every frame, as in `profile`
+        p.x += 0.01f * float(k % 7);
+        const auto t0 = Clock::now();
+        f.step(p, size_t(n));
+        if (k > 0)
+          ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      }
+      f.still(pose, size_t(n));
+      const reference::ImageComparison c = reference::compareImages(
+          ref, reference::fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"),
+          &mask, co);
+      const reference::RegionErrors& s = *c.masked;
+      rows.push_back({{"passes_asked", n},
+                      {"passes", f.stats.passes},
+                      {"ms_per_frame", median(ms)},
+                      {"mean_abs_shadow", s.pixels ? nlohmann::json(s.meanAbs) : nullptr},
+                      {"p99_abs_shadow", s.pixels ? nlohmann::json(s.p99Abs) : nullptr},
+                      {"shadow_pixels", s.pixels},
+                      {"mean_abs_frame", c.frame.meanAbs},
+                      {"ssim", c.ssim},
+                      {"psnr", orNull(c.frame.psnr)},
+                      {"flip", c.frame.flipMean},
+                      {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr}});
+      std::printf(
+          "passes %3d (%3u) ms %7.3f mean_abs_shadow %.3f p99 %u ssim %.5f psnr %.2f "
+          "flip %.5f\n",
+          n, f.stats.passes, median(ms), s.meanAbs, s.p99Abs, c.ssim, c.frame.psnr,
+          c.frame.flipMean);
+    }
+    const nlohmann::json out = {
+        {"bundle", bundlePath},   {"reference", refInfo}, {"shadow_map", mapSize},
+        {"flip_ppd", ppd},        {"width", w},           {"height", h},
+        {"frames_timed", frames}, {"results", rows}};
+    if (json.empty()) {
+      std::cout << out.dump(2) << "\n";
+    } else {
+      std::ofstream file(json);
+      file << out.dump(2) << "\n";
+      if (!file) throw std::runtime_error(json + ": cannot write JSON");
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+#endif
+
+std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
+  std::vector<Command> commands;
+#ifdef PENUMBRA_HAVE_METRICS
+  auto cmd = std::make_shared<AccuracyCommand>();
+  CLI::App* c = app.add_subcommand(
+      "accuracy", "ms/frame and error against a reference per pass count (issue 5)");
+  c->add_option("BUNDLE", cmd->bundlePath, "scene bundle (penumbra precompute)")->required();
+  c->add_option("--passes", cmd->passes, "pass counts, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  c->add_option("--json", cmd->json, "write the JSON here instead of stdout");
+  c->add_option("--reference", cmd->referencePath,
+                "reference image (PNG, the bundle's view size) at the start pose");
+  c->add_option("--mask", cmd->maskPath, "shadow-region mask PNG (default: from the reference)");
+  c->add_option("--frames", cmd->frames, "timed frames per pass count (median)")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  c->add_option("--shadow-map", cmd->mapSize, "shadow-map size")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  c->add_option("--reference-map", cmd->referenceMap, "map size of the Penumbra stand-in")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  c->add_option("--ppd", cmd->ppd, "FLIP viewing condition: pixels per degree")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  c->add_option("--reference-out", cmd->referenceOut, "write the reference used as PNG");
+  c->add_option("--mask-out", cmd->maskOut, "write the shadow region used as PNG");
+  c->add_flag("--penumbra-reference", cmd->penumbraReference,
+              "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
+              "(the only choice when built without the ray tracer)");
+#ifdef PENUMBRA_HAVE_REFERENCE
+  c->add_option("--spp", cmd->rays.samplesPerPixel, "ray-traced reference: samples per pixel")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  c->add_option("--light-samples", cmd->rays.lightSamples,
+                "ray-traced reference: shadow rays per point")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  c->add_option("--bounces", cmd->rays.bounces, "ray-traced reference: indirect bounces")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  c->add_option("--seed", cmd->rays.seed, "ray-traced reference: seed")->capture_default_str();
+#endif
+  addRenderFlags(c, cmd->render);
+  commands.push_back({c, [cmd] { return cmd->run(); }});
+#endif
+  return commands;
+}
+
+}  // namespace penumbra::apps

@@ -1,0 +1,243 @@
+#include "apps/reference_commands.h"
+
+#ifdef PENUMBRA_HAVE_REFERENCE
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "reference/differential.h"
+#include "reference/reference_renderer.h"
+#include "scene/image_io.h"
+#include "shadow/scene_bundle.h"
+#ifdef PENUMBRA_HAVE_OPENEXR
+#include "lighting/exr_io.h"
+#endif
+#ifdef PENUMBRA_HAVE_SYNTH_SHOWROOM
+#include "reference/synth_showroom.h"
+#include "scene/scene_file.h"
+#endif
+#endif
+
+namespace penumbra::apps {
+
+#ifdef PENUMBRA_HAVE_REFERENCE
+namespace {
+
+// A one-line progress bar on stderr, redrawn when the percentage changes.
+reference::ReferenceProgress progressBar(const char* label) {
+  auto last = std::make_shared<int>(-1);
+  return [label, last](uint32_t done, uint32_t total) {
+    const int percent = static_cast<int>(100ull * done / total);
+    if (percent == *last) return;
+    *last = percent;
+    char bar[41];
+    for (int i = 0; i < 40; ++i) bar[i] = i < percent * 40 / 100 ? '#' : '.';
+    bar[40] = 0;
+    std::fprintf(stderr, "\r%s [%s] %3d%%", label, bar, percent);
+    if (done == total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+struct ReferenceCommand {
+  std::string bundle, pose, out, exr, mask;
+  int product = -1;
+  bool noProduct = false, noise = false;
+  reference::ReferenceOptions options;
+
+  int run() const {
+    const shadow::SceneBundle b = shadow::loadBundle(bundle);
+    std::optional<shadow::ProductPose> placed;
+    if (!noProduct) {
+      shadow::ProductPose p = b.startPose;
+      if (!pose.empty()) p = parsePose(pose, p.product);
+      if (product >= 0) p.product = static_cast<uint32_t>(product);
+      if (p.product >= b.products.size()) {
+        throw std::invalid_argument("--product " + std::to_string(p.product) + ": the bundle has " +
+                                    std::to_string(b.products.size()) + " products");
+      }
+      placed = p;
+    }
+    const reference::ReferenceScene scene = reference::referenceSceneOf(b, placed);
+    const auto t0 = std::chrono::steady_clock::now();
+    const reference::ReferenceImage image =
+        reference::renderReference(scene, options, progressBar("reference"));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const reference::DifferentialFrame frame =
+        reference::composeDifferential(image, b.background, b.tone);
+    if (placed) {
+      std::printf("product %s at (%.3f, %.3f, %.3f) yaw %.1f\n",
+                  b.products[placed->product].name.c_str(), double(placed->x), double(placed->lift),
+                  double(placed->z), double(placed->yawDegrees));
+    }
+    std::printf("reference %ux%u spp %d light_samples %d bounces %d seconds %.2f\n", image.width,
+                image.height, options.samplesPerPixel, options.lightSamples, options.bounces,
+                seconds);
+    // Pixels whose bytes differ from the background photograph: 0 when the product is out
+    // of sight and casts no shadow (differential rendering leaves the photograph as it is).
+    size_t changed = 0;
+    for (size_t i = 0; i < frame.rgba.size(); i += 4) {
+      changed += std::memcmp(&frame.rgba[i], &b.background[i], 3) != 0;
+    }
+    std::printf("shadow_pixels %zu product_pixels %zu changed_pixels %zu\n", frame.shadowPixels,
+                frame.objectPixels, changed);
+    if (noise) {
+      // The same render with an unrelated seed: the two differ only by their Monte Carlo
+      // noise, so the RMS of their 8-bit difference over the shadow region (either
+      // render's) divided by sqrt(2) estimates one render's noise.
+      reference::ReferenceOptions other = options;
+      other.seed = shadow::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
+      const reference::DifferentialFrame second = reference::composeDifferential(
+          reference::renderReference(scene, other, progressBar("noise    ")), b.background, b.tone);
+      double sum = 0;
+      size_t count = 0;
+      for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
+        if (!frame.shadowMask[i] && !second.shadowMask[i]) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double d = double(frame.rgba[4 * i + size_t(c)]) - second.rgba[4 * i + size_t(c)];
+          sum += d * d;
+          ++count;
+        }
+      }
+      std::printf("noise_rms_lsb_shadow %.3f (over %zu channel values)\n",
+                  count ? std::sqrt(sum / double(count) / 2.0) : 0.0, count);
+    }
+    if (!exr.empty()) {
+#ifdef PENUMBRA_HAVE_OPENEXR
+      // lighting::writeExr writes one RGB image per file: the final radiance to --exr,
+      // L_noobj and L_obj beside it (ref.exr -> ref.noobj.exr, ref.obj.exr).
+      const std::filesystem::path base(exr);
+      auto sibling = [&](const char* tag) {
+        std::filesystem::path p = base;
+        p.replace_extension(std::string(".") + tag + base.extension().string());
+        return p;
+      };
+      lighting::writeExr(base, reference::hdrImageOf(image.width, image.height, frame.radiance));
+      lighting::writeExr(sibling("noobj"),
+                         reference::hdrImageOf(image.width, image.height, image.noObject));
+      lighting::writeExr(sibling("obj"),
+                         reference::hdrImageOf(image.width, image.height, image.withObject));
+#else
+      throw std::invalid_argument("--exr: this build has no OpenEXR (PENUMBRA_WITH_OPENEXR=OFF)");
+#endif
+    }
+    scene::writePng(out, image.width, image.height, frame.rgba);
+    if (!mask.empty()) {
+      std::vector<uint8_t> rgba(frame.shadowMask.size() * 4);
+      for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
+        for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = frame.shadowMask[i];
+        rgba[4 * i + 3] = 255;
+      }
+      scene::writePng(mask, image.width, image.height, rgba);
+    }
+    return 0;
+  }
+};
+
+#ifdef PENUMBRA_HAVE_SYNTH_SHOWROOM
+struct SynthCommand {
+  std::string scene, out, pose;
+  int product = -1;
+  reference::SynthOptions options;
+
+  int run() const {
+    const scene::SceneDescription sc = scene::loadSceneFile(scene);
+    reference::SynthOptions o = options;
+    if (!pose.empty() || product >= 0) {
+      shadow::ProductPose p{static_cast<uint32_t>(sc.startPose.product),
+                            static_cast<float>(sc.startPose.x), static_cast<float>(sc.startPose.z),
+                            static_cast<float>(sc.startPose.yawDegrees), 0.0f};
+      if (!pose.empty()) p = parsePose(pose, p.product);
+      if (product >= 0) p.product = static_cast<uint32_t>(product);
+      o.pose = p;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    reference::writeSynthShowroom(sc, o, out, progressBar("synth-showroom"));
+    std::printf("synth-showroom %s -> %s (spp %d light_samples %d bounces %d) seconds %.2f\n",
+                scene.c_str(), out.c_str(), o.render.samplesPerPixel, o.render.lightSamples,
+                o.render.bounces,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    std::printf("capture manifest %s\n", (std::filesystem::path(out) / "capture.json").c_str());
+    return 0;
+  }
+};
+#endif
+
+}  // namespace
+#endif
+
+std::vector<Command> addReferenceCommands([[maybe_unused]] CLI::App& app) {
+  std::vector<Command> commands;
+#ifdef PENUMBRA_HAVE_REFERENCE
+  auto ref = std::make_shared<ReferenceCommand>();
+  CLI::App* r = app.add_subcommand(
+      "reference", "Ray-traced differential rendering of a product in the showroom (ground truth)");
+  r->add_option("BUNDLE", ref->bundle, "scene bundle (penumbra precompute)")->required();
+  r->add_option("--pose", ref->pose,
+                "product position: X,Y,Z[,YAW_DEGREES] (Y: lift above the floor, metres)");
+  r->add_option("--product", ref->product, "product index (default: the start pose's)");
+  r->add_flag("--no-product", ref->noProduct, "render the empty room (I_final = background)");
+  r->add_option("--spp", ref->options.samplesPerPixel, "jittered camera samples per pixel")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  r->add_option("--light-samples", ref->options.lightSamples,
+                "shadow rays per surface point, over all emitting patches")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  r->add_option("--bounces", ref->options.bounces, "indirect bounces (path tracing)")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  ref->options.threads = 2;
+  r->add_option("--threads", ref->options.threads, "threads (the bytes do not depend on it)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  r->add_option("--seed", ref->options.seed, "random seed")->capture_default_str();
+  r->add_option("--out", ref->out, "I_final as PNG")->required();
+  r->add_option(
+      "--exr", ref->exr,
+      "float EXR of the final radiance; L_noobj, L_obj beside it as NAME.noobj.exr, NAME.obj.exr");
+  r->add_option("--shadow-mask", ref->mask,
+                "PNG, white where L_noobj - L_obj changes the 8-bit result");
+  r->add_flag("--noise", ref->noise,
+              "render twice with unrelated seeds and print the shadow region's noise in LSB");
+  commands.push_back({r, [ref] { return ref->run(); }});
+#endif
+#ifdef PENUMBRA_HAVE_SYNTH_SHOWROOM
+  auto syn = std::make_shared<SynthCommand>();
+  CLI::App* sy = app.add_subcommand(
+      "synth-showroom",
+      "Path-trace a scene file into a capture with a known answer (brackets, probe, marks, "
+      "object-present photograph, capture manifest)");
+  sy->add_option("SCENE", syn->scene, "scene file (data/showroom/showroom.json)")->required();
+  sy->add_option("--out", syn->out, "output folder (created)")->required();
+  sy->add_option("--pose", syn->pose, "product in the object-present photograph: X,Y,Z[,YAW]");
+  sy->add_option("--product", syn->product, "product index (default: the start pose's)");
+  sy->add_option("--spp", syn->options.render.samplesPerPixel, "camera samples per pixel")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  sy->add_option("--light-samples", syn->options.render.lightSamples, "shadow rays per point")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  sy->add_option("--bounces", syn->options.render.bounces, "indirect bounces")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  sy->add_option("--threads", syn->options.render.threads, "threads (same bytes for any)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  sy->add_option("--seed", syn->options.render.seed, "random seed")->capture_default_str();
+  sy->add_option("--exposures", syn->options.exposures, "bracketed photographs (5..15)")
+      ->capture_default_str();
+  sy->add_option("--probe-size", syn->options.probeSize, "mirrored-ball image side (pixels)")
+      ->capture_default_str();
+  commands.push_back({sy, [syn] { return syn->run(); }});
+#endif
+  return commands;
+}
+
+}  // namespace penumbra::apps

@@ -1,0 +1,79 @@
+#include "reference/differential.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace penumbra::reference {
+
+double inverseTone(const shadow::ToneCurve& tone, uint8_t code) {
+  // Walk down to the nearest code T produces (code 0 always is: radiance 0 maps to it
+  // unless threshold(1) <= 0, handled below).
+  for (int k = code; k >= 1; --k) {
+    const double lo = tone.threshold(k);
+    if (!std::isfinite(lo)) continue;
+    if (k == 255) return lo;
+    const double hi = tone.threshold(k + 1);
+    if (!(hi > lo)) continue;  // empty interval: T never outputs k
+    if (!std::isfinite(hi)) return lo;
+    const double mid = lo + 0.5 * (hi - lo);
+    // In floating point the midpoint of two neighbouring doubles can round up to `hi`.
+    return mid < hi && mid >= lo ? mid : lo;
+  }
+  const double t1 = tone.threshold(1);
+  if (t1 > 0) return 0.5 * t1;
+  // Code 0 only for negative radiance: any value below threshold(1).
+  return std::nextafter(t1, -INFINITY);
+}
+
+std::vector<double> inverseToneTable(const shadow::ToneCurve& tone) {
+  std::vector<double> table(256);
+  for (int k = 0; k < 256; ++k) table[size_t(k)] = inverseTone(tone, static_cast<uint8_t>(k));
+  return table;
+}
+
+DifferentialFrame composeDifferential(const ReferenceImage& image,
+                                      std::span<const uint8_t> background,
+                                      const shadow::ToneCurve& tone) {
+  const size_t pixels = size_t{image.width} * image.height;
+  if (background.size() != pixels * 4) {
+    throw std::invalid_argument("composeDifferential: the background is " +
+                                std::to_string(background.size()) + " bytes, the image needs " +
+                                std::to_string(pixels * 4));
+  }
+  if (image.roomDelta.size() != pixels || image.objectRadiance.size() != pixels ||
+      image.objectCoverage.size() != pixels) {
+    throw std::invalid_argument("composeDifferential: reference image buffers have the wrong size");
+  }
+  const std::vector<double> inverse = inverseToneTable(tone);
+  DifferentialFrame out;
+  out.width = image.width;
+  out.height = image.height;
+  out.rgba.resize(pixels * 4);
+  out.radiance.resize(pixels);
+  out.shadowMask.assign(pixels, 0);
+  for (size_t i = 0; i < pixels; ++i) {
+    const double c = image.objectCoverage[i];
+    bool changed = false;
+    for (int ch = 0; ch < 3; ++ch) {
+      const uint8_t b = background[4 * i + size_t(ch)];
+      const double room = inverse[b] - double(image.roomDelta[i][ch]);
+      // c == 0 must leave `room` untouched (not (1 - 0) * room + 0 * x, which would turn a
+      // NaN-free value into itself anyway but costs the exactness argument nothing to skip).
+      const double hdr = c > 0 ? (1.0 - c) * room + c * double(image.objectRadiance[i][ch]) : room;
+      out.radiance[i][ch] = static_cast<float>(hdr);
+      const uint8_t v = tone(hdr);
+      out.rgba[4 * i + size_t(ch)] = v;
+      changed = changed || v != b;
+    }
+    out.rgba[4 * i + 3] = 255;
+    if (c > 0) {
+      ++out.objectPixels;
+    } else if (changed) {
+      out.shadowMask[i] = 255;
+      ++out.shadowPixels;
+    }
+  }
+  return out;
+}
+
+}  // namespace penumbra::reference

@@ -1,0 +1,50 @@
+// Differential rendering (Debevec 1998; Gibson 2003 §7 eq. 1): the reference's final
+// frame from the background photograph and the light the product takes away,
+//
+//   I_final = T(L_b - (L_noobj - L_obj)),   L_b = T^-1(background pixel),
+//
+// and, where the camera sees the product, T(its radiance) (mixed by coverage at its
+// silhouette). T is the bundle's camera response (shadow::ToneCurve).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "reference/reference_renderer.h"
+#include "shadow/intensity_transfer.h"
+
+namespace penumbra::reference {
+
+// T^-1 for one channel: a radiance that T maps back to `code`. T steps up to code k at
+// threshold(k), so code k stands for the radiance interval [threshold(k),
+// threshold(k + 1)); the inverse is the interval's midpoint (the unbiased guess for a
+// radiance known only to lie in it). Ends: code 0 covers [0, threshold(1)) (radiance is
+// not negative), code 255 is open above and maps to threshold(255) itself. A code T never
+// produces (an empty interval, or a threshold at +inf) has no preimage; it maps to the
+// radiance of the nearest lower code that T does produce, so T(inverseTone(k)) == k holds
+// exactly for every code T can output (tests check all 256).
+double inverseTone(const shadow::ToneCurve& tone, uint8_t code);
+
+// The 256 inverses, indexed by code.
+std::vector<double> inverseToneTable(const shadow::ToneCurve& tone);
+
+struct DifferentialFrame {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;                  // I_final, RGBA8 (alpha 255)
+  std::vector<glm::vec3> radiance;            // the HDR value T is applied to
+  std::vector<uint8_t> shadowMask;            // 255 where L_noobj - L_obj changes a byte
+  size_t shadowPixels = 0, objectPixels = 0;  // mask count; pixels with any product sample
+};
+
+// Per pixel with product coverage c: HDR = (1 - c) (L_b - roomDelta) + c objectRadiance,
+// per channel, then T. The shadow mask marks pixels without product samples whose bytes
+// differ from the background, i.e. where the product's shadow is visible in 8 bits.
+// `background` is RGBA8 of the image's size; throws std::invalid_argument otherwise.
+DifferentialFrame composeDifferential(const ReferenceImage& image,
+                                      std::span<const uint8_t> background,
+                                      const shadow::ToneCurve& tone);
+
+}  // namespace penumbra::reference

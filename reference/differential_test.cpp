@@ -1,0 +1,74 @@
+#include "reference/differential.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace penumbra::reference {
+namespace {
+
+// Every code T can output comes back from T(T^-1(code)), so differential rendering with
+// no shadow returns the photograph byte for byte.
+TEST(InverseTone, RoundTripsEveryCodeOfTheDisplayCurve) {
+  for (const shadow::ToneCurve& tone :
+       {shadow::ToneCurve::gamma(1.2, 2.2), shadow::ToneCurve::gamma(0.05, 1.0),
+        shadow::ToneCurve::gamma(7.0, 2.6)}) {
+    for (int k = 0; k < 256; ++k) {
+      const double l = inverseTone(tone, static_cast<uint8_t>(k));
+      EXPECT_EQ(tone(l), k) << k;
+      if (k > 0 && k < 255) {
+        // The midpoint of the code's radiance interval.
+        EXPECT_DOUBLE_EQ(l, 0.5 * (tone.threshold(k) + tone.threshold(k + 1))) << k;
+      }
+    }
+    EXPECT_DOUBLE_EQ(inverseTone(tone, 0), 0.5 * tone.threshold(1));
+    EXPECT_EQ(inverseTone(tone, 255), tone.threshold(255));
+  }
+}
+
+TEST(InverseTone, CodesTheCurveNeverOutputsFallToTheNearestLowerOne) {
+  // Codes 11..20 share one threshold (T jumps from 10 to 20); codes above 200 are never
+  // reached.
+  std::array<double, 255> t{};
+  for (int k = 1; k <= 255; ++k) {
+    double v = k <= 10 ? k : (k <= 20 ? 20.0 : double(k));
+    if (k > 200) v = INFINITY;
+    t[size_t(k - 1)] = v;
+  }
+  const shadow::ToneCurve tone = shadow::ToneCurve::fromThresholds(t);
+  EXPECT_EQ(tone(inverseTone(tone, 10)), 10);
+  EXPECT_DOUBLE_EQ(inverseTone(tone, 10), 15.0);  // [10, 20)
+  for (int k = 11; k < 20; ++k) {
+    EXPECT_EQ(inverseTone(tone, static_cast<uint8_t>(k)), inverseTone(tone, 10)) << k;
+  }
+  EXPECT_EQ(tone(inverseTone(tone, 20)), 20);
+  EXPECT_EQ(tone(inverseTone(tone, 200)), 200);
+  EXPECT_EQ(inverseTone(tone, 230), inverseTone(tone, 200));
+  EXPECT_TRUE(std::isfinite(inverseTone(tone, 255)));
+}
+
+TEST(ComposeDifferential, SubtractsTheBlockedLightAndMixesTheProductByCoverage) {
+  ReferenceImage image;
+  image.width = 3;
+  image.height = 1;
+  image.noObject.assign(3, glm::vec3(0));
+  image.withObject.assign(3, glm::vec3(0));
+  image.roomDelta = {glm::vec3(0), glm::vec3(0.1f, 0.2f, 0.3f), glm::vec3(0)};
+  image.objectRadiance = {glm::vec3(0), glm::vec3(0), glm::vec3(0.5f)};
+  image.objectCoverage = {0.0f, 0.0f, 1.0f};
+  const shadow::ToneCurve tone = shadow::ToneCurve::gamma(1.0, 1.0);  // code ~ 255 L
+  const std::vector<uint8_t> background = {100, 100, 100, 255, 200, 200, 200, 255, 50, 50, 50, 255};
+  const DifferentialFrame f = composeDifferential(image, background, tone);
+  const double lb = inverseTone(tone, 200);
+  EXPECT_EQ(f.rgba[0], 100);
+  EXPECT_EQ(f.rgba[4], tone(lb - double(0.1f)));
+  EXPECT_EQ(f.rgba[5], tone(lb - double(0.2f)));
+  EXPECT_EQ(f.rgba[6], tone(lb - double(0.3f)));
+  EXPECT_EQ(f.rgba[8], tone(0.5));
+  EXPECT_EQ(f.shadowMask, (std::vector<uint8_t>{0, 255, 0}));
+  EXPECT_EQ(f.shadowPixels, 1u);
+  EXPECT_EQ(f.objectPixels, 1u);
+}
+
+}  // namespace
+}  // namespace penumbra::reference

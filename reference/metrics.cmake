@@ -1,0 +1,11 @@
+# Image metrics (design §4): mean / p99 / max 8-bit error, PSNR, SSIM (OpenCV contrib
+# `quality`) and LDR-FLIP, for `penumbra compare` and the accuracy charts. Included from the
+# top-level CMakeLists.txt rather than living in reference/CMakeLists.txt, which belongs to
+# the ray-traced reference renderer, so the two merge without touching each other.
+if(PENUMBRA_WITH_OPENCV)
+  find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs quality)
+  add_library(penumbra_metrics STATIC ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
+                                      ${CMAKE_CURRENT_LIST_DIR}/flip.cpp)
+  target_link_libraries(penumbra_metrics PUBLIC ${OpenCV_LIBS} nlohmann_json::nlohmann_json)
+  target_include_directories(penumbra_metrics SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+endif()

@@ -1,0 +1,282 @@
+#include "reference/reference_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "lighting/form_factor.h"
+#include "reference/differential.h"
+#include "scene/camera.h"
+
+namespace penumbra::reference {
+namespace {
+
+using glm::dvec3;
+
+// Appends the quad (a, b, c, d), counter-clockwise about its normal, as one patch of two
+// triangles (a, b, c), (a, c, d) — the layout lighting::patchPolygon expects.
+void addQuad(scene::PatchMesh& m, const dvec3& a, const dvec3& b, const dvec3& c, const dvec3& d,
+             const dvec3& reflectance, const dvec3& emission) {
+  const uint32_t v = static_cast<uint32_t>(m.positions.size());
+  const dvec3 n = glm::normalize(glm::cross(b - a, d - a));
+  for (const dvec3& p : {a, b, c, d}) {
+    m.positions.push_back(p);
+    m.normals.push_back(n);
+  }
+  const uint32_t patch = static_cast<uint32_t>(m.patches.size());
+  scene::Patch p;
+  p.centre = 0.25 * (a + b + c + d);
+  p.normal = n;
+  p.area = glm::length(glm::cross(b - a, d - a));
+  p.reflectance = reflectance;
+  p.emission = emission;
+  p.firstTriangle = static_cast<uint32_t>(m.triangleCount());
+  m.patches.push_back(p);
+  for (uint32_t i : {v, v + 1, v + 2, v, v + 2, v + 3}) m.indices.push_back(i);
+  m.trianglePatch.push_back(patch);
+  m.trianglePatch.push_back(patch);
+}
+
+constexpr double kRho = 0.5;
+const dvec3 kEmission(10.0, 8.0, 6.0);
+
+// A 6 m floor (reflectance kRho) under one 1 m square emitter at height 2, facing down.
+scene::PatchMesh floorAndLamp() {
+  scene::PatchMesh m;
+  addQuad(m, {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, dvec3(kRho), dvec3(0.0));
+  addQuad(m, {-0.5, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5}, {-0.5, 2, 0.5}, dvec3(0.0), kEmission);
+  return m;
+}
+
+// An opaque sheet at height 1 over x in [-3, 0]: from a floor point (x0, 0, z) with
+// 0 <= x0 <= 0.5 it hides the lamp's part with x < -x0.
+raster::Mesh occluderSheet() {
+  raster::Mesh m;
+  m.positions = {{-3, 1, -3}, {0, 1, -3}, {0, 1, 3}, {-3, 1, 3}};
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+glm::dmat4 cameraAt(const dvec3& eye, const dvec3& target, double fovYDegrees, double aspect) {
+  scene::Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.fovYDegrees = fovYDegrees;
+  c.aspect = aspect;
+  c.zNear = 0.05;
+  c.zFar = 20;
+  return c.viewProj();
+}
+
+double rectangleFormFactor(const dvec3& x, double x0, double x1) {
+  const std::vector<dvec3> poly = {{x0, 2, -0.5}, {x1, 2, -0.5}, {x1, 2, 0.5}, {x0, 2, 0.5}};
+  return lighting::pointToPolygonFormFactor(x, dvec3(0, 1, 0), poly);
+}
+
+// A one-pixel camera with a 0.02 degree field of view: every sample lands within a
+// millimetre of `target`, where the form factors are the closed-form ones.
+TEST(ReferenceRenderer, MatchesClosedFormFormFactorWithinMonteCarloError) {
+  const dvec3 target(0.2, 0, 0.1);
+  ReferenceScene scene;
+  scene.room = floorAndLamp();
+  scene.viewProj = cameraAt({1.6, 0.6, 0.1}, target, 0.02, 1.0);
+  scene.width = scene.height = 1;
+  scene.object = ReferenceObject{occluderSheet(), dvec3(0.3)};
+  ReferenceOptions o;
+  o.samplesPerPixel = 16;
+  o.lightSamples = 256;
+  o.threads = 1;
+  const ReferenceImage image = renderReference(scene, o);
+
+  const double full = rectangleFormFactor(target, -0.5, 0.5);
+  const double visible = rectangleFormFactor(target, -target.x, 0.5);
+  ASSERT_GT(full, 0.05);
+  ASSERT_LT(visible, 0.8 * full);
+  // Without the product nothing blocks the lamp: the estimator is the closed form itself.
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(image.noObject[0][c], kRho * kEmission[c] * full, 1e-5 * kEmission[c]) << c;
+  }
+  // With it, the blocked part is a Monte Carlo estimate over N = 4096 shadow rays, each
+  // blocked with probability p ~ 1 - visible / full and weighing about `full`: standard
+  // error full * sqrt(p (1 - p) / N). Allow four of them.
+  const double p = 1.0 - visible / full;
+  const double sigma = full * std::sqrt(p * (1 - p) / 4096.0);
+  for (int c = 0; c < 3; ++c) {
+    const double expected = kRho * kEmission[c] * visible;
+    EXPECT_NEAR(image.withObject[0][c], expected, 4 * sigma * kRho * kEmission[c]) << c;
+    EXPECT_FLOAT_EQ(image.roomDelta[0][c], image.noObject[0][c] - image.withObject[0][c]);
+  }
+  EXPECT_EQ(image.objectCoverage[0], 0.0f);
+}
+
+ReferenceScene shadowScene(uint32_t width, uint32_t height) {
+  ReferenceScene scene;
+  scene.room = floorAndLamp();
+  // Looking down at the floor across the sheet's shadow edge, from the lit side.
+  scene.viewProj = cameraAt({1.8, 0.9, 0.0}, {0.1, 0, 0}, 50, double(width) / height);
+  scene.width = width;
+  scene.height = height;
+  scene.object = ReferenceObject{occluderSheet(), dvec3(0.3)};
+  return scene;
+}
+
+double rmsDifference(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const glm::vec3 d = a[i] - b[i];
+    sum += double(glm::dot(d, d));
+  }
+  return std::sqrt(sum / double(a.size()));
+}
+
+TEST(ReferenceRenderer, ErrorHalvesWhenSamplesQuadruple) {
+  const ReferenceScene scene = shadowScene(32, 24);
+  ReferenceOptions o;
+  o.lightSamples = 4;
+  o.threads = 2;
+  o.samplesPerPixel = 64;
+  o.seed = 99;  // the high-spp render draws numbers unrelated to the ones it judges
+  const ReferenceImage truth = renderReference(scene, o);
+  o.seed = 1;
+  o.samplesPerPixel = 1;
+  const double e1 = rmsDifference(renderReference(scene, o).withObject, truth.withObject);
+  o.samplesPerPixel = 4;
+  const double e4 = rmsDifference(renderReference(scene, o).withObject, truth.withObject);
+  // Error against truth: sqrt(s^2 / spp + s^2 / 64); the ratio is 1.96 for 1 -> 4.
+  ASSERT_GT(e4, 0);
+  EXPECT_GT(e1 / e4, 1.6) << e1 << " " << e4;
+  EXPECT_LT(e1 / e4, 2.5) << e1 << " " << e4;
+}
+
+template <class T>
+bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(ReferenceRenderer, SameBytesForAnyThreadCount) {
+  ReferenceScene scene = shadowScene(20, 15);
+  ReferenceOptions o;
+  o.samplesPerPixel = 2;
+  o.lightSamples = 8;
+  o.bounces = 1;
+  o.threads = 1;
+  const ReferenceImage one = renderReference(scene, o);
+  o.threads = 3;
+  const ReferenceImage three = renderReference(scene, o);
+  EXPECT_TRUE(sameBytes(one.noObject, three.noObject));
+  EXPECT_TRUE(sameBytes(one.withObject, three.withObject));
+  EXPECT_TRUE(sameBytes(one.roomDelta, three.roomDelta));
+  EXPECT_TRUE(sameBytes(one.objectRadiance, three.objectRadiance));
+  EXPECT_TRUE(sameBytes(one.objectCoverage, three.objectCoverage));
+  o.seed = 2;  // and the seed does matter
+  EXPECT_FALSE(sameBytes(one.withObject, renderReference(scene, o).withObject));
+}
+
+TEST(ReferenceRenderer, ProductFarAwayLeavesTheBackgroundByteExact) {
+  ReferenceScene scene = shadowScene(32, 24);
+  // The sheet moved 50 m under the floor: it blocks no shadow ray and no camera ray.
+  for (raster::Vec3& p : scene.object->mesh.positions) p.y -= 50;
+  ReferenceOptions o;
+  o.samplesPerPixel = 2;
+  o.lightSamples = 8;
+  o.bounces = 1;
+  const ReferenceImage image = renderReference(scene, o);
+  // A background with every code in every channel.
+  std::vector<uint8_t> background(size_t{scene.width} * scene.height * 4);
+  for (size_t i = 0; i < background.size(); ++i) {
+    background[i] = i % 4 == 3 ? 255 : static_cast<uint8_t>((i * 37 + i / 4) % 256);
+  }
+  const shadow::ToneCurve tone = shadow::ToneCurve::gamma(0.4, 2.2);
+  const DifferentialFrame frame = composeDifferential(image, background, tone);
+  EXPECT_EQ(frame.rgba, background);
+  EXPECT_EQ(frame.shadowPixels, 0u);
+  EXPECT_EQ(frame.objectPixels, 0u);
+}
+
+TEST(ReferenceRenderer, ProductInPlaceCastsAShadowAndShowsItself) {
+  ReferenceScene scene = shadowScene(32, 24);
+  ReferenceOptions o;
+  o.samplesPerPixel = 2;
+  o.lightSamples = 8;
+  const ReferenceImage image = renderReference(scene, o);
+  std::vector<uint8_t> background(size_t{scene.width} * scene.height * 4, 200);
+  const DifferentialFrame frame =
+      composeDifferential(image, background, shadow::ToneCurve::gamma(0.4, 2.2));
+  EXPECT_GT(frame.shadowPixels, 20u);
+  // Shadow pixels only ever get darker.
+  for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
+    if (frame.shadowMask[i] == 0) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_LE(frame.rgba[4 * i + size_t(c)], 200);
+  }
+}
+
+TEST(ReferenceRenderer, IndirectLightOnlyAdds) {
+  // A closed box lit from inside: one bounce adds light to every pixel, never removes it.
+  scene::PatchMesh m;
+  const dvec3 rho(0.6);
+  addQuad(m, {0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}, rho, dvec3(0.0));  // floor, up
+  addQuad(m, {0, 2, 0}, {2, 2, 0}, {2, 2, 2}, {0, 2, 2}, rho, dvec3(0.0));  // ceiling, down
+  addQuad(m, {0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, rho, dvec3(0.0));  // z = 0, +z
+  addQuad(m, {0, 0, 2}, {0, 2, 2}, {2, 2, 2}, {2, 0, 2}, rho, dvec3(0.0));  // z = 2, -z
+  addQuad(m, {0, 0, 0}, {0, 2, 0}, {0, 2, 2}, {0, 0, 2}, rho, dvec3(0.0));  // x = 0, +x
+  addQuad(m, {1.8, 0.8, 0.8}, {1.8, 0.8, 1.2}, {1.8, 1.2, 1.2}, {1.8, 1.2, 0.8}, dvec3(0.0),
+          dvec3(20.0));  // a lamp near x = 2, facing -x
+  ReferenceScene scene;
+  scene.room = m;
+  scene.viewProj = cameraAt({1.7, 1.5, 0.3}, {0.0, 0.5, 1.5}, 80, 1.0);
+  scene.width = scene.height = 12;
+  ReferenceOptions o;
+  o.samplesPerPixel = 4;
+  o.lightSamples = 8;
+  const ReferenceImage direct = renderReference(scene, o);
+  o.bounces = 1;
+  const ReferenceImage bounced = renderReference(scene, o);
+  double directSum = 0, bouncedSum = 0;
+  for (size_t i = 0; i < direct.noObject.size(); ++i) {
+    directSum += direct.noObject[i].x;
+    bouncedSum += bounced.noObject[i].x;
+    EXPECT_GE(bounced.noObject[i].x, direct.noObject[i].x) << i;
+  }
+  // Walls of reflectance 0.6 around the lamp: the first bounce adds a large share.
+  EXPECT_GT(bouncedSum, 1.2 * directSum);
+}
+
+TEST(ReferenceRenderer, RejectsBadArguments) {
+  const ReferenceScene good = shadowScene(8, 6);
+  ReferenceOptions o;
+  auto expectThrow = [&](ReferenceScene s, ReferenceOptions opt) {
+    EXPECT_THROW(renderReference(s, opt), std::invalid_argument);
+  };
+  ReferenceScene s = good;
+  s.width = 0;
+  expectThrow(s, o);
+  s = good;
+  s.viewProj = glm::dmat4(0.0);
+  expectThrow(s, o);
+  s = good;
+  s.object->mesh.indices.push_back(99);
+  s.object->mesh.indices.push_back(0);
+  s.object->mesh.indices.push_back(1);
+  expectThrow(s, o);
+  s = good;
+  s.room.positions[0].x = std::nan("");
+  expectThrow(s, o);
+  ReferenceOptions bad = o;
+  bad.samplesPerPixel = 0;
+  expectThrow(good, bad);
+  bad = o;
+  bad.lightSamples = -1;
+  expectThrow(good, bad);
+  bad = o;
+  bad.bounces = 17;
+  expectThrow(good, bad);
+  const ReferenceImage image = renderReference(good, o);
+  std::vector<uint8_t> wrong(10);
+  EXPECT_THROW(composeDifferential(image, wrong, shadow::ToneCurve::gamma(1)),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra::reference

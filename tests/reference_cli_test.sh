@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# `penumbra reference` end to end on the showroom bundle: the product out of the room leaves
+# the background photograph byte for byte; in place it casts a shadow (mask written); the
+# bytes do not depend on --threads; bad arguments -> a clear error, exit non-zero, no image.
+#   tests/reference_cli_test.sh PENUMBRA DATA_DIR
+set -uo pipefail
+penumbra="$1" data="$2"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+check() {  # check NAME EXIT-CODE-OF-CONDITION
+  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
+}
+field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}' "$2"; }
+
+"$penumbra" precompute "$data/showroom/showroom.json" -o "$tmp/s.bundle" >"$tmp/pre" 2>&1
+check "precompute: showroom bundle" $?
+ref=("$penumbra" reference "$tmp/s.bundle" --spp 1 --light-samples 4)
+
+"${ref[@]}" --pose 100,0,100 --out "$tmp/far.png" >"$tmp/far" 2>"$tmp/far.err"
+rc=$?
+[[ $rc == 0 && -s "$tmp/far.png" ]] && [[ "$(field changed_pixels "$tmp/far")" == 0 ]] \
+  && [[ "$(field shadow_pixels "$tmp/far")" == 0 ]] && grep -q "100%" "$tmp/far.err"
+check "product far away: the background byte for byte ($(grep -o 'changed_pixels [0-9]*' "$tmp/far"))" $?
+
+"${ref[@]}" --threads 1 --out "$tmp/t1.png" --shadow-mask "$tmp/mask.png" >"$tmp/t1" 2>&1
+rc=$?
+[[ $rc == 0 && -s "$tmp/mask.png" ]] && (($(field shadow_pixels "$tmp/t1") > 500)) \
+  && (($(field product_pixels "$tmp/t1") > 500))
+check "product at the start pose: shadow and product ($(grep -o 'shadow_pixels.*' "$tmp/t1"))" $?
+
+"${ref[@]}" --threads 2 --out "$tmp/t2.png" >/dev/null 2>&1
+cmp -s "$tmp/t1.png" "$tmp/t2.png"
+check "same bytes for --threads 1 and 2" $?
+
+bad() {  # bad NAME EXPECTED-TEXT ARGS...
+  local name="$1" text="$2"
+  shift 2
+  "$penumbra" reference "$@" --out "$tmp/bad.png" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc != 0 && ! -e "$tmp/bad.png" ]] && grep -q -- "$text" "$tmp/err"
+  check "bad: $name (exit $rc): $(head -c 160 "$tmp/err" | tr '\n' ' ')" $?
+}
+bad "missing bundle" "nope.bundle" "$tmp/nope.bundle"
+bad "pose not numbers" "pose" "$tmp/s.bundle" --pose 1,x,2
+bad "product out of range" "product" "$tmp/s.bundle" --product 7
+bad "spp 0" "spp" "$tmp/s.bundle" --spp 0
+bad "non-finite pose" "finite" "$tmp/s.bundle" --pose 1,0,inf
+
+echo "$failures failure(s)"
+exit $((failures > 0))
