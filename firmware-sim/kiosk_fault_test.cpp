@@ -15,6 +15,7 @@
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
 #include "platform/bundle_guard.h"
+#include "tests/scratch_dir.h"
 
 namespace penumbra::firmware_sim {
 namespace {
@@ -28,7 +29,7 @@ const fs::path kBundle = fs::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bu
 // A session file: the showroom bundle, the common board (unless `extra` has its own), plus
 // `extra` top-level members (JSON text).
 Session session(const std::string& name, const std::string& extra, uint32_t frames) {
-  const fs::path dir = fs::temp_directory_path() / "penumbra-kiosk-fault-test";
+  const fs::path dir = test::scratchPath("kiosk-fault");
   fs::create_directories(dir);
   const fs::path file = dir / (name + ".json");
   std::string text = R"({"format": "penumbra-session", "version": 1, "bundle": ")" +
@@ -224,7 +225,7 @@ TEST(KioskFaults, CorruptBundleFallsBackToLastGood) {
 }
 
 TEST(KioskFaults, CorruptBundleWithoutLastGoodIsRefusedWithReason) {
-  const fs::path bad = fs::temp_directory_path() / "penumbra-kiosk-fault-test" / "cut.bundle";
+  const fs::path bad = test::scratchPath("kiosk-fault") / "cut.bundle";
   fs::create_directories(bad.parent_path());
   fs::copy_file(kBundle, bad, fs::copy_options::overwrite_existing);
   fs::resize_file(bad, fs::file_size(bad) / 2);

@@ -11,6 +11,7 @@
 #include "lighting/camera_response.h"
 #include "lighting/hdr_merge.h"
 #include "lighting/hdr_test_util.h"
+#include "tests/scratch_dir.h"
 
 namespace penumbra::lighting {
 namespace {
@@ -19,7 +20,7 @@ const std::filesystem::path kProbes = "/usr/share/blender/datafiles/studiolights
 
 class ExrFiles : public ::testing::Test {
  protected:
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra_exr_test";
+  std::filesystem::path dir = test::scratchPath("exr");
   void SetUp() override { std::filesystem::create_directories(dir); }
   void TearDown() override { std::filesystem::remove_all(dir); }
 };

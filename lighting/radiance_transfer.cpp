@@ -1,15 +1,12 @@
 #include "lighting/radiance_transfer.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "lighting/form_factor.h"
+#include "lighting/parallel_for.h"
 #include "shadow/intensity_transfer.h"
 
 namespace penumbra::lighting {
@@ -92,36 +89,6 @@ void validate(const scene::PatchMesh& mesh, const shadow::SourceReceiverSets& se
       }
     }
   }
-}
-
-// Runs body(item) for item in [0, count) on `threads` workers pulling items from a shared
-// counter. Each item writes only its own output, so the schedule cannot change a result.
-template <class Body>
-void parallelFor(size_t count, unsigned threads, const Body& body) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<size_t>(threads, std::max<size_t>(count, 1)));
-  if (threads <= 1) {
-    for (size_t i = 0; i < count; ++i) body(i);
-    return;
-  }
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex errorMutex;
-  auto worker = [&] {
-    try {
-      for (size_t i = next++; i < count; i = next++) body(i);
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(errorMutex);
-      if (!error) error = std::current_exception();
-      next = count;
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace
@@ -209,7 +176,7 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
 
   // transfer[e * receiverCount + i] = L_ij for emitter e, receiver vertex i.
   std::vector<glm::dvec3> transfer(emitters.size() * receiverCount, glm::dvec3(0.0));
-  parallelFor(emitters.size(), options.threads, [&](size_t e) {
+  parallelItems(emitters.size(), options.threads, [&](size_t e) {
     const uint32_t j = emitters[e];
     const scene::Patch& patch = mesh.patches[j];
     const std::array<glm::dvec3, 4> polygon = patchPolygon(mesh, j);

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "scene/camera_intrinsics.h"
+#include "tests/scratch_dir.h"
 
 namespace penumbra::scene {
 namespace {
@@ -29,7 +30,7 @@ TEST(PhotoIo, ReadsARealJpegAsRgb) {
 }
 
 TEST(PhotoIo, MissingAndUndecodableFilesNamed) {
-  const auto dir = std::filesystem::temp_directory_path() / "penumbra_photo_test";
+  const auto dir = test::scratchPath("photo");
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "junk.jpg") << "not a jpeg";
   try {

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "scene/calibration_test_util.h"
+#include "tests/scratch_dir.h"
 
 namespace penumbra::scene {
 namespace {
@@ -118,7 +119,7 @@ TEST(VanishingPoints, ZeroLengthLineAndBadAxisPointsRejected) {
 
 class MarksFile : public ::testing::Test {
  protected:
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra_vp_test";
+  std::filesystem::path dir = test::scratchPath("vp");
   void SetUp() override { std::filesystem::create_directories(dir); }
   void TearDown() override { std::filesystem::remove_all(dir); }
   std::filesystem::path write(const std::string& name, const std::string& text) {

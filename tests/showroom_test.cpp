@@ -10,6 +10,7 @@
 #include "scene/scene_file.h"
 #include "scene/sha256.h"
 #include "shadow/frame_compositor.h"
+#include "tests/scratch_dir.h"
 
 namespace penumbra {
 namespace {
@@ -52,8 +53,8 @@ TEST(Showroom, PrecomputeIsDeterministicAcrossThreadCounts) {
   lighting::PrecomputeOptions one, two;
   one.threads = 1;
   two.threads = 3;
-  const fs::path a = fs::temp_directory_path() / "penumbra-showroom-1.bundle";
-  const fs::path b = fs::temp_directory_path() / "penumbra-showroom-3.bundle";
+  const fs::path a = test::scratchPath("showroom-1.bundle");
+  const fs::path b = test::scratchPath("showroom-3.bundle");
   shadow::saveBundle(lighting::precomputeBundle(scene, one, timings), a);
   shadow::saveBundle(lighting::precomputeBundle(scene, two, timings), b);
   EXPECT_EQ(fileBytes(a), fileBytes(b));
