@@ -17,6 +17,7 @@
 #include "reference/image_metrics.h"
 #include "scene/image_io.h"
 #include "shadow/frame_compositor.h"
+#include "shadow/frame_loop.h"
 #endif
 #if defined(PENUMBRA_HAVE_METRICS) && defined(PENUMBRA_HAVE_REFERENCE)
 #include "reference/differential.h"
@@ -29,35 +30,6 @@ namespace penumbra::apps {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// One product in the showroom at a given shadow-map size; each step composes, renders with
-// occlusion probes and feeds the measured occlusion to the next frame (docs/fig3.md).
-struct Frames {
-  Frames(const shadow::SceneBundle& b, uint32_t mapSize, const raster::RenderOptions& o)
-      : compositor(b, options(mapSize)), renderer(b.view, o), rgba(b.background.size()) {}
-  static shadow::CompositorOptions options(uint32_t mapSize) {
-    shadow::CompositorOptions c;
-    c.shadowMapSize = mapSize;
-    return c;
-  }
-  void step(const shadow::ProductPose& p, size_t passes) {
-    compositor.compose(p, passes, ++frameNumber, frame, stats);
-    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
-    compositor.observe(masks);
-  }
-  // A still product: the second frame uses the first one's measured occlusion, as
-  // `penumbra render` does.
-  void still(const shadow::ProductPose& p, size_t passes) {
-    step(p, passes);
-    step(p, passes);
-  }
-  shadow::FrameCompositor compositor;
-  raster::Renderer renderer;
-  raster::FrameContent frame;
-  shadow::CompositeStats stats;
-  std::vector<uint8_t> rgba, masks;
-  uint32_t frameNumber = 0;
-};
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -121,7 +93,7 @@ struct AccuracyCommand {
                  {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};
 #endif
     } else {
-      Frames r(bundle, uint32_t(referenceMap), ro);
+      shadow::FrameLoop r(bundle, uint32_t(referenceMap), ro);
       r.still(pose, size_t(referencePasses));
       ref = reference::fromRgba8(r.rgba, w, h, "penumbra reference");
       refInfo = {{"kind", "penumbra"},
@@ -137,7 +109,7 @@ struct AccuracyCommand {
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
     } else if (mask.inside.empty()) {
-      Frames zero(bundle, uint32_t(mapSize), ro);
+      shadow::FrameLoop zero(bundle, uint32_t(mapSize), ro);
       zero.still(pose, 0);
       mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region of the reference"};
       for (size_t i = 0; i < size_t(w) * h; ++i) {
@@ -158,7 +130,7 @@ struct AccuracyCommand {
     reference::CompareOptions co;
     co.flip.pixelsPerDegree = ppd;
     nlohmann::json rows = nlohmann::json::array();
-    Frames f(bundle, uint32_t(mapSize), ro);
+    shadow::FrameLoop f(bundle, uint32_t(mapSize), ro);
     for (int n : passes) {
       std::vector<double> ms;
       for (int k = 0; k <= frames; ++k) {

@@ -25,42 +25,12 @@
 #include "scene/image_io.h"
 #include "scene/scene_file.h"
 #include "shadow/frame_compositor.h"
+#include "shadow/frame_loop.h"
 
 namespace {
 
 using namespace penumbra;
 using Clock = std::chrono::steady_clock;
-
-struct Renderer {
-  Renderer(const shadow::SceneBundle& b, uint32_t mapSize, const raster::RenderOptions& o)
-      : bundle(b),
-        compositor(b, optionsFor(mapSize)),
-        renderer(b.view, o),
-        rgba(b.background.size()) {}
-  static shadow::CompositorOptions optionsFor(uint32_t mapSize) {
-    shadow::CompositorOptions c;
-    c.shadowMapSize = mapSize;
-    return c;
-  }
-  // One frame: compose, render with occlusion probes, feed the occlusion back (docs/fig3.md).
-  void step(const shadow::ProductPose& p, size_t passes) {
-    compositor.compose(p, passes, ++frameNumber, frame, stats);
-    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
-    compositor.observe(masks);
-  }
-  // Two frames of the still product; the second uses the first one's measured occlusion.
-  void still(const shadow::ProductPose& p, size_t passes) {
-    step(p, passes);
-    step(p, passes);
-  }
-  const shadow::SceneBundle& bundle;
-  shadow::FrameCompositor compositor;
-  raster::Renderer renderer;
-  raster::FrameContent frame;
-  shadow::CompositeStats stats;
-  std::vector<uint8_t> rgba, masks;
-  uint32_t frameNumber = 0;
-};
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -122,7 +92,7 @@ int main(int argc, char** argv) {
     const uint32_t w = refBundle.view.width, h = refBundle.view.height;
 
     // The zero-pass frame: background + product, no shadow.
-    Renderer zero(refBundle, 256, ro);
+    shadow::FrameLoop zero(refBundle, 256, ro);
     zero.still(pose, 0);
     const reference::Rgb8Image unshadowed = reference::fromRgba8(zero.rgba, w, h, "zero-pass");
 
@@ -132,7 +102,7 @@ int main(int argc, char** argv) {
       ref = reference::loadRgb8(referencePath);
       refLabel = "reference " + std::filesystem::path(referencePath).filename().string();
     } else {
-      Renderer r(refBundle, uint32_t(refMap), ro);
+      shadow::FrameLoop r(refBundle, uint32_t(refMap), ro);
       const int most = *std::max_element(curvePasses.begin(), curvePasses.end());
       r.still(pose, size_t(std::max(most, *std::max_element(passes.begin(), passes.end()))));
       ref = reference::fromRgba8(r.rgba, w, h, "penumbra-reference");
@@ -178,7 +148,7 @@ int main(int argc, char** argv) {
         const bool curve = share == curveShare && map == curveMap;
         std::set<int> list(passes.begin(), passes.end());
         if (curve) list.insert(curvePasses.begin(), curvePasses.end());
-        Renderer r(bundle, uint32_t(map), ro);
+        shadow::FrameLoop r(bundle, uint32_t(map), ro);
         for (int n : list) {
           std::vector<double> ms;
           for (int f = 0; f <= frames; ++f) {
