@@ -1,9 +1,6 @@
 // The real backends where the hardware is absent (issue 6; Debian kernels have no gpio-sim
 // or vimc): each must fail with a clear HardwareUnavailable, never crash; the SDL display
 // runs for real on SDL's offscreen driver.
-#ifdef __SANITIZE_ADDRESS__
-#include <sanitizer/lsan_interface.h>
-#endif
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -71,12 +68,6 @@ TEST(OpenCvCameraBackend, MissingDeviceFailsCleanly) {
 
 #ifdef PENUMBRA_HAVE_SDL2
 TEST(SdlBackend, OffscreenShowsFrames) {
-#ifdef __SANITIZE_ADDRESS__
-  // SDL's offscreen driver loads EGL/Mesa modules that keep strdup'ed strings and driver
-  // state until exit and are unloaded before LeakSanitizer looks (frames "<unknown
-  // module>"): not ours to free. AddressSanitizer still checks every access here.
-  const __lsan::ScopedDisabler sdlModulesLeakOnPurpose;
-#endif
   setenv("SDL_VIDEODRIVER", "offscreen", 1);
   SdlDisplay d(64, 48, false);
   EXPECT_EQ(d.driver(), "offscreen");

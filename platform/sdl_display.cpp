@@ -29,6 +29,11 @@ SdlDisplay::SdlDisplay(uint32_t width, uint32_t height, bool fullscreen)
   }
   impl_->width = width;
   impl_->height = height;
+  // The offscreen driver shows nothing, yet by default SDL backs the window surface with an
+  // accelerated texture: an EGL context on Mesa llvmpipe, with its own threads and
+  // never-freed driver state (LeakSanitizer and ThreadSanitizer report both, inside Mesa).
+  // A plain memory framebuffer is all a headless kiosk needs.
+  if (driver() == "offscreen") SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
   impl_->window = SDL_CreateWindow("penumbra kiosk", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
                                    static_cast<int>(width), static_cast<int>(height),
                                    fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0);

@@ -12,11 +12,7 @@ cat >"$tmp/kiosk.json" <<JSON
 JSON
 # "auto" tries libcamera, then /dev/video0: skip the run when this machine has a webcam.
 if [ -e /dev/video0 ]; then echo "SKIP: /dev/video0 exists"; exit 0; fi
-# Under the asan preset: SDL's offscreen driver dlopens EGL/Mesa modules whose allocations
-# live until exit and are unloaded before LeakSanitizer runs ("<unknown module>" frames, not
-# ours); the kiosk loop's own memory is leak-checked by the firmware-sim tests.
-ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
-  SDL_VIDEODRIVER=offscreen "$kiosk" "$tmp/kiosk.json" --frames 5 --threads 2 >"$tmp/out" 2>"$tmp/err" ||
+SDL_VIDEODRIVER=offscreen "$kiosk" "$tmp/kiosk.json" --frames 5 --threads 2 >"$tmp/out" 2>"$tmp/err" ||
   fail "kiosk failed: $(cat "$tmp/err")"
 grep -q "5 frames" "$tmp/out" || fail "did not run 5 frames"
 grep -q "libcamera: no camera found" "$tmp/err" || fail "no libcamera fallback message"

@@ -16,12 +16,15 @@ case "$mode" in
     sim=$1 session=$2 golden=$3; shift 3
     n=$(wc -l <"$golden")
     [ "$n" -ge 30 ] || fail "$golden: only $n hashes"
+    # PENUMBRA_SIM_GOLDEN_FRAMES (the sanitizer builds) checks only the first frames.
+    n=${PENUMBRA_SIM_GOLDEN_FRAMES:-$n}
+    head -n "$n" "$golden" >"$tmp/golden.txt"
     for t in 1 2; do
       "$@" "$sim" "$session" --frames "$n" --threads "$t" --hashes "$tmp/h$t.txt" >"$tmp/out$t.txt"
       cat "$tmp/out$t.txt"
       grep -q '^fps ' "$tmp/out$t.txt" || fail "no fps line"
       grep -q '^passes median ' "$tmp/out$t.txt" || fail "no passes line"
-      cmp "$golden" "$tmp/h$t.txt" || fail "threads $t: hashes differ from $golden (first: $(diff "$golden" "$tmp/h$t.txt" | head -2 | tr '\n' ' '))"
+      cmp "$tmp/golden.txt" "$tmp/h$t.txt" || fail "threads $t: hashes differ from $golden (first: $(diff "$tmp/golden.txt" "$tmp/h$t.txt" | head -2 | tr '\n' ' '))"
     done
     # The session really changes what is shown (a test that cannot pass on a frozen screen).
     [ "$(sort -u "$tmp/h1.txt" | wc -l)" -ge $((n * 3 / 4)) ] || fail "too few distinct frames"
