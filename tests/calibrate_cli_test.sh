@@ -7,13 +7,7 @@ set -uo pipefail
 penumbra="$1" data="$2"
 shift 2
 run=("$@" "$penumbra")
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-check() {  # check NAME EXIT-CODE-OF-CONDITION
-  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
-value() { awk -v k="$1" '$1 == k {print $2}' "$2"; }
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 "${run[@]}" calibrate --help >"$tmp/help" 2>&1
 check "help: penumbra calibrate --help" $?
@@ -84,9 +78,4 @@ expect_error "no mode" "exactly one of"
 echo '{"corners": [{"world": [0, 0, 0], "image": [1, 2]}]}' >"$tmp/corners.json"
 expect_error "too few corners" "corners.json: 1 corner mark(s), need at least 4" \
   --vanishing "$data/calibration/vanishing-marks.json" --corners "$tmp/corners.json"
-
-if [[ $failures -gt 0 ]]; then
-  echo "$failures check(s) failed"
-  exit 1
-fi
-echo "all checks passed"
+finish

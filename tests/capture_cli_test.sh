@@ -5,13 +5,7 @@
 #   tests/capture_cli_test.sh PENUMBRA PENUMBRA_CAPTURE_SYNTH DATA_DIR
 set -uo pipefail
 penumbra="$1" synth="$2" data="$3"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-check() {  # check NAME EXIT-CODE-OF-CONDITION
-  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
-value() { awk -v k="$1" '$1 == k {print $2}' "$2"; }
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 "$synth" "$data/showroom/showroom.json" "$tmp/in" >"$tmp/synth" 2>&1
 check "synth: inputs written" $?
@@ -42,5 +36,4 @@ bad "unknown field" 's/"mapping"/"colour": 1, "mapping"/' "bad.json: probe.colou
 bad "probe outside the room" 's/"position": \[/"position": [-9, 1, 1], "_was": [/' "bad.json: probe: .*sees no patch"
 bad "missing probe file" 's/probe.exr/nope.exr/' "nope.exr: no such file"
 bad "missing photograph" 's/bracket-2.png/nope.png/' "nope.png"
-
-exit $((failures > 0))
+finish

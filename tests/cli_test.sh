@@ -7,13 +7,7 @@ set -uo pipefail
 penumbra="$1" data="$2" golden="$3"
 shift 3
 run=("$@" "$penumbra")
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-total=14
-check() {  # check NAME CONDITION-EXIT-CODE
-  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 for sub in "" replay isas bench-replay; do
   "${run[@]}" $sub --help >"$tmp/help" 2>&1
@@ -66,7 +60,6 @@ check "unknown --isa is refused" $?
 
 # The showroom commands, where this build has them (precompute needs Embree + meshoptimizer).
 if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
-  total=$((total + 6))
   "${run[@]}" precompute "$data/showroom/showroom.json" -o "$tmp/showroom.bundle" >"$tmp/stdout" 2>&1
   check "precompute the showroom" $?
   "${run[@]}" render "$tmp/showroom.bundle" --passes 20 --threads 2 --out "$tmp/frame.png" --hash \
@@ -86,6 +79,4 @@ if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
   [[ $? == 1 ]] && grep -q "absent.json" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
   check "precompute: a missing scene file is named" $?
 fi
-
-echo "$((total - failures)) passed, $failures failed"
-exit $((failures > 0))
+finish

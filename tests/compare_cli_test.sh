@@ -8,12 +8,7 @@ set -uo pipefail
 penumbra="$1" src="$2"
 shift 2
 run=("$@" "$penumbra")
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-check() {  # check NAME EXIT-CODE-OF-CONDITION
-  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 py=/usr/bin/python3
 bunny="$src/docs/showroom-bunny.png" chair="$src/docs/showroom-chair.png"
 fig3="$src/docs/fig3.png"
@@ -85,6 +80,4 @@ assert r['shadow_pixels']>100 and 0<r['mean_abs_shadow']<50 and 0<r['ssim']<1 an
     check "accuracy: against the ray-traced reference (spp 1)" $?
   fi
 fi
-
-echo "$failures failure(s)"
-exit $((failures != 0))
+finish

@@ -5,13 +5,7 @@
 #   tests/reference_cli_test.sh PENUMBRA DATA_DIR
 set -uo pipefail
 penumbra="$1" data="$2"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-check() {  # check NAME EXIT-CODE-OF-CONDITION
-  if [[ "$2" == 0 ]]; then echo "ok   $1"; else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
-field() { awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}' "$2"; }
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 "$penumbra" precompute "$data/showroom/showroom.json" -o "$tmp/s.bundle" >"$tmp/pre" 2>&1
 check "precompute: showroom bundle" $?
@@ -46,6 +40,4 @@ bad "pose not numbers" "pose" "$tmp/s.bundle" --pose 1,x,2
 bad "product out of range" "product" "$tmp/s.bundle" --product 7
 bad "spp 0" "spp" "$tmp/s.bundle" --spp 0
 bad "non-finite pose" "finite" "$tmp/s.bundle" --pose 1,0,inf
-
-echo "$failures failure(s)"
-exit $((failures > 0))
+finish
