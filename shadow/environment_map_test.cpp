@@ -52,12 +52,22 @@ struct ColouredRoom {
   }
 };
 
+// The coloured room shaded for the environment map through a gamma-2.2 tone curve of the
+// given scale.
+struct ShadedRoom {
+  explicit ShadedRoom(double toneScale)
+      : tone(ToneCurve::gamma(toneScale, 2.2)),
+        inverse(tone),
+        shaded(roomForEnvironment(room.mesh.toRasterMesh(), room.mesh.trianglePatch, room.radiance,
+                                  tone)) {}
+  ColouredRoom room;
+  ToneCurve tone;
+  ToneInverse inverse;
+  raster::ShadedMesh shaded;
+};
+
 TEST(EnvironmentMap, EachDirectionSeesItsWall) {
-  const ColouredRoom room;
-  const ToneCurve tone = ToneCurve::gamma(1.0, 2.2);
-  const ToneInverse inverse(tone);
-  const raster::ShadedMesh shaded =
-      roomForEnvironment(room.mesh.toRasterMesh(), room.mesh.trianglePatch, room.radiance, tone);
+  const auto& [room, tone, inverse, shaded] = ShadedRoom(1.0);
   CubeEnvironmentMap map;
   renderEnvironmentMap(shaded, glm::vec3(1.5f, 1.2f, 2.0f), 32, 20.0f, map);
   ASSERT_EQ(map.rgba.size(), size_t{6} * 32 * 32 * 4);
@@ -83,11 +93,7 @@ TEST(EnvironmentMap, EachDirectionSeesItsWall) {
 }
 
 TEST(EnvironmentMap, SharpLobeMirrorsTheEye) {
-  const ColouredRoom room;
-  const ToneCurve tone = ToneCurve::gamma(1.0, 2.2);
-  const ToneInverse inverse(tone);
-  const raster::ShadedMesh shaded =
-      roomForEnvironment(room.mesh.toRasterMesh(), room.mesh.trianglePatch, room.radiance, tone);
+  const auto& [room, tone, inverse, shaded] = ShadedRoom(1.0);
   CubeEnvironmentMap map;
   renderEnvironmentMap(shaded, glm::vec3(2.0f, 1.5f, 2.5f), 32, 20.0f, map);
   const PhongLobe mirror(4000.0f), broad(1.0f);
@@ -106,11 +112,7 @@ TEST(EnvironmentMap, SharpLobeMirrorsTheEye) {
 // Golden bytes of the map and of 500 lobe lookups (design §3: same on every ISA; checked
 // natively and under qemu-aarch64). A change here is a deliberate, explained commit.
 TEST(EnvironmentMap, GoldenBytes) {
-  const ColouredRoom room;
-  const ToneCurve tone = ToneCurve::gamma(1.3, 2.2);
-  const ToneInverse inverse(tone);
-  const raster::ShadedMesh shaded =
-      roomForEnvironment(room.mesh.toRasterMesh(), room.mesh.trianglePatch, room.radiance, tone);
+  const auto& [room, tone, inverse, shaded] = ShadedRoom(1.3);
   CubeEnvironmentMap map;
   renderEnvironmentMap(shaded, glm::vec3(1.7f, 0.9f, 2.2f), 24, 20.0f, map);
   std::vector<uint8_t> bytes = map.rgba;

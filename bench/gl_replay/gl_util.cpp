@@ -1,11 +1,22 @@
 #include "bench/gl_replay/gl_util.h"
 
+#include <string>
 #include <vector>
 
 #include "bench/gl_replay/gl_context.h"
 
 namespace penumbra::gl::detail {
 namespace {
+
+// The info log of a shader or program (GL keeps them in two families of calls).
+template <typename GetIv, typename GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+  GLint len = 0;
+  getIv(object, GL_INFO_LOG_LENGTH, &len);
+  std::vector<char> log(static_cast<size_t>(len > 1 ? len : 1), '\0');
+  getLog(object, len, nullptr, log.data());
+  return log.data();
+}
 
 GLuint compile(GLenum type, const char* source, const std::string& name) {
   const GLuint shader = glCreateShader(type);
@@ -14,13 +25,10 @@ GLuint compile(GLenum type, const char* source, const std::string& name) {
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (ok != GL_TRUE) {
-    GLint len = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-    std::vector<char> log(static_cast<size_t>(len > 1 ? len : 1), '\0');
-    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
     throw GlError(name + (type == GL_VERTEX_SHADER ? ": vertex" : ": fragment") +
-                  " shader does not compile: " + log.data());
+                  " shader does not compile: " + log);
   }
   return shader;
 }
@@ -39,12 +47,9 @@ GLuint buildProgram(const char* vertexSource, const char* fragmentSource, const 
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
-    GLint len = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
-    std::vector<char> log(static_cast<size_t>(len > 1 ? len : 1), '\0');
-    glGetProgramInfoLog(program, len, nullptr, log.data());
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
-    throw GlError(name + ": program does not link: " + log.data());
+    throw GlError(name + ": program does not link: " + log);
   }
   return program;
 }
