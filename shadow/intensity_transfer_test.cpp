@@ -108,12 +108,6 @@ TEST(IntensityTransfer, SingleSetRemovesAllLight) {
                std::invalid_argument);
 }
 
-}  // namespace
-}  // namespace penumbra::shadow
-
-namespace penumbra::shadow {
-namespace {
-
 TEST(ToneCurveThresholds, RoundTripAndValidation) {
   const ToneCurve tone = ToneCurve::gamma(1.5, 2.2);
   const ToneCurve back = ToneCurve::fromThresholds(tone.thresholds());
@@ -122,12 +116,6 @@ TEST(ToneCurveThresholds, RoundTripAndValidation) {
   bad[100] = bad[99] - 1.0;
   EXPECT_THROW(ToneCurve::fromThresholds(bad), std::invalid_argument);
 }
-
-}  // namespace
-}  // namespace penumbra::shadow
-
-namespace penumbra::shadow {
-namespace {
 
 TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {
   const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
