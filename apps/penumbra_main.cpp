@@ -37,9 +37,27 @@ using apps::addRenderFlags;
 using apps::RenderFlags;
 using apps::toOptions;
 
-int replay(const std::string& tracePath, const RenderFlags& flags, const std::string& outPath,
-           bool printHash) {
-  const raster::FrameTrace trace = raster::loadTrace(tracePath);
+// Loads `tracePath`; a non-empty `accumulation` ("u8" / "fixed8_8", docs/pipeline-spec.md §8)
+// replaces the trace's own.
+raster::FrameTrace loadTraceWith(const std::string& tracePath, const std::string& accumulation) {
+  raster::FrameTrace trace = raster::loadTrace(tracePath);
+  if (!accumulation.empty()) {
+    trace.frame.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
+  }
+  return trace;
+}
+
+void addAccumulationFlag(CLI::App* app, std::string& accumulation) {
+  app->add_option("--accumulation", accumulation,
+                  "sum the passes as u8 (whole levels per pass) or fixed8_8 (1/256 levels, "
+                  "rounded once per pixel); "
+                  "default: the trace's field")
+      ->check(CLI::IsMember({"u8", "fixed8_8"}));
+}
+
+int replay(const std::string& tracePath, const std::string& accumulation, const RenderFlags& flags,
+           const std::string& outPath, bool printHash) {
+  const raster::FrameTrace trace = loadTraceWith(tracePath, accumulation);
   const std::vector<uint8_t> rgba = raster::renderTrace(trace, toOptions(flags));
   if (!outPath.empty()) scene::writePng(outPath, trace.view.width, trace.view.height, rgba);
   if (printHash) std::cout << "sha256 " << scene::sha256Hex(rgba) << "\n";
@@ -59,8 +77,9 @@ double nominalCpuHz() {
   return mhz * 1e6;
 }
 
-int benchReplay(const std::string& tracePath, const RenderFlags& flags, int frames) {
-  const raster::FrameTrace trace = raster::loadTrace(tracePath);
+int benchReplay(const std::string& tracePath, const std::string& accumulation,
+                const RenderFlags& flags, int frames) {
+  const raster::FrameTrace trace = loadTraceWith(tracePath, accumulation);
   const raster::RenderOptions options = toOptions(flags);
   raster::Renderer renderer(trace.view, options);
   std::vector<uint8_t> rgba(size_t{trace.view.width} * trace.view.height * 4);
@@ -81,9 +100,10 @@ int benchReplay(const std::string& tracePath, const RenderFlags& flags, int fram
   };
   const raster::FrameStats& stats = renderer.lastStats();
   std::printf("trace %s\n", tracePath.c_str());
-  std::printf("size %ux%u passes %zu isa %s threads %d tile %d frames %d\n", trace.view.width,
-              trace.view.height, trace.frame.passes.size(), simd::isaName(options.isa),
-              options.threads, options.tileSize, frames);
+  std::printf("size %ux%u passes %zu isa %s threads %d tile %d frames %d accumulation %s\n",
+              trace.view.width, trace.view.height, trace.frame.passes.size(),
+              simd::isaName(options.isa), options.threads, options.tileSize, frames,
+              raster::accumulationName(trace.frame.accumulation));
   std::printf("ms_per_frame median %.3f min %.3f\n", median(ms),
               *std::min_element(ms.begin(), ms.end()));
   std::printf("stage_ms_median objects %.3f passes %.3f finish %.3f\n", median(objectsMs),
@@ -112,23 +132,25 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   RenderFlags replayFlags;
-  std::string replayTrace, replayOut;
+  std::string replayTrace, replayOut, replayAccumulation;
   bool replayHash = false;
   CLI::App* replayCmd = app.add_subcommand("replay", "Render one frame trace");
   replayCmd->add_option("TRACE", replayTrace, "frame trace (.json)")->required();
   addRenderFlags(replayCmd, replayFlags);
   replayCmd->add_option("--out", replayOut, "write the frame as PNG");
   replayCmd->add_flag("--hash", replayHash, "print `sha256 <hex>` of the RGBA8 frame bytes");
+  addAccumulationFlag(replayCmd, replayAccumulation);
 
   app.add_subcommand("isas", "List SIMD targets: compiled, and whether this CPU runs them");
 
   RenderFlags benchFlags;
   benchFlags.threads = 2;
-  std::string benchTrace;
+  std::string benchTrace, benchAccumulation;
   int benchFrames = 50;
   CLI::App* benchCmd = app.add_subcommand("bench-replay", "Time repeated renders of one trace");
   benchCmd->add_option("TRACE", benchTrace, "frame trace (.json)")->required();
   addRenderFlags(benchCmd, benchFlags);
+  addAccumulationFlag(benchCmd, benchAccumulation);
   benchCmd->add_option("--frames", benchFrames, "timed frames")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
@@ -160,8 +182,11 @@ int main(int argc, char** argv) {
     for (const apps::Command& c : referenceCommands) {
       if (c.app->parsed()) return c.run();
     }
-    if (replayCmd->parsed()) return replay(replayTrace, replayFlags, replayOut, replayHash);
-    if (benchCmd->parsed()) return benchReplay(benchTrace, benchFlags, benchFrames);
+    if (replayCmd->parsed()) {
+      return replay(replayTrace, replayAccumulation, replayFlags, replayOut, replayHash);
+    }
+    if (benchCmd->parsed())
+      return benchReplay(benchTrace, benchAccumulation, benchFlags, benchFrames);
     for (simd::Isa isa : simd::compiledIsas()) {
       std::cout << simd::isaName(isa)
                 << (simd::isSupported(isa) ? "" : " (not supported by this CPU)") << "\n";

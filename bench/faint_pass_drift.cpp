@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   for (uint8_t mask : {uint8_t{255}, uint8_t{128}}) {
     for (bench::DriftPolicy p :
          {bench::DriftPolicy::kIndependent, bench::DriftPolicy::kFig4, bench::DriftPolicy::kGraded,
-          bench::DriftPolicy::kGradedOneRounding}) {
+          bench::DriftPolicy::kGradedFixed8_8}) {
       for (int n = 1; n <= maxPasses; ++n) {
         const bench::DriftResult r =
             bench::measureFaintPassDrift(tone, n, mask, p, share, vertices);

@@ -13,9 +13,9 @@
 //  - fig4: Gibson 2003 Fig. 4, two pseudo-random sets, telescoping within each set;
 //  - graded: intensityTransfersForOcclusion with q = M/255, the occluded share the frame
 //    measures (what Penumbra uses once a frame has observed the occlusion, docs/fig3.md);
-//  - graded-one-rounding: the same S_j, but the frame subtracts round(Σ S_j·M / 255) once
-//    instead of Σ round(S_j·M / 255) (spec §8 sums the rounded products): what 24-bit sum
-//    planes of the unrounded products would give. Not what the renderer does today.
+//  - graded-fixed8_8: the same S_j, but each pass adds S_j·M/255 rounded to 1/256 level and
+//    the frame rounds the sum once: the renderer's fixed-point accumulation
+//    (raster::Accumulation::kFixed8_8, spec §8), which the shadow pipeline uses.
 #pragma once
 
 #include <algorithm>
@@ -29,7 +29,7 @@
 
 namespace penumbra::bench {
 
-enum class DriftPolicy { kIndependent, kFig4, kGraded, kGradedOneRounding };
+enum class DriftPolicy { kIndependent, kFig4, kGraded, kGradedFixed8_8 };
 
 inline const char* driftPolicyName(DriftPolicy p) {
   switch (p) {
@@ -39,8 +39,8 @@ inline const char* driftPolicyName(DriftPolicy p) {
       return "fig4";
     case DriftPolicy::kGraded:
       return "graded";
-    case DriftPolicy::kGradedOneRounding:
-      return "graded-one-rounding";
+    case DriftPolicy::kGradedFixed8_8:
+      return "graded-fixed8_8";
   }
   return "?";
 }
@@ -85,15 +85,17 @@ inline DriftResult measureFaintPassDrift(const shadow::ToneCurve& tone, int pass
         shadow::intensityTransfers(total, transfers, sets, tone, s);
         break;
       case DriftPolicy::kGraded:
-      case DriftPolicy::kGradedOneRounding:
+      case DriftPolicy::kGradedFixed8_8:
         shadow::intensityTransfersForOcclusion(total, transfers, double(mask) / 255.0, tone, s);
         break;
     }
     uint8_t dst = tone(radiance);
-    if (policy == DriftPolicy::kGradedOneRounding) {
-      uint64_t sum = 0;  // Σ S_j·M, exact; rounded once: floor((2·sum + 255) / 510)
-      for (int j = 0; j < passes; ++j) sum += uint64_t(s[size_t(j)].r) * mask;
-      const uint64_t drop = (2 * sum + 255) / 510;
+    if (policy == DriftPolicy::kGradedFixed8_8) {
+      uint32_t sum = 0;  // in 1/256 levels, saturating at 65535 as the u16 planes do
+      for (int j = 0; j < passes; ++j) {
+        sum = std::min(sum + simd::fixed8_8Amount(s[size_t(j)].r, mask), 65535u);
+      }
+      const uint32_t drop = simd::fixed8_8Levels(sum);
       dst = drop >= dst ? uint8_t{0} : uint8_t(dst - drop);
     } else {
       for (int j = 0; j < passes; ++j) dst = simd::subtractMaskedU8(dst, s[size_t(j)].r, mask);

@@ -78,7 +78,7 @@ def chart_b(rows, out):
 def chart_d(rows, out):
     fig, ax = plt.subplots(figsize=(8, 5), dpi=120)
     for mask, style in (("255", "-"), ("128", "--")):
-        for policy in ("independent", "fig4", "graded", "graded-one-rounding"):
+        for policy in ("independent", "fig4", "graded", "graded-fixed8_8"):
             sel = [r for r in rows if r["mask"] == mask and r["policy"] == policy]
             if sel:
                 ax.plot([int(r["passes"]) for r in sel], [float(r["mean_abs"]) for r in sel],

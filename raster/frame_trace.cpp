@@ -263,6 +263,16 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
   }
 }
 
+const char* accumulationName(Accumulation a) {
+  return a == Accumulation::kFixed8_8 ? "fixed8_8" : "u8";
+}
+
+Accumulation parseAccumulation(const std::string& name, const std::string& where) {
+  if (name == "u8") return Accumulation::kU8;
+  if (name == "fixed8_8") return Accumulation::kFixed8_8;
+  throw TraceError(where + ": accumulation: must be \"u8\" or \"fixed8_8\", not \"" + name + "\"");
+}
+
 FrameTrace loadTrace(const std::filesystem::path& path) {
   const std::string where = path.string();
   std::ifstream in(path);
@@ -305,6 +315,10 @@ FrameTrace loadTrace(const std::filesystem::path& path) {
   const json& occluders = r.array(doc, "occluders");
   for (size_t i = 0; i < occluders.size(); ++i) {
     t.frame.occluders.push_back(r.mesh(occluders[i], "occluders[" + std::to_string(i) + "]."));
+  }
+  if (doc.contains("accumulation")) {  // optional: "u8" when absent (spec §8)
+    if (!doc["accumulation"].is_string()) fail(where, "accumulation", "not a string");
+    t.frame.accumulation = parseAccumulation(doc["accumulation"].get<std::string>(), where);
   }
   const json& passes = r.array(doc, "passes");
   for (size_t i = 0; i < passes.size(); ++i) {
@@ -352,6 +366,7 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
   }
   doc["occluders"] = json::array();
   for (const Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
+  doc["accumulation"] = accumulationName(trace.frame.accumulation);
   doc["passes"] = json::array();
   for (const ShadowPass& p : trace.frame.passes) {
     doc["passes"].push_back(

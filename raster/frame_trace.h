@@ -76,11 +76,24 @@ struct StaticView {
   bool operator==(const StaticView&) const = default;
 };
 
+// How a frame sums its passes' amounts (docs/pipeline-spec.md §8). kU8: each pass's
+// round(S·M/255) is a whole level, summed (Gibson 2003 Fig. 2's 8-bit blending). kFixed8_8:
+// each pass adds S·M/255 rounded to 1/256 level, the sum is rounded to whole levels once per
+// pixel, so many faint passes do not accumulate one rounding each (Gibson 2003 §10;
+// docs/failure-regimes.md). Both use the same 16-bit sum planes.
+enum class Accumulation : uint8_t { kU8, kFixed8_8 };
+
+// "u8" / "fixed8_8" (the trace field's values).
+const char* accumulationName(Accumulation a);
+// The Accumulation named `name`; throws TraceError naming `where` otherwise.
+Accumulation parseAccumulation(const std::string& name, const std::string& where);
+
 struct FrameContent {
   std::vector<uint8_t> background;  // RGBA8, width*height*4, row 0 at the top
   std::vector<ShadedMesh> objects;
   std::vector<Mesh> occluders;     // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
   std::vector<ShadowPass> passes;  // applied in this order
+  Accumulation accumulation = Accumulation::kU8;
   bool operator==(const FrameContent&) const = default;
 };
 

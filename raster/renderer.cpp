@@ -438,8 +438,11 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   auto sweep = [&](float bias) {
     if (rowLo >= rowHi) return;
     lookup.bias = bias;
-    kernels->accumulateRows(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
-                            &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+    const auto accumulate = frame.accumulation == Accumulation::kFixed8_8
+                                ? kernels->accumulateRowsFixed8_8
+                                : kernels->accumulateRows;
+    accumulate(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
+               &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
     for (int32_t y = rowLo; y < rowHi; ++y) {
       w.touchedBegin[y] = std::min(w.touchedBegin[y], w.passBegin[y]);
       w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
@@ -539,7 +542,10 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
     }
     if (rowTouched(y)) {
       for (int i = 0; i < count; ++i) acc[size_t(i)] = workers[size_t(i)].acc.data() + row;
-      kernels->subtractAccumulated(base, base, acc.data(), count, planeSize, x0, x1);
+      const auto subtract = frame.accumulation == Accumulation::kFixed8_8
+                                ? kernels->subtractAccumulatedFixed8_8
+                                : kernels->subtractAccumulated;
+      subtract(base, base, acc.data(), count, planeSize, x0, x1);
     }
     std::memcpy(&out[4 * (size_t(width) * size_t(y) + size_t(x0))], base + 4 * x0, rowBytes);
   }

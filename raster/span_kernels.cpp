@@ -595,6 +595,8 @@ uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int3
   return static_cast<uint32_t>(matched);
 }
 
+// kFixed8_8: spec §8's fixed-point accumulation, else the rounded product per pass (§6).
+template <bool kFixed8_8>
 void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
                     int32_t y0, int32_t y1, const int32_t* xaRow, const int32_t* xbRow,
                     const ShadowLookup& lookup) {
@@ -639,15 +641,18 @@ void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
       for (int ch = 0; ch < 3; ++ch) {
         uint16_t* plane = acc + planeSize * ch + row + x;
         const VI sValue = hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
-        // Unmarked lanes have S = 0 and add 0. Sums stay <= 65535 (at most 257 passes).
-        const VI sum = hn::Add(hn::PromoteTo(di, hn::LoadU(d16, plane)),
-                               simd::HWY_NAMESPACE::ProductU8(di, sValue, m));
+        // Unmarked lanes have S = 0 and add 0. u8 sums stay <= 65535 (at most 257 passes);
+        // fixed-point sums saturate there (DemoteTo), as spec §8 allows.
+        const VI amount = kFixed8_8 ? simd::HWY_NAMESPACE::Fixed8_8Amount(di, sValue, m)
+                                    : simd::HWY_NAMESPACE::ProductU8(di, sValue, m);
+        const VI sum = hn::Add(hn::PromoteTo(di, hn::LoadU(d16, plane)), amount);
         hn::StoreU(hn::DemoteTo(d16, sum), d16, plane);
       }
     }
   }
 }
 
+template <bool kFixed8_8>
 void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
                          size_t planeSize, int32_t xa, int32_t xb) {
   const DI di;
@@ -669,6 +674,7 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
         total = hn::Add(total, values);
         hn::StoreU(hn::DemoteTo(d16, hn::IfThenZeroElse(c.inRun, values)), d16, plane);
       }
+      if (kFixed8_8) total = simd::HWY_NAMESPACE::Fixed8_8Levels(di, total);
       const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), byteMask));
       const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, total);
       result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
@@ -679,9 +685,10 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
 }
 
 const SpanKernels* Table() {
-  static const SpanKernels kernels{&DepthLess,      &DepthTriangle,  &ColourLess,
-                                   &InterpolateS,   &AccumulateRows, &SubtractAccumulated,
-                                   &InterpolateRuns};
+  static const SpanKernels kernels{
+      &DepthLess,       &DepthTriangle,         &ColourLess,
+      &InterpolateS,    &AccumulateRows<false>, &SubtractAccumulated<false>,
+      &InterpolateRuns, &AccumulateRows<true>,  &SubtractAccumulated<true>};
   return &kernels;
 }
 

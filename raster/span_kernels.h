@@ -84,6 +84,14 @@ struct SpanKernels {
                               int32_t y1, const std::pair<int32_t, int32_t>* runs,
                               const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
                               int32_t* end);
+  // 2 and 3 with fixed-point accumulation (Accumulation::kFixed8_8, spec §8): the same
+  // kernels, but 2 adds simd::fixed8_8Amount(S_c, M) (the amount in 1/256 levels) with
+  // saturation at 65535, and 3 subtracts simd::fixed8_8Levels(sum of the accumulators).
+  void (*accumulateRowsFixed8_8)(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize,
+                                 size_t stride, int32_t y0, int32_t y1, const int32_t* xa,
+                                 const int32_t* xb, const ShadowLookup& lookup);
+  void (*subtractAccumulatedFixed8_8)(uint8_t* out, const uint8_t* base, uint16_t* const* acc,
+                                      int count, size_t planeSize, int32_t xa, int32_t xb);
 };
 
 // The kernels of `isa`; the caller checks simd::isSupported(isa).

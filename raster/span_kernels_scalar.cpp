@@ -111,6 +111,9 @@ uint32_t interpolateS(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, i
   return matched;
 }
 
+// kFixed8_8: the fixed-point accumulation of spec §8 (amounts in 1/256 levels, saturating),
+// else spec §6 step 4's rounded product per pass (whose sums never reach 65535).
+template <bool kFixed8_8>
 void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
                     int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
                     const ShadowLookup& lookup) {
@@ -124,14 +127,16 @@ void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
       const uint8_t m =
           static_cast<uint8_t>(maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[row + x]));
       for (int c = 0; c < 3; ++c) {
-        acc[planeSize * c + row + x] =
-            static_cast<uint16_t>(acc[planeSize * c + row + x] +
-                                  simd::productU8(static_cast<uint8_t>(packed >> (8 * c)), m));
+        const uint8_t sc = static_cast<uint8_t>(packed >> (8 * c));
+        const uint32_t amount = kFixed8_8 ? simd::fixed8_8Amount(sc, m) : simd::productU8(sc, m);
+        uint16_t& sum = acc[planeSize * c + row + x];
+        sum = static_cast<uint16_t>(std::min<uint32_t>(sum + amount, 65535u));
       }
     }
   }
 }
 
+template <bool kFixed8_8>
 void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
                          size_t planeSize, int32_t xa, int32_t xb) {
   for (int32_t x = xa; x < xb; ++x) {
@@ -141,6 +146,7 @@ void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
         total += acc[i][planeSize * c + x];
         acc[i][planeSize * c + x] = 0;
       }
+      if (kFixed8_8) total = static_cast<int32_t>(simd::fixed8_8Levels(uint32_t(total)));
       out[4 * x + c] = static_cast<uint8_t>(std::max(int32_t{base[4 * x + c]} - total, 0));
     }
     out[4 * x + 3] = base[4 * x + 3];
@@ -164,8 +170,9 @@ uint32_t interpolateRuns(uint32_t* s, const uint32_t* id, size_t stride, int32_t
   return matched;
 }
 
-const SpanKernels kScalar{&depthLess,      &depthTriangle,       &colourLess,     &interpolateS,
-                          &accumulateRows, &subtractAccumulated, &interpolateRuns};
+const SpanKernels kScalar{&depthLess,       &depthTriangle,         &colourLess,
+                          &interpolateS,    &accumulateRows<false>, &subtractAccumulated<false>,
+                          &interpolateRuns, &accumulateRows<true>,  &subtractAccumulated<true>};
 
 }  // namespace
 

@@ -195,6 +195,42 @@ TEST_P(SpanKernelsOnTarget, InterpolateRunsMatchesPerRowScalar) {
   }
 }
 
+using AccumulateKernel = decltype(SpanKernels::accumulateRows);
+
+// One accumulation kernel of `ref` and of the target on copies of the same inputs: the same
+// sums, and the scratch left clean by both.
+void expectSameSums(AccumulateKernel refKernel, AccumulateKernel kernel,
+                    const std::vector<float>& depth, const std::vector<uint32_t>& s,
+                    std::vector<uint16_t> acc, size_t plane, int32_t rows,
+                    const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
+                    const ShadowLookup& lookup, int trial) {
+  std::vector<uint32_t> sA = s, sB = s;
+  std::vector<uint16_t> accB = acc;
+  refKernel(depth.data(), sA.data(), acc.data(), plane, kRow, 0, rows, xa.data(), xb.data(),
+            lookup);
+  kernel(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(), xb.data(), lookup);
+  ASSERT_EQ(acc, accB) << "trial " << trial;
+  ASSERT_EQ(sA, sB) << "trial " << trial;
+  for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+}
+
+// Both accumulation modes (spec §8) from the sums `start`; the fixed-point ones also from
+// sums near 65535, where they saturate.
+void expectSameAccumulation(const SpanKernels& ref, const SpanKernels& k,
+                            const std::vector<float>& depth, const std::vector<uint32_t>& s,
+                            const std::vector<uint16_t>& start, size_t plane, int32_t rows,
+                            const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
+                            const ShadowLookup& lookup, int trial) {
+  expectSameSums(ref.accumulateRows, k.accumulateRows, depth, s, start, plane, rows, xa, xb, lookup,
+                 trial);
+  expectSameSums(ref.accumulateRowsFixed8_8, k.accumulateRowsFixed8_8, depth, s, start, plane, rows,
+                 xa, xb, lookup, trial);
+  std::vector<uint16_t> high = start;
+  for (uint16_t& v : high) v = static_cast<uint16_t>(65535 - v / 3);
+  expectSameSums(ref.accumulateRowsFixed8_8, k.accumulateRowsFixed8_8, depth, s, high, plane, rows,
+                 xa, xb, lookup, trial);
+}
+
 TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
@@ -232,8 +268,6 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
         }
       }
     }
-    std::vector<uint32_t> sB = sA;
-    std::vector<uint16_t> accB = accA;
     ShadowLookup lookup{};
     // A projective map that sends the rows across (and beyond) the shadow map.
     for (float& v : lookup.p) v = f(rng);
@@ -249,13 +283,8 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
     lookup.stride = map.stride();
     lookup.bias = 0.01f * (f(rng) + 1.0f);
     lookup.pcf2x2 = trial % 2 == 1;
-    ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),
-                       xb.data(), lookup);
-    k.accumulateRows(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(),
-                     xb.data(), lookup);
-    ASSERT_EQ(accA, accB) << "trial " << trial;
-    ASSERT_EQ(sA, sB) << "trial " << trial;
-    for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+    expectSameAccumulation(ref, k, depth, sA, accA, plane, rows, xa, xb, lookup, trial);
+    if (::testing::Test::HasFatalFailure()) return;
   }
 }
 
@@ -306,8 +335,6 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
         if (bits(rng) % 5 != 0) sA[size_t(r) * kRow + size_t(x)] = bits(rng) | 1u;
       }
     }
-    std::vector<uint32_t> sB = sA;
-    std::vector<uint16_t> accB = accA;
     ShadowLookup lookup{};
     // Pixels (0..111, 0..5) to texels around (-2..50): across the drawn part and the border.
     lookup.p[0] = 0.45f + 0.02f * f(rng);
@@ -325,43 +352,52 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
     lookup.pcf2x2 = trial % 3 != 0;
     lookup.blocks = map.blocks();
     lookup.blocksPerRow = map.blocksPerRow();
-    ref.accumulateRows(depth.data(), sA.data(), accA.data(), plane, kRow, 0, rows, xa.data(),
-                       xb.data(), lookup);
-    k.accumulateRows(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(),
-                     xb.data(), lookup);
-    ASSERT_EQ(accA, accB) << "trial " << trial;
-    ASSERT_EQ(sA, sB) << "trial " << trial;
+    expectSameAccumulation(ref, k, depth, sA, accA, plane, rows, xa, xb, lookup, trial);
+    if (::testing::Test::HasFatalFailure()) return;
   }
+}
+
+// One subtraction kernel of `ref` and of the target on `count` random sum planes below
+// `limit`: the same bytes, and the run's sums zeroed by both.
+void expectSameSubtraction(decltype(SpanKernels::subtractAccumulated) refKernel,
+                           decltype(SpanKernels::subtractAccumulated) kernel, std::mt19937& rng,
+                           int count, uint32_t limit, int trial) {
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFFFu);
+  const size_t plane = kRow;
+  std::vector<std::vector<uint16_t>> accA(size_t(count), std::vector<uint16_t>(3 * plane));
+  for (auto& a : accA) {
+    for (auto& v : a) v = static_cast<uint16_t>(bits(rng) % limit);
+  }
+  auto accB = accA;
+  std::vector<uint8_t> baseA(4 * kRow);
+  for (auto& v : baseA) v = static_cast<uint8_t>(bits(rng));
+  std::vector<uint8_t> baseB = baseA;
+  std::vector<uint16_t*> pa, pb;
+  for (int i = 0; i < count; ++i) {
+    pa.push_back(accA[size_t(i)].data());
+    pb.push_back(accB[size_t(i)].data());
+  }
+  int32_t xa = pos(rng), xb = pos(rng);
+  if (xa > xb) std::swap(xa, xb);
+  refKernel(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb);
+  kernel(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb);
+  ASSERT_EQ(baseA, baseB) << "trial " << trial;
+  ASSERT_EQ(accA, accB) << "trial " << trial;
 }
 
 TEST_P(SpanKernelsOnTarget, SubtractAccumulatedMatchesScalar) {
   const SpanKernels& ref = scalarSpanKernels();
   const SpanKernels& k = spanKernelsFor(GetParam());
   std::mt19937 rng(14);
-  std::uniform_int_distribution<int32_t> pos(0, 111);
-  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFFFu);
   for (int trial = 0; trial < 1000; ++trial) {
     const int count = 1 + trial % 4;
-    const size_t plane = kRow;
-    std::vector<std::vector<uint16_t>> accA(size_t(count), std::vector<uint16_t>(3 * plane));
-    for (auto& a : accA) {
-      for (auto& v : a) v = static_cast<uint16_t>(bits(rng) % (trial % 2 ? 300u : 20u));
-    }
-    auto accB = accA;
-    std::vector<uint8_t> baseA(4 * kRow);
-    for (auto& v : baseA) v = static_cast<uint8_t>(bits(rng));
-    std::vector<uint8_t> baseB = baseA;
-    std::vector<uint16_t*> pa, pb;
-    for (int i = 0; i < count; ++i) {
-      pa.push_back(accA[size_t(i)].data());
-      pb.push_back(accB[size_t(i)].data());
-    }
-    int32_t xa = pos(rng), xb = pos(rng);
-    if (xa > xb) std::swap(xa, xb);
-    ref.subtractAccumulated(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb);
-    k.subtractAccumulated(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb);
-    ASSERT_EQ(baseA, baseB) << "trial " << trial;
-    ASSERT_EQ(accA, accB) << "trial " << trial;
+    expectSameSubtraction(ref.subtractAccumulated, k.subtractAccumulated, rng, count,
+                          trial % 2 ? 300u : 20u, trial);
+    // Fixed-point sums: around one level (256) up to saturated planes.
+    expectSameSubtraction(ref.subtractAccumulatedFixed8_8, k.subtractAccumulatedFixed8_8, rng,
+                          count, trial % 2 ? 65536u : 2000u, trial);
+    if (HasFatalFailure()) return;
   }
 }
 

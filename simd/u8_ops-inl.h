@@ -22,6 +22,18 @@ HWY_INLINE V ProductU8(D d, V a, V b) {
   return hn::ShiftRight<8>(hn::Add(t, hn::ShiftRight<8>(t)));
 }
 
+// fixed8_8Amount() on int32 / u32 lanes holding a, b in [0, 255]: at most 65280.
+template <class D, class V>
+HWY_INLINE V Fixed8_8Amount(D d, V a, V b) {
+  return hn::Add(hn::Mul(a, b), ProductU8(d, a, b));
+}
+
+// fixed8_8Levels() on int32 / u32 lanes holding sums below 2^31 - 128.
+template <class D, class V>
+HWY_INLINE V Fixed8_8Levels(D d, V sum) {
+  return hn::ShiftRight<8>(hn::Add(sum, hn::Set(d, 128)));
+}
+
 // max(a - b, 0) on signed integer lanes holding values in [0, 255].
 template <class D, class V>
 HWY_INLINE V SubtractSaturate(D d, V a, V b) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "tests/isa_params.h"
@@ -32,6 +33,24 @@ TEST(ProductU8, OftenQuotedFormulaIsWrong) {
     }
   }
   EXPECT_EQ(wrong, 24);
+}
+
+// Fixed-point accumulation (spec §8): each pass's amount is round(s·m·256/255) exactly, for
+// every pair; in the umbra (m = 255) exactly 256·s, so one pass subtracts what u8 does.
+TEST(Fixed8_8, AmountIsRoundedToOne256thOfALevel) {
+  for (uint32_t a = 0; a < 256; ++a) {
+    for (uint32_t b = 0; b < 256; ++b) {
+      const uint32_t expected = (2 * 256 * a * b + 255) / 510;
+      ASSERT_EQ(fixed8_8Amount(uint8_t(a), uint8_t(b)), expected) << a << " * " << b;
+      ASSERT_EQ(fixed8_8Levels(fixed8_8Amount(uint8_t(a), uint8_t(b))),
+                productU8(uint8_t(a), uint8_t(b)))
+          << "one pass: the same level as u8, " << a << " * " << b;
+    }
+    ASSERT_EQ(fixed8_8Amount(uint8_t(a), 255), 256 * a);
+  }
+  EXPECT_EQ(fixed8_8Levels(127), 0u);
+  EXPECT_EQ(fixed8_8Levels(128), 1u);
+  EXPECT_EQ(fixed8_8Levels(65535), 256u);
 }
 
 class U8OpsOnTarget : public ::testing::TestWithParam<Isa> {};

@@ -68,6 +68,17 @@ TEST(Invariance, GeneratedScenes) {
   }
 }
 
+// Fixed-point accumulation (spec §8) with PCF masks, where its rounding differs from u8's.
+TEST(Invariance, GeneratedSceneWithFixedPointAccumulation) {
+  testing::TestSceneOptions o;
+  o.pcf2x2 = true;
+  o.width = 150;
+  o.height = 97;
+  raster::FrameTrace trace = testing::makeTestScene(o);
+  trace.frame.accumulation = raster::Accumulation::kFixed8_8;
+  expectInvariant(trace, "generated pcf fixed8_8");
+}
+
 TEST(Invariance, BundledTraces) {
   for (const fs::path& path : bundledTraces()) {
     expectInvariant(raster::loadTrace(path), path.filename().string());

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "tests/test_scenes.h"
 
 namespace penumbra {
@@ -92,6 +94,32 @@ TEST(Renderer, RendersManyFramesIdentically) {
   }
   EXPECT_GT(r.lastStats().passPixels, 0u);
   EXPECT_GT(r.lastStats().shadowMapPixels, 0u);
+}
+
+// Fixed-point accumulation (spec §8) rounds each pass to 1/256 level and the sum once. With
+// binary masks every amount is 256·S exactly, so both modes give the same bytes; with PCF
+// masks u8's per-pass roundings differ from it by at most half a level per pass, plus one.
+TEST(Renderer, FixedPointAccumulationDiffersOnlyInTheRoundingOfFractionalMasks) {
+  for (bool pcf : {false, true}) {
+    testing::TestSceneOptions o;
+    o.pcf2x2 = pcf;
+    o.passes = 12;
+    const raster::FrameTrace u8 = testing::makeTestScene(o);
+    raster::FrameTrace fixed = u8;
+    fixed.frame.accumulation = raster::Accumulation::kFixed8_8;
+    const auto a = raster::renderTrace(u8, {simd::bestIsa(), 2, 32});
+    const auto b = raster::renderTrace(fixed, {simd::bestIsa(), 2, 32});
+    size_t differ = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      ASSERT_LE(std::abs(int(a[i]) - int(b[i])), o.passes / 2 + 1) << "byte " << i;
+      differ += a[i] != b[i];
+    }
+    if (pcf) {
+      EXPECT_GT(differ, 0u) << "PCF edges must round differently";
+    } else {
+      EXPECT_EQ(differ, 0u);
+    }
+  }
 }
 
 TEST(Renderer, RejectsBadOptions) {

@@ -131,6 +131,23 @@ TEST_F(TraceFiles, NonFiniteNumbersAreRefused) {
   EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
 }
 
+// `accumulation` (spec §8): absent means "u8", "fixed8_8" round-trips, anything else is named.
+TEST_F(TraceFiles, AccumulationIsOptionalAndChecked) {
+  json d = doc_;
+  d.erase("accumulation");
+  std::ofstream(dir_ / "old.json") << d.dump();
+  EXPECT_EQ(raster::loadTrace(dir_ / "old.json").frame.accumulation, raster::Accumulation::kU8);
+  raster::FrameTrace fixed = trace_;
+  fixed.frame.accumulation = raster::Accumulation::kFixed8_8;
+  raster::saveTrace(fixed, dir_ / "fixed.json");
+  EXPECT_EQ(raster::loadTrace(dir_ / "fixed.json"), fixed);
+  for (const json& value : {json("u16"), json(1), json("FIXED8_8"), json("wide")}) {
+    d["accumulation"] = value;
+    const std::string e = errorFor(d);
+    EXPECT_NE(e.find("bad.json: accumulation"), std::string::npos) << e;
+  }
+}
+
 TEST_F(TraceFiles, NotJsonAndMissingFilesAreRefused) {
   std::ofstream(dir_ / "garbage.json") << "{ this is not json";
   EXPECT_THROW(raster::loadTrace(dir_ / "garbage.json"), raster::TraceError);

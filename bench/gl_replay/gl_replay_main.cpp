@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,11 @@ int main(int argc, char** argv) {
     setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
 
     const FrameTrace trace = penumbra::raster::loadTrace(tracePath);
+    if (trace.frame.accumulation != penumbra::raster::Accumulation::kU8) {
+      // GL blending rounds every pass to 8 bits (docs/pipeline-spec.md §8).
+      throw std::runtime_error(tracePath.string() +
+                               ": accumulation: gl_replay replays \"u8\" traces only");
+    }
     const uint32_t width = trace.view.width, height = trace.view.height;
     std::vector<uint8_t> glImage(static_cast<size_t>(width) * height * 4);
 
