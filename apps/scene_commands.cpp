@@ -252,9 +252,9 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   pre->add_option("SCENE", precompute->first, "scene description (.json)")->required();
   pre->add_option("-o,--out", precompute->second, "bundle to write")->required();
   pre->add_option("--power-share", precomputeOptions->powerShare,
-                  "share of emitted power in the source set (§4)")
-      ->check(CLI::Range(0.01, 1.0))
-      ->capture_default_str();
+                  "share of emitted power in the source set (§4); default: the scene file's "
+                  "power_share, else 0.7")
+      ->check(CLI::Range(0.01, 1.0));
   pre->add_option("--samples", precomputeOptions->samplesPerSide,
                   "visibility samples per source patch side (§5)")
       ->check(CLI::Range(1, 16))

@@ -122,7 +122,8 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
   const EmbreeScene embree(stored);
   const std::vector<uint8_t> visible =
       patchesVisibleFromCamera(stored, embree, scene.camera.viewProj(), scene.width, scene.height);
-  b.sets = shadow::selectSourcesAndReceivers(stored, visible, options.powerShare);
+  b.sets = shadow::selectSourcesAndReceivers(
+      stored, visible, options.powerShare > 0 ? options.powerShare : scene.powerShare);
   end();
 
   begin("radiance transfers");

@@ -19,8 +19,9 @@
 namespace penumbra::lighting {
 
 struct PrecomputeOptions {
-  double powerShare = 0.7;  // §4: share of the emitted power the source set holds
-  int samplesPerSide = 4;   // visibility samples per source patch side (§5)
+  // §4: share of the emitted power the source set holds; 0 = the scene file's power_share.
+  double powerShare = 0;
+  int samplesPerSide = 4;  // visibility samples per source patch side (§5)
   unsigned threads = 2;
   uint64_t seed = 1;
   double patchSize = 0;  // metres; 0 = the scene file's patch_size

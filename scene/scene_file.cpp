@@ -121,8 +121,8 @@ class SceneParser {
 
   SceneDescription parse(const json& doc) {
     r_.object(doc, "",
-              {"format", "version", "image", "camera", "materials", "room", "patch_size", "tone",
-               "products", "start_pose"});
+              {"format", "version", "image", "camera", "materials", "room", "patch_size",
+               "power_share", "tone", "products", "start_pose"});
     const json& format = r_.required(doc, "", "format");
     if (!format.is_string() || format.get<std::string>() != "penumbra-scene") {
       r_.fail("format", "must be \"penumbra-scene\"");
@@ -144,6 +144,10 @@ class SceneParser {
     if (const json* m = r_.optional(doc, "materials")) parseMaterials(*m);
     s.room = parseRoom(r_.required(doc, "", "room"));
     s.patchSize = r_.positive(r_.required(doc, "", "patch_size"), "patch_size");
+    if (const json* share = r_.optional(doc, "power_share")) {
+      s.powerShare = r_.positive(*share, "power_share");
+      if (s.powerShare > 1.0) r_.fail("power_share", "must be in (0, 1]");
+    }
 
     const json& tone = r_.required(doc, "", "tone");
     r_.object(tone, "tone", {"exposure", "gamma"});

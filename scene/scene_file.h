@@ -70,6 +70,9 @@ struct SceneDescription {
   Camera camera;  // aspect = width / height
   RoomDescription room;
   double patchSize = 0;  // metres
+  // Gibson 2003 §4: share of the emitted power the source set holds (optional field
+  // `power_share`); the rest of the light is never shadowed.
+  double powerShare = 0.7;
   ToneParameters tone;
   std::vector<Product> products;
   StartPose startPose;

@@ -62,6 +62,7 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
   EXPECT_EQ(s.camera.eye, glm::dvec3(0.35, 1.6, 0.35));
   EXPECT_DOUBLE_EQ(s.camera.aspect, 640.0 / 480.0);
   EXPECT_EQ(s.camera.zFar, 15);
+  EXPECT_EQ(s.powerShare, 1.0);  // every emitter a source (docs/accuracy.md)
   // Shell (6 quads) + desk without bottom (5); four panels and the window.
   ASSERT_EQ(s.room.quads.size(), 11u);
   EXPECT_EQ(s.room.solids.size(), 1u);
@@ -124,6 +125,8 @@ TEST(SceneFile, MissingFieldsAreNamed) {
 TEST(SceneFile, BadValuesAreNamed) {
   expectError([](json& d) { d["format"] = "obj"; }, {"format: must be"});
   expectError([](json& d) { d["version"] = 2; }, {"version: unsupported"});
+  expectError([](json& d) { d["power_share"] = 1.5; }, {"power_share: must be in (0, 1]"});
+  expectError([](json& d) { d["power_share"] = 0; }, {"power_share"});
   expectError([](json& d) { d["image"]["width"] = -640; }, {"image.width: must be an integer in"});
   expectError([](json& d) { d["image"]["width"] = 640.5; }, {"image.width: must be an integer"});
   expectError([](json& d) { d["camera"]["eye"][1] = "high"; },
