@@ -19,6 +19,11 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
+// Weight of a transfer when shares of light are measured (Rec. 709 luminance).
+double luminance(const glm::dvec3& t) {
+  return 0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z;
+}
+
 }  // namespace
 
 FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOptions& options)
@@ -36,6 +41,7 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
   }
   vertexSlot_.assign(t.receiverVertices.size(), 0);
   occlusion_.assign(t.receiverVertices.size(), -1.0f);
+  sourceOccluded_.assign(t.receiverVertices.size() * bundle.sets.sources.size(), -1);
   for (uint32_t p = 0; p < mesh_.patches.size(); ++p) {
     if (mesh_.patches[p].emits()) emitters_.push_back(p);
   }
@@ -72,6 +78,7 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
   const ProductModel& model = bundle_.products[pose.product];
   if (pose.product != placedPose_.product) {
     productOcclusion_.assign(model.mesh.positions.size(), -1.0f);
+    productSourceOccluded_.assign(model.mesh.positions.size() * bundle_.sets.sources.size(), -1);
   }
   placeMesh(model.mesh, pose, placedMesh_);
   placeMesh(model.proxy, pose, placedProxy_);
@@ -195,7 +202,10 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   // Each cluster's transfer to each slot: the sum of its blocked sources' L_ij (§8: the
   // cluster stands for exactly those sources, so all blocked energy is accounted for).
   const RadianceTransfers& tr = bundle_.transfers;
+  const size_t sources = bundle_.sets.sources.size();
   clusterTransfer_.assign(frameVertices_.size() * clusters, glm::dvec3(0.0));
+  clusterSeen_.assign(frameVertices_.size() * clusters, 0.0);
+  clusterOccluded_.assign(frameVertices_.size() * clusters, 0.0);
   for (size_t k = 0; k < clusters; ++k) {
     const SourceCluster& cl = selection_.clusters[k];
     for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
@@ -203,7 +213,9 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
       for (uint32_t e = tr.sourceStart[s]; e < tr.sourceStart[s + 1]; ++e) {
         const uint32_t rv = tr.entryVertex[e];
         if (vertexSlotFrame_[rv] != frame) continue;
-        clusterTransfer_[vertexSlot_[rv] * clusters + k] += glm::dvec3(tr.entryTransfer[e]);
+        const size_t at = vertexSlot_[rv] * clusters + k;
+        clusterTransfer_[at] += glm::dvec3(tr.entryTransfer[e]);
+        seenShare(sourceOccluded_[rv * sources + s], glm::dvec3(tr.entryTransfer[e]), at);
       }
     }
   }
@@ -224,7 +236,9 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
                                                 clusters);
     const std::span<raster::Rgb8> s(clusterS_.data() + slot * clusters, clusters);
     if (options_.gradedTransfers && occlusion_[rv] >= 0.0f) {
-      intensityTransfersForOcclusion(total, transfers, double(occlusion_[rv]), bundle_.tone, s);
+      intensityTransfersForOcclusions(total, transfers,
+                                      clusterShares(slot * clusters, clusters, occlusion_[rv]),
+                                      bundle_.tone, s);
       ++stats.gradedVertices;
     } else {
       intensityTransfers(total, transfers, setsScratch_, bundle_.tone, s);
@@ -234,19 +248,26 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   const size_t productVertices = options_.selfShadowing ? placedMesh_.positions.size() : 0;
   productCluster_.assign(productVertices * clusters, glm::dvec3(0.0));
   productS_.resize(productVertices * clusters);
+  clusterSeen_.assign(productVertices * clusters, 0.0);
+  clusterOccluded_.assign(productVertices * clusters, 0.0);
   for (size_t k = 0; k < clusters; ++k) {
     const SourceCluster& cl = selection_.clusters[k];
     for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
-      const glm::dvec3* row = &productTransfer_[size_t(selection_.sources[i]) * productVertices];
-      for (size_t v = 0; v < productVertices; ++v) productCluster_[v * clusters + k] += row[v];
+      const uint32_t source = selection_.sources[i];
+      const glm::dvec3* row = &productTransfer_[size_t(source) * productVertices];
+      for (size_t v = 0; v < productVertices; ++v) {
+        productCluster_[v * clusters + k] += row[v];
+        seenShare(productSourceOccluded_[v * sources + source], row[v], v * clusters + k);
+      }
     }
   }
   for (size_t v = 0; v < productVertices; ++v) {
     const std::span<const glm::dvec3> transfers(productCluster_.data() + v * clusters, clusters);
     const std::span<raster::Rgb8> s(productS_.data() + v * clusters, clusters);
     if (options_.gradedTransfers && productOcclusion_[v] >= 0.0f) {
-      intensityTransfersForOcclusion(productRadiance_[v], transfers, double(productOcclusion_[v]),
-                                     bundle_.tone, s);
+      intensityTransfersForOcclusions(productRadiance_[v], transfers,
+                                      clusterShares(v * clusters, clusters, productOcclusion_[v]),
+                                      bundle_.tone, s);
       ++stats.gradedVertices;
     } else {
       intensityTransfers(productRadiance_[v], transfers, setsScratch_, bundle_.tone, s);
@@ -266,6 +287,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   out.objects[0].colours = productColours_;
   out.occluders.resize(1);
   out.occluders[0] = placedProxy_;
+  out.accumulation = options_.accumulation;
   out.passes.resize(clusters);
   passCluster_.clear();
   size_t used = 0;
@@ -346,26 +368,60 @@ void FrameCompositor::observe(std::span<const uint8_t> masks) {
     throw std::invalid_argument("observe: masks do not match the last composed frame");
   }
   const size_t clusters = selection_.clusters.size();
+  const size_t sources = bundle_.sets.sources.size();
   // The transfer-weighted share of a probe's blocked light that was really occluded, summed
   // in pass order; -1 when nothing reaches it. `transfers` are the probe's per-cluster ones.
-  auto occludedShare = [&](size_t probe, const glm::dvec3* transfers) {
+  // Also which sources each pass's mask occluded at the probe, into `seen` (its row of
+  // sourceOccluded_ or productSourceOccluded_); sources without a pass are not seen.
+  auto observeProbe = [&](size_t probe, const glm::dvec3* transfers, int8_t* seen) {
+    std::fill(seen, seen + sources, int8_t{-1});
     double blocked = 0, total = 0;
     for (size_t k = 0; k < passes; ++k) {
       const glm::dvec3& t = transfers[passCluster_[k]];
-      const double weight = 0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z;
+      const double weight = luminance(t);
+      const bool occluded = masks[probe * passes + k] != 0;
       total += weight;
-      blocked += masks[probe * passes + k] != 0 ? weight : 0.0;
+      blocked += occluded ? weight : 0.0;
+      const SourceCluster& cl = selection_.clusters[passCluster_[k]];
+      for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+        seen[selection_.sources[i]] = occluded ? 1 : 0;
+      }
     }
     return total > 0 ? static_cast<float>(blocked / total) : -1.0f;
   };
   for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    occlusion_[frameVertices_[slot]] =
-        occludedShare(slot, clusterTransfer_.data() + slot * clusters);
+    const uint32_t rv = frameVertices_[slot];
+    occlusion_[rv] = observeProbe(slot, clusterTransfer_.data() + slot * clusters,
+                                  sourceOccluded_.data() + size_t(rv) * sources);
   }
   for (size_t v = 0; v + frameVertices_.size() < probes_.size(); ++v) {
     productOcclusion_[v] =
-        occludedShare(frameVertices_.size() + v, productCluster_.data() + v * clusters);
+        observeProbe(frameVertices_.size() + v, productCluster_.data() + v * clusters,
+                     productSourceOccluded_.data() + v * sources);
   }
+}
+
+// Adds one source's transfer to cluster entry `at`'s seen (and occluded) luminance when the
+// last observation saw that source at this vertex (`state` 0 or 1).
+void FrameCompositor::seenShare(int8_t state, const glm::dvec3& transfer, size_t at) {
+  if (state < 0) return;
+  const double weight = luminance(transfer);
+  clusterSeen_[at] += weight;
+  if (state > 0) clusterOccluded_[at] += weight;
+}
+
+// The expected occluded share of each of `clusters` clusters from entry `first` on: the
+// seen sources' occluded share, or `fallback` (the vertex's one measured share) for a
+// cluster none of whose sources was seen, or for all with perClusterShares off.
+std::span<const double> FrameCompositor::clusterShares(size_t first, size_t clusters,
+                                                       float fallback) {
+  sharesScratch_.assign(clusters, double(fallback));
+  if (!options_.perClusterShares) return sharesScratch_;
+  for (size_t k = 0; k < clusters; ++k) {
+    const double seen = clusterSeen_[first + k];
+    if (seen > 0) sharesScratch_[k] = std::min(1.0, clusterOccluded_[first + k] / seen);
+  }
+  return sharesScratch_;
 }
 
 }  // namespace penumbra::shadow

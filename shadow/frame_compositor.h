@@ -32,6 +32,11 @@ struct CompositorOptions {
   // vertex's light the product blocked (observe()), take its intensity transfers at that
   // occluded share q (intensityTransfersForOcclusion); elsewhere Fig. 4's 50/50 sets.
   bool gradedTransfers = true;
+  // With graded transfers: take one occluded share per cluster — the share of its sources
+  // the previous frame saw occluded at that vertex (intensityTransfersForOcclusions) —
+  // instead of one share for all clusters, so that where the same clusters are occluded
+  // again their drops telescope exactly (penumbrae, docs/accuracy.md).
+  bool perClusterShares = true;
   // Self-shadowing (Gibson 2003 §7.2): the product's own vertices receive every pass too,
   // with intensity transfers from the cluster's sources to them, and a larger bias: the
   // proxy in the shadow map only approximates the product's surface.
@@ -39,6 +44,11 @@ struct CompositorOptions {
   // Leave out of a pass the receivers its light frustum cannot shadow (same bytes, less work).
   bool cullReceivers = true;
   float objectDepthBias = 0.01f;
+  // How the frame sums its passes (docs/pipeline-spec.md §8): fixed8_8 keeps 1/256 levels
+  // per pass and rounds each pixel's sum once, so the many faint passes of a high pass count
+  // do not drift (Gibson 2003 §10; docs/failure-regimes.md). kU8 is Gibson 2003 Fig. 2's
+  // per-pass 8-bit blending.
+  raster::Accumulation accumulation = raster::Accumulation::kFixed8_8;
   // Shade the product from the bundle's irradiance volume when it has one (Gibson &
   // Chalmers 2003 §5); false: the emitters' form factors (the pre-volume shading).
   bool shadeFromVolume = true;
@@ -73,7 +83,8 @@ class FrameCompositor {
   std::span<const raster::Vec3> probes() const { return probes_; }
   size_t objectProbesFrom() const { return frameVertices_.size(); }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
-  // transfer that the rendered passes really occluded (masks as Renderer::render fills them).
+  // transfer that the rendered passes really occluded, and which sources they occluded
+  // there (masks as Renderer::render fills them).
   void observe(std::span<const uint8_t> masks);
 
   // The shadow-map size of the next frames (the controller's ladder, Gibson 2003 §8: fewer
@@ -86,6 +97,8 @@ class FrameCompositor {
  private:
   void placeProduct(const ProductPose& pose);
   void shadeProduct();
+  void seenShare(int8_t state, const glm::dvec3& transfer, size_t at);
+  std::span<const double> clusterShares(size_t first, size_t clusters, float fallback);
 
   const SceneBundle& bundle_;
   CompositorOptions options_;
@@ -121,9 +134,17 @@ class FrameCompositor {
   std::vector<glm::dvec3> transfersScratch_;
   std::vector<uint8_t> setsScratch_;
   std::vector<raster::Rgb8> sScratch_;
-  std::vector<uint32_t> passCluster_;    // emitted pass -> cluster
-  std::vector<raster::Vec3> probes_;     // per slot
-  std::vector<float> occlusion_;         // per receiver vertex: measured share, or < 0
+  std::vector<uint32_t> passCluster_;  // emitted pass -> cluster
+  std::vector<raster::Vec3> probes_;   // per slot
+  std::vector<float> occlusion_;       // per receiver vertex: measured share, or < 0
+  // [receiver vertex * sources + source]: 1 occluded, 0 not, as the last observed frame saw
+  // it at that vertex; -1 not seen. The same for the product's vertices.
+  std::vector<int8_t> sourceOccluded_;
+  std::vector<int8_t> productSourceOccluded_;
+  // Per slot (or product vertex) and cluster: luminance of the transfer from sources seen
+  // by the last observation, and of the part seen occluded.
+  std::vector<double> clusterSeen_, clusterOccluded_;
+  std::vector<double> sharesScratch_;
   std::vector<float> productOcclusion_;  // per product vertex: measured share, or < 0
 };
 

@@ -125,6 +125,27 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
   }
 }
 
+namespace {
+
+// S_j = T(L_i - B_j) - T(L_i - B_j - L_ij), B_j = sum_{k<j} q_k L_ik, with q_k = shareOf(k).
+template <class ShareOf>
+void gradedTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                     ShareOf shareOf, const ToneCurve& tone, std::span<raster::Rgb8> out) {
+  glm::dvec3 before(0.0);  // B_j, summed in source order
+  for (size_t j = 0; j < transfers.size(); ++j) {
+    const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
+    const glm::dvec3 at = totalRadiance - before;
+    const raster::Rgb8 high = tone.map(at), low = tone.map(at - l);
+    // T is monotone and at - l <= at, so each difference is in [0, 255].
+    out[j] =
+        raster::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
+                     static_cast<uint8_t>(high.b - low.b)};
+    before += shareOf(j) * l;
+  }
+}
+
+}  // namespace
+
 void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
                                     std::span<const glm::dvec3> transfers, double q,
                                     const ToneCurve& tone, std::span<raster::Rgb8> out) {
@@ -135,17 +156,25 @@ void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
   if (!(q >= 0.0 && q <= 1.0)) {
     throw std::invalid_argument("intensityTransfersForOcclusion: q must be in [0, 1]");
   }
-  glm::dvec3 before(0.0);  // B_j, summed in source order
-  for (size_t j = 0; j < transfers.size(); ++j) {
-    const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
-    const glm::dvec3 at = totalRadiance - q * before;
-    const raster::Rgb8 high = tone.map(at), low = tone.map(at - l);
-    // T is monotone and at - l <= at, so each difference is in [0, 255].
-    out[j] =
-        raster::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
-                     static_cast<uint8_t>(high.b - low.b)};
-    before += l;
+  gradedTransfers(
+      totalRadiance, transfers, [q](size_t) { return q; }, tone, out);
+}
+
+void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
+                                     std::span<const glm::dvec3> transfers,
+                                     std::span<const double> q, const ToneCurve& tone,
+                                     std::span<raster::Rgb8> out) {
+  if (transfers.size() != out.size() || q.size() != out.size()) {
+    throw std::invalid_argument(
+        "intensityTransfersForOcclusions: transfers, q and out differ in length");
   }
+  for (double share : q) {
+    if (!(share >= 0.0 && share <= 1.0)) {
+      throw std::invalid_argument("intensityTransfersForOcclusions: every q must be in [0, 1]");
+    }
+  }
+  gradedTransfers(
+      totalRadiance, transfers, [q](size_t j) { return q[j]; }, tone, out);
 }
 
 }  // namespace penumbra::shadow

@@ -85,4 +85,15 @@ void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
                                     std::span<const glm::dvec3> transfers, double q,
                                     const ToneCurve& tone, std::span<raster::Rgb8> out);
 
+// The same with one expected occluded share per source (cluster): B_j = sum_{k<j} q_k L_ik.
+// With q_k the share of cluster k's sources the previous frame saw occluded at this vertex
+// (FrameCompositor::observe), the transfers of the clusters occluded again telescope
+// exactly: sum over them of S_ij = T(L_i) - T(L_i - sum of their L_ij) when every q_k is 0
+// or 1 and matches, which one share for all clusters achieves only in the full umbra.
+// Throws std::invalid_argument on length mismatch or a q_k outside [0, 1].
+void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
+                                     std::span<const glm::dvec3> transfers,
+                                     std::span<const double> q, const ToneCurve& tone,
+                                     std::span<raster::Rgb8> out);
+
 }  // namespace penumbra::shadow

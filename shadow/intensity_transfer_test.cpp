@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -142,6 +143,51 @@ TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {
     EXPECT_EQ(s[j].g, tone.map(total).g - tone.map(total - l[j]).g) << j;
   }
   EXPECT_THROW(intensityTransfersForOcclusion(total, l, 1.5, tone, s), std::invalid_argument);
+}
+
+// Per-cluster shares: where the pattern of occluded clusters repeats (q_k = 1 for the
+// occluded ones, 0 for the others) the occluded clusters' drops telescope to exactly
+// T(L) - T(L - their sum), for every pattern; one share for all clusters (the measured
+// transfer-weighted share) misses some patterns. A constant q gives the scalar function's S.
+TEST(IntensityTransfersForOcclusions, RepeatedPatternsAreExact) {
+  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
+  const glm::dvec3 total(0.8, 0.7, 0.6);
+  std::vector<glm::dvec3> l;
+  for (int j = 0; j < 8; ++j) l.emplace_back(0.09 - 0.01 * j, 0.06 + 0.003 * j, 0.02 + 0.01 * j);
+  const size_t n = l.size();
+  glm::dvec3 all(0.0);
+  for (const glm::dvec3& t : l) all += t;
+  std::vector<raster::Rgb8> s(n), single(n);
+  std::vector<double> q(n);
+  int scalarMisses = 0;
+  for (uint32_t pattern = 0; pattern < (1u << n); ++pattern) {
+    glm::dvec3 rest = total, blocked(0.0);
+    for (size_t j = 0; j < n; ++j) {
+      q[j] = (pattern >> j) & 1u ? 1.0 : 0.0;
+      rest -= q[j] * l[j];
+      blocked += q[j] * l[j];
+    }
+    intensityTransfersForOcclusions(total, l, q, tone, s);
+    const double share = (blocked.r + blocked.g + blocked.b) / (all.r + all.g + all.b);
+    intensityTransfersForOcclusion(total, l, std::min(share, 1.0), tone, single);
+    int exact = tone.map(total).g, scalar = exact;
+    for (size_t j = 0; j < n; ++j) {
+      if (q[j] == 0.0) continue;
+      exact -= s[j].g;
+      scalar -= single[j].g;
+    }
+    ASSERT_EQ(exact, tone.map(rest).g) << "pattern " << pattern;
+    scalarMisses += scalar != tone.map(rest).g;
+  }
+  EXPECT_GT(scalarMisses, 0);
+  std::fill(q.begin(), q.end(), 0.4);
+  intensityTransfersForOcclusions(total, l, q, tone, s);
+  intensityTransfersForOcclusion(total, l, 0.4, tone, single);
+  EXPECT_EQ(s, single);
+  q[3] = 1.5;
+  EXPECT_THROW(intensityTransfersForOcclusions(total, l, q, tone, s), std::invalid_argument);
+  q.pop_back();
+  EXPECT_THROW(intensityTransfersForOcclusions(total, l, q, tone, s), std::invalid_argument);
 }
 
 }  // namespace
