@@ -48,6 +48,67 @@ nlohmann::json orNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
 }
 
+// Shadow acne and light leaking at contact (design §5, docs/failure-regimes.md), against the
+// reference: the contact band is the shadow region within `radius` pixels of the product's
+// own pixels (where it meets the floor), its signed mean error > 0 meaning too light (light
+// leaking under the product); spurious shadow counts pixels outside the shadow region and
+// the product that the frame darkens by 3 levels or more (acne, or shadow where none falls).
+struct ContactErrors {
+  uint64_t bandPixels = 0, spuriousPixels = 0;
+  double meanAbs = 0, meanSigned = 0;
+};
+
+ContactErrors contactErrors(const reference::Rgb8Image& ref, const std::vector<uint8_t>& frame,
+                            const std::vector<uint8_t>& unshadowed,
+                            const std::vector<uint8_t>& background, const reference::Mask& mask,
+                            int radius) {
+  const int w = int(ref.width), h = int(ref.height);
+  auto product = [&](int x, int y) {
+    const size_t i = 4 * (size_t(y) * size_t(w) + size_t(x));
+    return unshadowed[i] != background[i] || unshadowed[i + 1] != background[i + 1] ||
+           unshadowed[i + 2] != background[i + 2];
+  };
+  std::vector<uint8_t> near(size_t(w) * size_t(h), 0);  // product pixels dilated by radius
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (!product(x, y)) continue;
+      for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v) {
+        for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {
+          near[size_t(v) * size_t(w) + size_t(u)] = 1;
+        }
+      }
+    }
+  }
+  ContactErrors e;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t p = size_t(y) * size_t(w) + size_t(x);
+      if (product(x, y)) continue;
+      if (!mask.inside[p]) {
+        for (size_t c = 0; c < 3; ++c) {
+          if (int(unshadowed[4 * p + c]) - int(frame[4 * p + c]) >= 3) {
+            ++e.spuriousPixels;
+            break;
+          }
+        }
+        continue;
+      }
+      if (!near[p]) continue;
+      ++e.bandPixels;
+      for (size_t c = 0; c < 3; ++c) {
+        const int d = int(frame[4 * p + c]) - int(ref.rgb[3 * p + c]);
+        e.meanAbs += std::abs(d);
+        e.meanSigned += d;
+      }
+    }
+  }
+  if (e.bandPixels > 0) {
+    e.meanAbs /= 3.0 * double(e.bandPixels);
+    e.meanSigned /= 3.0 * double(e.bandPixels);
+  }
+  return e;
+}
+
 struct AccuracyCommand {
   std::string bundlePath, json, referencePath, maskPath;
   std::vector<int> passes{10, 20, 50};
@@ -56,6 +117,12 @@ struct AccuracyCommand {
   RenderFlags render;
   std::string referenceOut, maskOut;
   bool penumbraReference = false;  // the stand-in instead of rays (always without Embree)
+  // The pipeline measured (shadow::CompositorOptions): accumulation, one occluded share per
+  // vertex instead of per cluster, the receivers' depth bias and the contact band's radius.
+  std::string accumulation = "fixed8_8";
+  bool singleShare = false;
+  float depthBias = shadow::CompositorOptions{}.depthBias;
+  int contactRadius = 8;
 #ifdef PENUMBRA_HAVE_REFERENCE
   reference::ReferenceOptions rays;
 #endif
@@ -106,11 +173,15 @@ struct AccuracyCommand {
                                     std::to_string(ref.height) + " differs from the bundle's " +
                                     std::to_string(w) + "x" + std::to_string(h) + " view");
     }
+    shadow::CompositorOptions measured = shadow::FrameLoop::optionsFor(uint32_t(mapSize));
+    measured.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
+    measured.perClusterShares = !singleShare;
+    measured.depthBias = depthBias;
+    shadow::FrameLoop zero(bundle, measured, ro);
+    zero.still(pose, 0);
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
     } else if (mask.inside.empty()) {
-      shadow::FrameLoop zero(bundle, uint32_t(mapSize), ro);
-      zero.still(pose, 0);
       mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region of the reference"};
       for (size_t i = 0; i < size_t(w) * h; ++i) {
         for (size_t k = 0; k < 3; ++k) {
@@ -130,7 +201,7 @@ struct AccuracyCommand {
     reference::CompareOptions co;
     co.flip.pixelsPerDegree = ppd;
     nlohmann::json rows = nlohmann::json::array();
-    shadow::FrameLoop f(bundle, uint32_t(mapSize), ro);
+    shadow::FrameLoop f(bundle, measured, ro);
     for (int n : passes) {
       std::vector<double> ms;
       for (int k = 0; k <= frames; ++k) {
@@ -146,6 +217,8 @@ struct AccuracyCommand {
           ref, reference::fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"),
           &mask, co);
       const reference::RegionErrors& s = *c.masked;
+      const ContactErrors contact =
+          contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, contactRadius);
       rows.push_back({{"passes_asked", n},
                       {"passes", f.stats.passes},
                       {"ms_per_frame", median(ms)},
@@ -156,17 +229,29 @@ struct AccuracyCommand {
                       {"ssim", c.ssim},
                       {"psnr", orNull(c.frame.psnr)},
                       {"flip", c.frame.flipMean},
-                      {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr}});
+                      {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr},
+                      {"contact_pixels", contact.bandPixels},
+                      {"mean_abs_contact", contact.meanAbs},
+                      {"mean_signed_contact", contact.meanSigned},
+                      {"spurious_shadow_pixels", contact.spuriousPixels}});
       std::printf(
           "passes %3d (%3u) ms %7.3f mean_abs_shadow %.3f p99 %u ssim %.5f psnr %.2f "
           "flip %.5f\n",
           n, f.stats.passes, median(ms), s.meanAbs, s.p99Abs, c.ssim, c.frame.psnr,
           c.frame.flipMean);
     }
-    const nlohmann::json out = {
-        {"bundle", bundlePath},   {"reference", refInfo}, {"shadow_map", mapSize},
-        {"flip_ppd", ppd},        {"width", w},           {"height", h},
-        {"frames_timed", frames}, {"results", rows}};
+    const nlohmann::json out = {{"bundle", bundlePath},
+                                {"reference", refInfo},
+                                {"shadow_map", mapSize},
+                                {"flip_ppd", ppd},
+                                {"width", w},
+                                {"height", h},
+                                {"frames_timed", frames},
+                                {"results", rows},
+                                {"accumulation", accumulation},
+                                {"per_cluster_shares", !singleShare},
+                                {"depth_bias", depthBias},
+                                {"contact_radius", contactRadius}};
     if (json.empty()) {
       std::cout << out.dump(2) << "\n";
     } else {
@@ -226,6 +311,20 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_option("--seed", cmd->rays.seed, "ray-traced reference: seed")->capture_default_str();
 #endif
+  c->add_option("--accumulation", cmd->accumulation,
+                "how the passes are summed: fixed8_8 (1/256 levels, rounded once per pixel) "
+                "or u8 (whole levels per pass)")
+      ->check(CLI::IsMember({"u8", "fixed8_8"}))
+      ->capture_default_str();
+  c->add_flag("--single-share", cmd->singleShare,
+              "graded transfers with one occluded share per vertex, not one per cluster");
+  c->add_option("--depth-bias", cmd->depthBias, "receivers' shadow-map depth bias")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  c->add_option("--contact-radius", cmd->contactRadius,
+                "contact band: shadow pixels this close to the product (pixels)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   addRenderFlags(c, cmd->render);
   commands.push_back({c, [cmd] { return cmd->run(); }});
 #endif

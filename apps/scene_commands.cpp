@@ -170,6 +170,12 @@ struct RenderCommand {
         "receiver_vertices %u\n",
         stats.passes, n, stats.occludedSources, stats.receiverPatches, stats.shaftsVisited,
         stats.gradedVertices, stats.receiverVertices);
+    if (stats.skippedClusters > 0) {
+      std::fprintf(stderr,
+                   "penumbra: warning: %u of %u source clusters lie inside the product's "
+                   "bounding sphere (is it larger than the room?): they cast no shadow\n",
+                   stats.skippedClusters, stats.clusters);
+    }
     std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
                 stats.msTraversal, stats.msClusters, stats.msTransfers,
                 session.renderer.lastStats().msTotal);

@@ -296,7 +296,12 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     const uint32_t patch = bundle_.sets.sources[selection_.clusters[k].representative];
     const auto frustum =
         fitLightFrustum(glm::dvec3(bundle_.patches[patch].centre), productBounds_, farDistance);
-    if (!frustum) continue;  // the light sits inside the product's bounding sphere
+    if (!frustum) {
+      // The light sits inside the product's bounding sphere (e.g. a product larger than the
+      // room): no shadow map can hold the product, so this cluster casts no shadow.
+      ++stats.skippedClusters;
+      continue;
+    }
     passCluster_.push_back(static_cast<uint32_t>(k));
     raster::ShadowPass& pass = out.passes[used];
     pass.lightViewProj = frustum->rasterViewProj;

@@ -63,6 +63,10 @@ struct CompositeStats {
   uint32_t occludedSources = 0, receiverPatches = 0, clusters = 0, passes = 0;
   uint32_t shaftsVisited = 0, receiverVertices = 0;
   uint32_t gradedVertices = 0;  // receiver and product vertices whose S used a measured share
+  // Clusters left without a pass because their light lies inside the product's bounding
+  // sphere (fitLightFrustum): their shadow is missing. Callers should warn (a product larger
+  // than the room loses every shadow this way).
+  uint32_t skippedClusters = 0;
   double msTraversal = 0, msClusters = 0, msTransfers = 0, msObject = 0;
 };
 

@@ -15,9 +15,9 @@ namespace penumbra::shadow {
 
 struct FrameLoop {
   FrameLoop(const SceneBundle& bundle, uint32_t shadowMapSize, const raster::RenderOptions& o)
-      : compositor(bundle, optionsFor(shadowMapSize)),
-        renderer(bundle.view, o),
-        rgba(bundle.background.size()) {}
+      : FrameLoop(bundle, optionsFor(shadowMapSize), o) {}
+  FrameLoop(const SceneBundle& bundle, const CompositorOptions& c, const raster::RenderOptions& o)
+      : compositor(bundle, c), renderer(bundle.view, o), rgba(bundle.background.size()) {}
 
   static CompositorOptions optionsFor(uint32_t shadowMapSize) {
     CompositorOptions c;

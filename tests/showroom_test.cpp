@@ -74,6 +74,41 @@ TEST(Showroom, ProductFarFromEverythingLeavesTheBackground) {
   EXPECT_EQ(frame, showroom().background);
 }
 
+// In view but outside every shaft (design §5): the teapot floating half a metre in front of
+// the camera, where no source-receiver shaft passes (the lights shine on the room ahead of
+// it). The traversal finds no source, so there is no pass and only the product is drawn.
+TEST(Showroom, ProductInViewOutsideEveryShaftGetsNoPass) {
+  const shadow::ProductPose pose{2, 0.75f, 0.75f, 0.0f, 1.2f};
+  shadow::CompositeStats stats;
+  const auto frame = renderPose(pose, 50, {simd::bestIsa(), 2, 32}, &stats);
+  EXPECT_EQ(stats.occludedSources, 0u);
+  EXPECT_EQ(stats.passes, 0u);
+  size_t productBytes = 0;
+  for (size_t i = 0; i < frame.size(); ++i) productBytes += frame[i] != showroom().background[i];
+  EXPECT_GT(productBytes, 1000u) << "the product must be in view";
+}
+
+// A product larger than the room holds the lights inside its bounding sphere: no light
+// frustum can enclose it, so those clusters get no pass and their shadow is missing. Not
+// silent: the stats count them (`penumbra render` warns on stderr).
+TEST(Showroom, ProductLargerThanTheRoomReportsItsMissingShadow) {
+  shadow::SceneBundle huge = showroom();
+  for (raster::Mesh* m : {&huge.products[0].mesh, &huge.products[0].proxy}) {
+    for (raster::Vec3& p : m->positions) p = {p.x * 12.0f, p.y * 12.0f, p.z * 12.0f};
+  }
+  shadow::FrameCompositor compositor(huge, {});
+  raster::FrameContent frame;
+  shadow::CompositeStats stats;
+  compositor.compose(huge.startPose, 50, 1, frame, stats);
+  EXPECT_GT(stats.clusters, 0u);
+  EXPECT_EQ(stats.skippedClusters, stats.clusters);
+  EXPECT_EQ(stats.passes, 0u);
+  shadow::FrameCompositor normal(showroom(), {});
+  normal.compose(showroom().startPose, 50, 1, frame, stats);
+  EXPECT_EQ(stats.skippedClusters, 0u);
+  EXPECT_GT(stats.passes, 0u);
+}
+
 TEST(Showroom, TheChairDarkensItsSurroundings) {
   shadow::CompositeStats stats;
   const shadow::ProductPose pose = showroom().startPose;
