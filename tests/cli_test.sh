@@ -43,16 +43,25 @@ write("bad-index.json", lambda x: x["passes"][0].__setitem__("occluder", 7))
 write("bad-size.json", lambda x: x["passes"][0].__setitem__("shadow_map_size", 100))
 write("bad-view.json", lambda x: x["static_mesh"]["indices"].__setitem__("count", 10**7))
 write("not-finite.json", lambda x: x["camera_view_proj"].__setitem__(0, "nan"))
+write("bad-accumulation.json", lambda x: x.__setitem__("accumulation", "u16"))
 PY
 expect_error "missing width" "$tmp/missing-width.json" "width"
 expect_error "occluder out of range" "$tmp/bad-index.json" "passes\[0\].occluder"
 expect_error "shadow map size" "$tmp/bad-size.json" "shadow_map_size"
 expect_error "view past the end" "$tmp/bad-view.json" "static_mesh.indices"
 expect_error "matrix not a number" "$tmp/not-finite.json" "camera_view_proj"
+expect_error "unknown accumulation" "$tmp/bad-accumulation.json" "accumulation"
 head -c 1000 "$data/traces/tiny.bin" >"$tmp/tiny.bin"
 expect_error "truncated buffer" "$tmp/tiny.json" "runs past the end"
 printf '{ not json' >"$tmp/garbage.json"
 expect_error "not JSON" "$tmp/garbage.json" "not valid JSON"
+
+# --accumulation overrides the trace's field (spec §8): a real choice, and checked.
+"${run[@]}" replay "$data/traces/tiny.json" --accumulation fixed8_8 --hash >"$tmp/fixed" 2>&1
+check "replay --accumulation fixed8_8: $(head -c 200 "$tmp/fixed")" $?
+"${run[@]}" replay "$data/traces/tiny.json" --accumulation wide >/dev/null 2>"$tmp/stderr"
+[[ $? != 0 ]] && grep -q "accumulation" "$tmp/stderr"
+check "unknown --accumulation is refused" $?
 
 "${run[@]}" replay "$data/traces/tiny.json" --isa no-such-isa >/dev/null 2>"$tmp/stderr"
 [[ $? != 0 ]] && grep -q "no-such-isa" "$tmp/stderr"
