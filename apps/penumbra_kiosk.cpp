@@ -136,8 +136,12 @@ int main(int argc, char** argv) {
   try {
     const platform::KioskConfig config = platform::loadKioskConfig(configPath);
     platform::SteadyTimebase time;
-    const platform::GuardedBundle guarded = platform::loadBundleKeepingLastGood(
+    platform::GuardedBundle guarded = platform::loadBundleKeepingLastGood(
         config.bundle, config.lastGood, log, time.nowNanoseconds());
+    // Product files replace the bundle's models before the carousel is built; refused ones
+    // keep the bundle's model (docs/kiosk.md, faults).
+    platform::ProductFileWatcher productFiles(config.productFiles);
+    const auto startupChanges = productFiles.poll(guarded.bundle, log, time.nowNanoseconds());
     const shadow::SceneBundle& b = guarded.bundle;
     auto fallback = [&](const std::string& what) {
       log.write(time.nowNanoseconds(), platform::LogLevel::kWarning, what);
@@ -188,8 +192,22 @@ int main(int argc, char** argv) {
     io.time = &time;
     io.log = &log;
     platform::KioskLoop loop(b, platform::KioskOptions{}, io, apps::toOptions(flags));
+    auto tell = [&](const std::vector<platform::ProductFileWatcher::Change>& changes) {
+      for (const auto& c : changes) {
+        const std::string& name = b.products[c.product].name;
+        loop.setFault(name, c.replaced ? std::string() : platform::productFileFault(name));
+        if (c.replaced) loop.productReplaced(c.product);
+      }
+    };
+    tell(startupChanges);
     uint32_t shown = 0;
+    int64_t nextPollNs = time.nowNanoseconds() + 1'000'000'000;
     for (;;) {
+      if (!config.productFiles.empty() && time.nowNanoseconds() >= nextPollNs) {
+        // Hot-swap: once a second, between frames.
+        tell(productFiles.poll(guarded.bundle, log, time.nowNanoseconds()));
+        nextPollNs = time.nowNanoseconds() + 1'000'000'000;
+      }
       const platform::FrameReport r = loop.step();
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;

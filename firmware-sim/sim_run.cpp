@@ -135,11 +135,8 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
     log_.write(0, platform::LogLevel::kWarning, std::string("gpio: ") + e.what());
   }
   loop_ = std::make_unique<platform::KioskLoop>(b, s.kiosk, io, options.render);
-  for (const auto& [product, why] : refused) loop_->setFault(product, productFault(product));
-}
-
-std::string SimRun::productFault(const std::string& product) {
-  return "MODEL REFUSED: " + product;
+  for (const auto& [product, why] : refused)
+    loop_->setFault(product, platform::productFileFault(product));
 }
 
 platform::FrameReport SimRun::step() {
@@ -150,7 +147,7 @@ platform::FrameReport SimRun::step() {
     pendingProductFiles_.erase(pendingProductFiles_.begin());
     const std::string why =
         platform::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, now);
-    loop_->setFault(f.product, why.empty() ? std::string() : productFault(f.product));
+    loop_->setFault(f.product, why.empty() ? std::string() : platform::productFileFault(f.product));
     if (why.empty()) {
       for (uint32_t i = 0; i < bundle_->bundle.products.size(); ++i) {
         if (bundle_->bundle.products[i].name == f.product) loop_->productReplaced(i);

@@ -54,8 +54,6 @@ class SimRun {
   const platform::KioskLoop& loop() const { return *loop_; }
 
  private:
-  static std::string productFault(const std::string& product);  // the HUD's text
-
   platform::KioskLog log_;
   platform::RecordingLed led_;
   SimTimebase time_;

@@ -63,7 +63,7 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   if (!j.is_object()) throw ConfigError(file + ": must be an object");
   refuseUnknown(j,
                 {"bundle", "last_good_bundle", "camera", "camera_id", "camera_controls",
-                 "camera_fallback", "gpio_chip", "display", "fullscreen"},
+                 "camera_fallback", "gpio_chip", "display", "fullscreen", "product_files"},
                 file + ": ");
   auto str = [&](const char* key, std::string& out) {
     if (!j.contains(key)) return;
@@ -101,6 +101,21 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
     c.fullscreen = j["fullscreen"].get<bool>();
   }
   const std::filesystem::path dir = path.parent_path();
+  if (j.contains("product_files")) {
+    const json& list = j["product_files"];
+    if (!list.is_array()) throw ConfigError(file + ": product_files: must be an array");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string where = file + ": product_files[" + std::to_string(i) + "]";
+      const json& e = list[i];
+      if (!e.is_object() || !e.contains("product") || !e.contains("file") ||
+          !e["product"].is_string() || !e["file"].is_string()) {
+        throw ConfigError(where + ": must be {\"product\": name, \"file\": path}");
+      }
+      refuseUnknown(e, {"product", "file"}, where + ".");
+      c.productFiles.push_back(
+          {e["product"].get<std::string>(), dir / e["file"].get<std::string>()});
+    }
+  }
   c.bundle = dir / bundle;
   if (!lastGood.empty()) c.lastGood = dir / lastGood;
   return c;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "platform/exposure_control.h"
+#include "platform/product_files.h"
 
 namespace penumbra::platform {
 
@@ -28,6 +29,8 @@ struct KioskConfig {
   std::string gpioChip = "/dev/gpiochip0";
   std::string display = "sdl";  // sdl | none
   bool fullscreen = true;
+  // Product models from files (platform/product_files.h), watched while the kiosk runs.
+  std::vector<ProductFile> productFiles;
 };
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path);

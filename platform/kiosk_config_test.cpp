@@ -22,7 +22,8 @@ TEST(KioskConfig, ReadsCameraControlsAndFallback) {
   const auto path = write(R"({"bundle": "room.bundle", "camera": "libcamera",
       "camera_id": "/base/soc/i2c0mux/i2c@1/imx219@10",
       "camera_controls": {"exposure_us": 12000, "analogue_gain": 2.0, "colour_gains": [1.8, 1.5]},
-      "camera_fallback": "simulated", "display": "none"})");
+      "camera_fallback": "simulated", "display": "none",
+      "product_files": [{"product": "chair", "file": "models/chair.obj"}]})");
   const KioskConfig c = loadKioskConfig(path);
   EXPECT_EQ(c.bundle, path.parent_path() / "room.bundle");
   EXPECT_EQ(c.camera, "libcamera");
@@ -33,6 +34,9 @@ TEST(KioskConfig, ReadsCameraControlsAndFallback) {
   EXPECT_EQ(c.cameraControls.blueGain, 1.5f);
   EXPECT_EQ(c.cameraFallback, "simulated");
   EXPECT_EQ(c.display, "none");
+  ASSERT_EQ(c.productFiles.size(), 1u);
+  EXPECT_EQ(c.productFiles[0].product, "chair");
+  EXPECT_EQ(c.productFiles[0].file, path.parent_path() / "models" / "chair.obj");
   const KioskConfig d = loadKioskConfig(write(R"({"bundle": "b"})"));
   EXPECT_EQ(d.camera, "auto");
   EXPECT_EQ(d.cameraFallback, "photograph");
@@ -53,6 +57,8 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
       {R"({"bundle": "b", "camera": "usb"})", "camera: 'auto', 'libcamera'"},
       {R"({"bundle": "b", "camera_fallback": "black"})", "camera_fallback: 'photograph' or"},
       {R"({"bundle": "b", "screen": "big"})", "screen: unknown key"},
+      {R"({"bundle": "b", "product_files": [{"product": "chair"}]})",
+       "product_files[0]: must be {\"product\": name, \"file\": path}"},
       {R"({"camera": "auto"})", "bundle: required"},
       {R"({"bundle": )", "not valid JSON"},
   };

@@ -69,4 +69,33 @@ std::string swapProductFile(shadow::SceneBundle& bundle, const ProductFile& swap
                          "'");
 }
 
+std::string productFileFault(const std::string& product) {
+  return "MODEL REFUSED: " + product;
+}
+
+ProductFileWatcher::ProductFileWatcher(std::vector<ProductFile> files) {
+  for (ProductFile& f : files) files_.push_back({std::move(f)});
+}
+
+std::vector<ProductFileWatcher::Change> ProductFileWatcher::poll(shadow::SceneBundle& bundle,
+                                                                 KioskLog& log, int64_t nowNs) {
+  std::vector<Change> changes;
+  for (Watched& w : files_) {
+    std::error_code ec;
+    const std::filesystem::file_time_type t = std::filesystem::last_write_time(w.file.file, ec);
+    if (w.polled && !ec && t == w.seen) continue;
+    if (w.polled && ec && w.seen == std::filesystem::file_time_type{}) continue;  // still absent
+    w.polled = true;
+    w.seen = ec ? std::filesystem::file_time_type{} : t;
+    Change c;
+    c.refusal = swapProductFile(bundle, w.file, log, nowNs);
+    c.replaced = c.refusal.empty();
+    for (uint32_t i = 0; i < bundle.products.size(); ++i) {
+      if (bundle.products[i].name == w.file.product) c.product = i;
+    }
+    changes.push_back(std::move(c));
+  }
+  return changes;
+}
+
 }  // namespace penumbra::platform

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "platform/status.h"
 #include "shadow/scene_bundle.h"
@@ -45,5 +46,34 @@ struct ProductFile {
 // the bundle has no product of that name (a configuration error, not a bad file).
 std::string swapProductFile(shadow::SceneBundle& bundle, const ProductFile& swap, KioskLog& log,
                             int64_t nowNs);
+
+// The HUD's text while a product's file is refused ("MODEL REFUSED: chair").
+std::string productFileFault(const std::string& product);
+
+// On the board: the configured product files, polled (by modification time, so a file
+// copied over an old one is noticed) and applied to the bundle when they change.
+class ProductFileWatcher {
+ public:
+  explicit ProductFileWatcher(std::vector<ProductFile> files);
+
+  struct Change {
+    uint32_t product = 0;  // index in the bundle
+    bool replaced = false;
+    std::string refusal;  // empty when replaced
+  };
+  // Applies every file that is new or changed since the last poll (all of them at the
+  // first) with swapProductFile(); a file that cannot be stat'ed counts as refused. Returns
+  // what changed, for KioskLoop::setFault / productReplaced. Throws ProductFileError for a
+  // product name the bundle does not have.
+  std::vector<Change> poll(shadow::SceneBundle& bundle, KioskLog& log, int64_t nowNs);
+
+ private:
+  struct Watched {
+    ProductFile file;
+    std::filesystem::file_time_type seen{};
+    bool polled = false;
+  };
+  std::vector<Watched> files_;
+};
 
 }  // namespace penumbra::platform

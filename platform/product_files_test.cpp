@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 
 #include "tests/scratch_dir.h"
@@ -85,6 +86,38 @@ TEST(ProductFiles, SwapKeepsTheLastGoodModelAndLogsWhy) {
   EXPECT_NE(b.products[0].mesh, current().mesh);
   EXPECT_TRUE(log.contains("product bunny: model "));
   EXPECT_THROW(swapProductFile(b, {"sofa", bad}, log, 9), ProductFileError);
+}
+
+TEST(ProductFiles, WatcherAppliesNewAndChangedFilesOnly) {
+  const fs::path dir = test::scratchPath("product-watch");
+  fs::create_directories(dir);
+  const fs::path file = dir / "bunny.obj";
+  fs::copy_file(kData / "models" / "chair.obj", file);
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  ProductFileWatcher watcher({{"bunny", file}});
+  auto changes = watcher.poll(b, log, 1);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_TRUE(changes[0].replaced);
+  const raster::Mesh chair = b.products[0].mesh;
+  EXPECT_TRUE(watcher.poll(b, log, 2).empty()) << "an unchanged file is not read again";
+  // A corrupt copy lands over it: refused, the chair stays.
+  fs::copy_file(kData / "sessions" / "faulty-models" / "nan-vertex.obj", file,
+                fs::copy_options::overwrite_existing);
+  fs::last_write_time(file, fs::last_write_time(file) + std::chrono::seconds(1));
+  changes = watcher.poll(b, log, 3);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_FALSE(changes[0].replaced);
+  EXPECT_NE(changes[0].refusal.find("non-finite"), std::string::npos) << changes[0].refusal;
+  EXPECT_EQ(b.products[0].mesh, chair);
+  // Deleted: said once, then quiet until it is back.
+  fs::remove(file);
+  EXPECT_EQ(watcher.poll(b, log, 4).size(), 1u);
+  EXPECT_TRUE(watcher.poll(b, log, 5).empty());
+  EXPECT_EQ(b.products[0].mesh, chair);
+  EXPECT_EQ(productFileFault("bunny"), "MODEL REFUSED: bunny");
+  fs::remove_all(dir);
 }
 
 }  // namespace

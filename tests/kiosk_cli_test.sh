@@ -34,6 +34,15 @@ JSON
 grep -q "camera: using the simulated camera" "$tmp/err5" || fail "simulated fallback not said"
 grep -q "camera: simulated camera" "$tmp/err5" || fail "simulated camera not described"
 if grep -q "CALIBRATION PHOTOGRAPH" "$tmp/err5"; then fail "photograph shown although the simulated camera runs"; fi
+# A corrupt product file at start-up: refused with the reason, the bundle's model kept.
+cat >"$tmp/models.json" <<JSON
+{"bundle": "$data/showroom/showroom.bundle", "camera": "none", "display": "none",
+ "gpio_chip": "/dev/gpiochip-penumbra-absent",
+ "product_files": [{"product": "chair", "file": "$data/sessions/faulty-models/truncated.obj"}]}
+JSON
+"$kiosk" "$tmp/models.json" --frames 3 --threads 2 >"$tmp/out6" 2>"$tmp/err6" || fail "kiosk with a bad product file failed: $(cat "$tmp/err6")"
+grep -q "product chair: refused .*truncated.obj: line 174: face needs at least 3 vertices" "$tmp/err6" || fail "bad product file not refused with its reason: $(cat "$tmp/err6")"
+grep -q "MODEL REFUSED: chair" "$tmp/err6" || fail "refused product file not on the LED/HUD"
 echo '{"bundle": "x.bundle", "screen": "big"}' >"$tmp/bad.json"
 if "$kiosk" "$tmp/bad.json" --frames 1 2>"$tmp/err2"; then fail "bad config accepted"; fi
 grep -q "bad.json: screen: unknown key" "$tmp/err2" || fail "unclear error: $(cat "$tmp/err2")"
