@@ -1,24 +1,26 @@
-// `penumbra-kiosk CONFIG.json`: the board program (issue 6, docs/kiosk.md). The kiosk loop
-// of platform/ with the real peripherals, each falling back when absent: camera libcamera
-// (probe only; capture not written yet) → V4L2 webcam (OpenCV) → the calibration photograph;
+// `penumbra-kiosk CONFIG.json [--bracket DIR]`: the board program (issue 6, docs/kiosk.md).
+// The kiosk loop of platform/ with the real peripherals, each falling back when absent:
+// camera libcamera → V4L2 webcam (OpenCV) → the simulated camera if configured → the
+// calibration photograph;
 // buttons and LED on libgpiod → none (attract mode only); screen SDL2 → none (frames are
 // rendered and counted, for a headless check). Every fallback is logged to stderr (journald).
 #include <CLI/CLI.hpp>
-#include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
-#include <set>
 
 #include "apps/render_flags.h"
+#include "firmware-sim/virtual_camera.h"
 #include "platform/bundle_guard.h"
+#include "platform/exposure_control.h"
 #include "platform/hardware.h"
+#include "platform/kiosk_config.h"
 #include "platform/kiosk_loop.h"
 #ifdef PENUMBRA_HAVE_GPIOD
 #include "platform/gpiod_io.h"
 #endif
 #ifdef PENUMBRA_HAVE_LIBCAMERA
-#include "platform/libcamera_probe.h"
+#include "platform/libcamera_camera.h"
 #endif
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
 #include "platform/opencv_camera.h"
@@ -28,63 +30,88 @@
 #endif
 
 using namespace penumbra;
-using nlohmann::json;
 
 namespace {
 
-struct ConfigError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-struct Config {
-  std::filesystem::path bundle, lastGood;
-  std::string camera = "auto";  // auto | libcamera | /dev/videoN | none
-  std::string gpioChip = "/dev/gpiochip0";
-  std::string display = "sdl";  // sdl | none
-  bool fullscreen = true;
-};
-
-Config loadConfig(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path.string() + ": cannot open");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
-    throw ConfigError(path.string() + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!j.is_object()) throw ConfigError(path.string() + ": must be an object");
-  const std::set<std::string> known{"bundle",  "last_good_bundle", "camera",  "gpio_chip",
-                                    "display", "fullscreen",       "_comment"};
-  for (const auto& [k, v] : j.items()) {
-    if (!known.count(k)) throw ConfigError(path.string() + ": " + k + ": unknown key");
-  }
-  auto str = [&](const char* key, std::string& out) {
-    if (!j.contains(key)) return;
-    if (!j[key].is_string()) throw ConfigError(path.string() + ": " + key + ": must be a string");
-    out = j[key].get<std::string>();
-  };
-  Config c;
-  std::string bundle, lastGood;
-  str("bundle", bundle);
-  if (bundle.empty()) throw ConfigError(path.string() + ": bundle: required");
-  str("last_good_bundle", lastGood);
-  str("camera", c.camera);
-  str("gpio_chip", c.gpioChip);
-  str("display", c.display);
-  if (c.display != "sdl" && c.display != "none") {
-    throw ConfigError(path.string() + ": display: 'sdl' or 'none', not '" + c.display + "'");
-  }
-  if (j.contains("fullscreen")) {
-    if (!j["fullscreen"].is_boolean()) {
-      throw ConfigError(path.string() + ": fullscreen: must be true or false");
+// The camera, in the fallback order of docs/kiosk.md: libcamera → V4L2 webcam (OpenCV) →
+// the simulated camera if configured → none (the bundle's photograph, said on the HUD).
+// Each step that fails is logged with its reason.
+std::unique_ptr<platform::FrameSource> openCamera(const platform::KioskConfig& config,
+                                                  const shadow::SceneBundle& b,
+                                                  const std::function<void(std::string)>& warn) {
+  if (config.camera == "none") return nullptr;
+  if (config.camera == "auto" || config.camera == "libcamera") {
+#ifdef PENUMBRA_HAVE_LIBCAMERA
+    try {
+      platform::LibcameraOptions o;
+      o.cameraId = config.cameraId;
+      o.width = b.view.width;
+      o.height = b.view.height;
+      o.controls = config.cameraControls;
+      return std::make_unique<platform::LibcameraCamera>(o);
+    } catch (const platform::HardwareUnavailable& e) {
+      warn(std::string(e.what()) + "; trying V4L2");
     }
-    c.fullscreen = j["fullscreen"].get<bool>();
+#else
+    warn("camera: built without libcamera; trying V4L2");
+#endif
   }
-  const std::filesystem::path dir = path.parent_path();
-  c.bundle = dir / bundle;
-  if (!lastGood.empty()) c.lastGood = dir / lastGood;
-  return c;
+  if (config.camera != "libcamera") {
+    const std::string dev = config.camera.rfind("/dev/", 0) == 0 ? config.camera : "/dev/video0";
+#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+    try {
+      return std::make_unique<platform::OpenCvCamera>(dev, b.view.width, b.view.height);
+    } catch (const platform::HardwareUnavailable& e) {
+      warn(e.what());
+    }
+#else
+    warn("camera: built without OpenCV (V4L2), " + dev + " not tried");
+#endif
+  }
+  if (config.cameraFallback == "simulated") {
+    warn("camera: using the simulated camera (camera_fallback: simulated)");
+    return std::make_unique<firmware_sim::VirtualCamera>(b.background, b.view.width, b.view.height,
+                                                         firmware_sim::CameraScript{});
+  }
+  warn("camera: none; showing the calibration photograph");
+  return nullptr;
+}
+
+// `--bracket DIR`: the exposure ladder around the configured exposure, written for
+// `penumbra capture` (docs/capture.md). Needs a camera whose exposure can be fixed.
+int bracket(const platform::KioskConfig& config, const shadow::SceneBundle& b,
+            const std::filesystem::path& dir, uint32_t stops, platform::KioskLog& log) {
+#ifdef PENUMBRA_HAVE_LIBCAMERA
+  platform::LibcameraOptions o;
+  o.cameraId = config.cameraId;
+  o.width = b.view.width;
+  o.height = b.view.height;
+  o.controls = config.cameraControls;
+  std::unique_ptr<platform::LibcameraCamera> camera;
+  try {
+    camera = std::make_unique<platform::LibcameraCamera>(o);
+  } catch (const platform::HardwareUnavailable& e) {
+    throw std::runtime_error(std::string("--bracket needs a libcamera camera with exposure "
+                                         "control: ") +
+                             e.what());
+  }
+  platform::SteadyTimebase time;
+  platform::BracketOptions bo;
+  bo.exposuresUs = platform::exposureLadder(config.cameraControls.exposureUs, stops);
+  bo.base = config.cameraControls;
+  bo.width = b.view.width;
+  bo.height = b.view.height;
+  const auto shots = platform::captureBracket(*camera, time, bo, log);
+  platform::writeBracket(shots, b.view.width, b.view.height, dir);
+  std::cout << "penumbra-kiosk: " << shots.size() << " exposures in " << dir.string()
+            << " (exposures.json)\n";
+  return 0;
+#else
+  (void)config, (void)b, (void)dir, (void)stops, (void)log;
+  throw std::runtime_error(
+      "--bracket needs a libcamera camera with exposure control; this "
+      "build has no libcamera (PENUMBRA_WITH_LIBCAMERA)");
+#endif
 }
 
 }  // namespace
@@ -96,46 +123,34 @@ int main(int argc, char** argv) {
   apps::RenderFlags flags;
   app.add_option("CONFIG", configPath, "kiosk configuration (.json)")->required();
   app.add_option("--frames", frames, "stop after N frames (default: run until closed)");
+  std::string bracketDir;
+  uint32_t stops = 7;
+  app.add_option("--bracket", bracketDir,
+                 "film an exposure bracket into DIR for `penumbra capture` and exit");
+  app.add_option("--bracket-stops", stops, "exposures, one stop apart, around camera_controls")
+      ->check(CLI::Range(2, 15));
   apps::addRenderFlags(&app, flags);
   CLI11_PARSE(app, argc, argv);
 
   platform::KioskLog log(stderr);
   try {
-    const Config config = loadConfig(configPath);
+    const platform::KioskConfig config = platform::loadKioskConfig(configPath);
     platform::SteadyTimebase time;
-    const platform::GuardedBundle guarded = platform::loadBundleKeepingLastGood(
+    platform::GuardedBundle guarded = platform::loadBundleKeepingLastGood(
         config.bundle, config.lastGood, log, time.nowNanoseconds());
+    // Product files replace the bundle's models before the carousel is built; refused ones
+    // keep the bundle's model (docs/kiosk.md, faults).
+    platform::ProductFileWatcher productFiles(config.productFiles);
+    const auto startupChanges = productFiles.poll(guarded.bundle, log, time.nowNanoseconds());
     const shadow::SceneBundle& b = guarded.bundle;
     auto fallback = [&](const std::string& what) {
       log.write(time.nowNanoseconds(), platform::LogLevel::kWarning, what);
     };
 
-    std::unique_ptr<platform::FrameSource> camera;
-    if (config.camera == "auto" || config.camera == "libcamera") {
-#ifdef PENUMBRA_HAVE_LIBCAMERA
-      try {
-        const std::string id = platform::requireLibcameraCamera();
-        fallback("camera: libcamera lists " + id +
-                 " but libcamera capture is not implemented yet; trying V4L2");
-      } catch (const platform::HardwareUnavailable& e) {
-        fallback(e.what());
-      }
-#else
-      fallback("camera: built without libcamera");
-#endif
-    }
-    if (config.camera != "none") {
-      const std::string dev = config.camera.rfind("/dev/", 0) == 0 ? config.camera : "/dev/video0";
-#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
-      try {
-        camera = std::make_unique<platform::OpenCvCamera>(dev, b.view.width, b.view.height);
-      } catch (const platform::HardwareUnavailable& e) {
-        fallback(std::string(e.what()) + "; showing the calibration photograph");
-      }
-#else
-      fallback("camera: built without OpenCV (V4L2); showing the calibration photograph");
-#endif
-    }
+    if (!bracketDir.empty()) return bracket(config, b, bracketDir, stops, log);
+    const std::unique_ptr<platform::FrameSource> camera = openCamera(config, b, fallback);
+    if (camera)
+      log.write(time.nowNanoseconds(), platform::LogLevel::kInfo, "camera: " + camera->describe());
 
     platform::RecordingLed noLed;
     platform::StatusLed* led = &noLed;
@@ -177,8 +192,22 @@ int main(int argc, char** argv) {
     io.time = &time;
     io.log = &log;
     platform::KioskLoop loop(b, platform::KioskOptions{}, io, apps::toOptions(flags));
+    auto tell = [&](const std::vector<platform::ProductFileWatcher::Change>& changes) {
+      for (const auto& c : changes) {
+        const std::string& name = b.products[c.product].name;
+        loop.setFault(name, c.replaced ? std::string() : platform::productFileFault(name));
+        if (c.replaced) loop.productReplaced(c.product);
+      }
+    };
+    tell(startupChanges);
     uint32_t shown = 0;
+    int64_t nextPollNs = time.nowNanoseconds() + 1'000'000'000;
     for (;;) {
+      if (!config.productFiles.empty() && time.nowNanoseconds() >= nextPollNs) {
+        // Hot-swap: once a second, between frames.
+        tell(productFiles.poll(guarded.bundle, log, time.nowNanoseconds()));
+        nextPollNs = time.nowNanoseconds() + 1'000'000'000;
+      }
       const platform::FrameReport r = loop.step();
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;

@@ -15,7 +15,12 @@
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
 #include "platform/bundle_guard.h"
+#include "scene/sha256.h"
 #include "tests/scratch_dir.h"
+#ifdef PENUMBRA_HAVE_FOOTAGE
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#endif
 
 namespace penumbra::firmware_sim {
 namespace {
@@ -71,7 +76,7 @@ Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs) {
       EXPECT_TRUE(run.log().contains("camera:", r.startNs)) << "frame " << r.frame;
     }
     EXPECT_EQ(r.led == LedState::kReady, r.warnings.empty()) << "frame " << r.frame;
-    p.hashes.push_back(std::string(reinterpret_cast<const char*>(rgba.data()), 64));
+    p.hashes.push_back(scene::sha256Hex(rgba));
     p.frames.push_back(std::move(r));
   }
   return p;
@@ -246,6 +251,97 @@ TEST(KioskFaults, CorruptProductIsLeftOut) {
   EXPECT_TRUE(run.log().contains("refused product teapot: mesh a vertex is not a finite number"));
   play(run, s.frames, kStale);
 }
+
+// A shop drops product model files on the board (platform/product_files.h): a truncated one
+// at start-up and a NaN-vertex one hot-swapped later are refused, the last good model stays
+// (frames identical to a kiosk that never saw them), the LED and HUD say so until a good
+// file replaces the model, which then shows.
+TEST(KioskFaults, CorruptProductFileKeepsTheLastGoodModel) {
+  const fs::path faulty = fs::path(PENUMBRA_DATA_DIR) / "sessions" / "faulty-models";
+  const fs::path cube = test::scratchPath("product-file") / "cube.obj";
+  fs::create_directories(cube.parent_path());
+  std::ofstream(cube) << "v -0.3 0 -0.3\nv 0.3 0 -0.3\nv 0.3 0 0.3\nv -0.3 0 0.3\n"
+                         "v -0.3 0.9 -0.3\nv 0.3 0.9 -0.3\nv 0.3 0.9 0.3\nv -0.3 0.9 0.3\n"
+                         "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+  // Product 0 (chair) is on screen from the start.
+  const std::string files = R"("product_files": [
+      {"product": "chair", "file": ")" +
+                            (faulty / "truncated.obj").string() + R"("},
+      {"product": "chair", "file": ")" +
+                            (faulty / "nan-vertex.obj").string() + R"(", "at_ms": 300},
+      {"product": "chair", "file": ")" +
+                            cube.string() + R"(", "at_ms": 600}])";
+  const std::string noHud = R"("kiosk": {"hud": false})";
+  const Session with = session("product-files", noHud + ", " + files, 30);
+  const Session without = session("no-product-files", noHud, 30);
+  SimRun a(with, {}), b(without, {});
+  const Played pa = play(a, with.frames, kStale), pb = play(b, without.frames, kStale);
+  EXPECT_TRUE(a.log().contains("product chair: refused " + (faulty / "truncated.obj").string()));
+  EXPECT_TRUE(a.log().contains("product chair: refused " + (faulty / "nan-vertex.obj").string() +
+                               ": line 4: non-finite coordinate 'nan'"));
+  EXPECT_TRUE(a.log().contains("product chair: model " + cube.string() + " (12 triangles)"));
+  bool replacedShows = false;
+  for (size_t i = 0; i < pa.frames.size(); ++i) {
+    const FrameReport& r = pa.frames[i];
+    const bool before = r.startNs < 600'000'000;
+    EXPECT_EQ(contains(r.warnings, "MODEL REFUSED: chair"), before) << "frame " << r.frame;
+    if (before) {
+      EXPECT_NE(r.led, LedState::kReady) << "frame " << r.frame;
+      EXPECT_EQ(pa.hashes[i], pb.hashes[i]) << "frame " << r.frame << ": a refused file showed";
+    } else {
+      replacedShows = replacedShows || pa.hashes[i] != pb.hashes[i];
+    }
+  }
+  EXPECT_TRUE(replacedShows) << "the accepted model never reached the screen";
+  fs::remove_all(cube.parent_path());
+}
+
+#ifdef PENUMBRA_HAVE_FOOTAGE
+// camera.source: the simulated camera films footage (three PNGs of the room, each tinted
+// differently) frame after frame, looping, and a missing source names the session and file.
+TEST(KioskFootage, SimulatedCameraFilmsTheFootage) {
+  const shadow::SceneBundle bundle = shadow::loadBundle(kBundle);
+  const int w = static_cast<int>(bundle.view.width), h = static_cast<int>(bundle.view.height);
+  const fs::path shots = test::scratchPath("footage-session");
+  fs::create_directories(shots);
+  std::vector<cv::Mat> written;
+  for (int k = 0; k < 3; ++k) {
+    cv::Mat rgba(h, w, CV_8UC4, const_cast<uint8_t*>(bundle.background.data())), bgr;
+    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+    bgr += cv::Scalar(0, 0, 40 * k);  // redder each frame (saturating)
+    cv::imwrite((shots / ("room-" + std::to_string(k) + ".png")).string(), bgr);
+    written.push_back(bgr);
+  }
+  const Session s =
+      session("footage", R"("camera": {"source": ")" + (shots / "room-*.png").string() + "\"}", 12);
+  SimRun run(s, {});
+  play(run, s.frames, kStale);
+  platform::CameraFrame f;
+  for (uint64_t k = 0; k < 6; ++k) {
+    run.camera()->render(k, f);
+    const cv::Mat& expected = written[k % 3];
+    for (int y = 0; y < h; y += 37) {
+      for (int x = 0; x < w; x += 41) {
+        const uint8_t* got = &f.data[size_t(y) * f.stride + size_t(x) * 4];  // B, G, R, X
+        const cv::Vec3b want = expected.at<cv::Vec3b>(y, x);
+        ASSERT_EQ(got[0], want[0]) << "camera frame " << k << " at " << x << "," << y;
+        ASSERT_EQ(got[1], want[1]);
+        ASSERT_EQ(got[2], want[2]);
+      }
+    }
+  }
+  fs::remove_all(shots);
+  const Session bad = session("bad-footage", R"("camera": {"source": "absent.mp4"})", 1);
+  try {
+    SimRun r(bad, {});
+    FAIL();
+  } catch (const SessionError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("bad-footage.json: camera.source: "), std::string::npos) << m;
+    EXPECT_NE(m.find("absent.mp4: no such file"), std::string::npos) << m;
+  }
+}
+#endif
 
 TEST(KioskSession, StrictLoading) {
   EXPECT_THROW(session("unknown", R"("kiosk": {"fps": 30, "fsp": 1})", 10), SessionError);

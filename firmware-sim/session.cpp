@@ -188,6 +188,8 @@ Session loadSession(const std::filesystem::path& path) {
   {
     Fields c = root.object("camera");
     s.cameraPresent = c.boolean("present", true);
+    const std::string source = c.string("source", "");
+    if (!source.empty()) s.cameraSource = dir / source;
     CameraScript& cs = s.camera;
     cs.periodNs = 1'000'000'000 / c.integer("fps", 1, 240, 30);
     cs.transportNs = c.integer("transport_us", 0, 1'000'000, 8'000) * 1000;
@@ -261,6 +263,18 @@ Session loadSession(const std::filesystem::path& path) {
     s.corruptProduct = u.string("corrupt_product", "");
     u.done();
   }
+  root.each("product_files", [&](Fields& e) {
+    ScriptedProductFile f;
+    f.atNs = e.integer("at_ms", 0, kHour, 0) * kMs;
+    if (!s.productFiles.empty() && f.atNs < s.productFiles.back().atNs) {
+      e.fail("at_ms", "product files must be in time order");
+    }
+    f.product = e.string("product", "", true);
+    const std::string model = e.string("file", "", true);
+    if (model.empty()) e.fail("file", "must name a model file");
+    f.file = dir / model;
+    s.productFiles.push_back(std::move(f));
+  });
   root.done();
   return s;
 }

@@ -30,6 +30,14 @@ struct Overrun {
   int64_t extraNs = 0;
 };
 
+// A product model file the shop drops on the board (platform/product_files.h): at start-up
+// (atNs = 0, before the first frame) or hot-swapped while the kiosk runs.
+struct ScriptedProductFile {
+  int64_t atNs = 0;
+  std::string product;
+  std::filesystem::path file;  // resolved against the session file's folder
+};
+
 struct Session {
   std::filesystem::path file;
   std::filesystem::path bundle;    // resolved against the session file's folder
@@ -42,10 +50,14 @@ struct Session {
   std::vector<Overrun> overruns;
   bool cameraPresent = true;
   CameraScript camera;
+  // camera.source: footage the simulated camera films instead of the bundle's photograph (an
+  // image folder, a glob such as "shots/*.png", or a video file; firmware-sim/footage.h).
+  std::filesystem::path cameraSource;
   bool gpioPresent = true;
   std::vector<ScriptedPress> presses;
   bool corruptBundle = false;  // start-up: the configured bundle is a corrupted copy
   std::string corruptProduct;  // start-up: this product's mesh holds a NaN vertex
+  std::vector<ScriptedProductFile> productFiles;  // in time order
 };
 
 Session loadSession(const std::filesystem::path& path);

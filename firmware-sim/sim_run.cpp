@@ -1,6 +1,13 @@
 #include "firmware-sim/sim_run.h"
 
+#include "platform/product_files.h"
+#ifdef PENUMBRA_HAVE_FOOTAGE
+#include "firmware-sim/footage.h"
+#endif
+
 #include <unistd.h>
+
+#include <algorithm>
 #include <fstream>
 #include <limits>
 
@@ -74,12 +81,47 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
                          s.corruptProduct + "' in " + s.bundle.string());
     }
   }
+  // Product files at start-up replace the bundle's models before the carousel is built;
+  // a refused one keeps the bundle's model (the last good one) and is said on the HUD.
+  std::vector<std::pair<std::string, std::string>> refused;
+  for (const ScriptedProductFile& f : s.productFiles) {
+    const auto& products = bundle_->bundle.products;
+    if (std::none_of(products.begin(), products.end(),
+                     [&](const shadow::ProductModel& p) { return p.name == f.product; })) {
+      throw SessionError(s.file.string() + ": product_files: no product named '" + f.product +
+                         "' in " + s.bundle.string());
+    }
+  }
+  for (const ScriptedProductFile& f : s.productFiles) {
+    if (f.atNs > 0) {
+      pendingProductFiles_.push_back(f);
+      continue;
+    }
+    const std::string why =
+        platform::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, 0);
+    if (!why.empty()) refused.emplace_back(f.product, why);
+  }
   const shadow::SceneBundle& b = bundle_->bundle;
   platform::Peripherals io;
   io.led = &led_;
   io.time = &time_;
   io.log = &log_;
-  if (s.cameraPresent) {
+  if (s.cameraPresent && !s.cameraSource.empty()) {
+#ifdef PENUMBRA_HAVE_FOOTAGE
+    try {
+      camera_ =
+          std::make_unique<VirtualCamera>(loadFootage(s.cameraSource, b.view.width, b.view.height),
+                                          b.view.width, b.view.height, s.camera);
+    } catch (const FootageError& e) {
+      throw SessionError(s.file.string() + ": camera.source: " + e.what());
+    }
+#else
+    throw SessionError(s.file.string() +
+                       ": camera.source: footage needs a build with OpenCV "
+                       "(PENUMBRA_WITH_OPENCV)");
+#endif
+    io.camera = camera_.get();
+  } else if (s.cameraPresent) {
     camera_ = std::make_unique<VirtualCamera>(b.background, b.view.width, b.view.height, s.camera);
     io.camera = camera_.get();
   } else {
@@ -93,6 +135,26 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
     log_.write(0, platform::LogLevel::kWarning, std::string("gpio: ") + e.what());
   }
   loop_ = std::make_unique<platform::KioskLoop>(b, s.kiosk, io, options.render);
+  for (const auto& [product, why] : refused)
+    loop_->setFault(product, platform::productFileFault(product));
+}
+
+platform::FrameReport SimRun::step() {
+  // Hot-swaps: the file lands between two frames; a refused one changes nothing on screen.
+  const int64_t now = time_.nowNanoseconds();
+  while (!pendingProductFiles_.empty() && pendingProductFiles_.front().atNs <= now) {
+    const ScriptedProductFile f = pendingProductFiles_.front();
+    pendingProductFiles_.erase(pendingProductFiles_.begin());
+    const std::string why =
+        platform::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, now);
+    loop_->setFault(f.product, why.empty() ? std::string() : platform::productFileFault(f.product));
+    if (why.empty()) {
+      for (uint32_t i = 0; i < bundle_->bundle.products.size(); ++i) {
+        if (bundle_->bundle.products[i].name == f.product) loop_->productReplaced(i);
+      }
+    }
+  }
+  return loop_->step();
 }
 
 SimRun::~SimRun() = default;

@@ -42,7 +42,8 @@ class SimRun {
   SimRun(const Session& session, const SimOptions& options);
   ~SimRun();
 
-  platform::FrameReport step() { return loop_->step(); }
+  // Applies the product files due by now (hot-swaps), then runs one frame.
+  platform::FrameReport step();
   const std::vector<uint8_t>& frame() const { return loop_->shownFrame(); }
   uint32_t width() const { return loop_->width(); }
   uint32_t height() const { return loop_->height(); }
@@ -60,6 +61,7 @@ class SimRun {
   std::unique_ptr<VirtualCamera> camera_;
   std::unique_ptr<VirtualGpio> gpio_;
   std::unique_ptr<platform::KioskLoop> loop_;
+  std::vector<ScriptedProductFile> pendingProductFiles_;  // hot-swaps still to come
 };
 
 }  // namespace penumbra::firmware_sim

@@ -1,5 +1,6 @@
 #include "firmware-sim/virtual_camera.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace penumbra::firmware_sim {
@@ -28,9 +29,17 @@ const char* cameraFaultName(CameraFaultKind kind) {
 
 VirtualCamera::VirtualCamera(std::vector<uint8_t> still, uint32_t width, uint32_t height,
                              CameraScript script)
-    : still_(std::move(still)), width_(width), height_(height), script_(std::move(script)) {
-  if (still_.size() != static_cast<size_t>(width_) * height_ * 4 || width_ < 2 || height_ < 2) {
-    throw std::invalid_argument("VirtualCamera: the still image must be RGBA8 width x height");
+    : VirtualCamera(std::vector<std::vector<uint8_t>>{std::move(still)}, width, height,
+                    std::move(script)) {}
+
+VirtualCamera::VirtualCamera(std::vector<std::vector<uint8_t>> frames, uint32_t width,
+                             uint32_t height, CameraScript script)
+    : frames_(std::move(frames)), width_(width), height_(height), script_(std::move(script)) {
+  if (frames_.empty() || width_ < 2 || height_ < 2 ||
+      std::any_of(frames_.begin(), frames_.end(), [&](const std::vector<uint8_t>& f) {
+        return f.size() != static_cast<size_t>(width_) * height_ * 4;
+      })) {
+    throw std::invalid_argument("VirtualCamera: every frame must be RGBA8 width x height");
   }
   if (script_.periodNs <= 0 || script_.transportNs < 0) {
     throw std::invalid_argument("VirtualCamera: period > 0 and transport >= 0 required");
@@ -98,8 +107,9 @@ void VirtualCamera::render(uint64_t k, CameraFrame& out) const {
     hx0 = px0 + w / 4;
     hx1 = px1 - w / 4;
   }
+  const std::vector<uint8_t>& filmed = frames_[k % frames_.size()];
   for (uint32_t y = 0; y < height_; ++y) {
-    const uint8_t* src = still_.data() + static_cast<size_t>(y) * width_ * 4;
+    const uint8_t* src = filmed.data() + static_cast<size_t>(y) * width_ * 4;
     uint8_t* dst = out.data.data() + static_cast<size_t>(y) * out.stride;
     for (uint32_t x = 0; x < width_; ++x, src += 4, dst += 4) {
       const int64_t xi = x, yi = y;
@@ -165,6 +175,7 @@ std::string VirtualCamera::describe() const {
   return "simulated camera " + std::to_string(width_) + "x" + std::to_string(height_) +
          " XRGB8888 at " + std::to_string(1'000'000'000'000 / script_.periodNs / 1000) + "." +
          std::to_string(1'000'000'000'000 / script_.periodNs % 1000 / 100) + " fps, " +
+         (frames_.size() > 1 ? std::to_string(frames_.size()) + " frames of footage, " : "") +
          std::to_string(script_.faults.size()) + " scripted faults";
 }
 

@@ -1,7 +1,7 @@
 // The simulated twin of the kiosk camera (issue 6 §5): frames made from a still image (the
-// bundle's photograph of the empty room) on the virtual clock, with scripted synthetic
-// changes — exposure drift, a person walking through — and every camera fault the kiosk must
-// survive: dropped, late and duplicated frames, frames of the wrong size or format, and the
+// bundle's photograph of the empty room) or from footage on the virtual clock, with scripted
+// synthetic changes — exposure drift, a person walking through — and every camera fault the kiosk
+// must survive: dropped, late and duplicated frames, frames of the wrong size or format, and the
 // camera disappearing and coming back. Integers only: the same frames on every machine.
 #pragma once
 
@@ -41,6 +41,10 @@ class VirtualCamera final : public platform::FrameSource {
  public:
   // `still`: RGBA8 width × height, the scene the camera sees.
   VirtualCamera(std::vector<uint8_t> still, uint32_t width, uint32_t height, CameraScript script);
+  // Footage (firmware-sim/footage.h): camera frame k films frames[k mod count], each RGBA8
+  // width × height.
+  VirtualCamera(std::vector<std::vector<uint8_t>> frames, uint32_t width, uint32_t height,
+                CameraScript script);
 
   platform::GrabStatus grab(int64_t nowNs, platform::CameraFrame& out) override;
   bool reopen(int64_t nowNs) override;
@@ -55,7 +59,7 @@ class VirtualCamera final : public platform::FrameSource {
   bool faulted(CameraFaultKind kind, uint64_t k, const CameraFault** which = nullptr) const;
   bool disconnectedAt(int64_t nowNs) const;
 
-  std::vector<uint8_t> still_;
+  std::vector<std::vector<uint8_t>> frames_;
   uint32_t width_, height_;
   CameraScript script_;
   bool open_ = true;

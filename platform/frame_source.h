@@ -17,6 +17,7 @@ enum class PixelFormat : uint32_t {
   kXrgb8888,  // libcamera/DRM XRGB8888 on a little-endian CPU: B, G, R, X
   kBgr8,      // OpenCV's default Mat layout: B, G, R
   kYuyv,      // packed 4:2:2 (not converted: the kiosk configures XRGB8888)
+  kYuv420,    // libcamera YUV420 (YU12): Y plane (stride), then U and V (stride / 2), JPEG range
 };
 
 const char* pixelFormatName(PixelFormat format);
@@ -27,6 +28,7 @@ struct CameraFrame {
   PixelFormat format = PixelFormat::kRgba8;
   uint64_t sequence = 0;      // increases by one per captured frame (gaps = drops)
   int64_t captureNs = 0;      // sensor timestamp on the kiosk's clock
+  int32_t exposureUs = 0;     // exposure the sensor applied (libcamera metadata); 0: unknown
   std::vector<uint8_t> data;  // stride * height bytes
 };
 
@@ -50,6 +52,8 @@ class FrameSource {
 // Converts `frame` into RGBA8 (alpha 255) of exactly width × height. Returns false and sets
 // `why` (e.g. "640x480 XRGB8888 expected, got 320x240 XRGB8888") for a frame of another size,
 // an unsupported format, or a buffer shorter than stride × height; `rgba` is then untouched.
+// YUV420 is converted with the full-range BT.601 matrix of JPEG/sYCC (what libcamera's
+// viewfinder stream reports) in 16-bit fixed point, integers only.
 bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
             std::string& why);
 

@@ -12,7 +12,7 @@
 #include "platform/gpiod_io.h"
 #endif
 #ifdef PENUMBRA_HAVE_LIBCAMERA
-#include "platform/libcamera_probe.h"
+#include "platform/libcamera_camera.h"
 #endif
 #ifdef PENUMBRA_HAVE_SDL2
 #include "platform/sdl_display.h"
@@ -40,15 +40,30 @@ TEST(GpiodBackend, MissingChipFailsCleanly) {
 #endif
 
 #ifdef PENUMBRA_HAVE_LIBCAMERA
-TEST(LibcameraBackend, ManagerStartsAndListsNoCamera) {
-  // This machine has no camera: the manager starts and lists none, and asking for one says so.
+TEST(LibcameraBackend, ZeroCamerasFailsWithClearMessage) {
+  // This machine has no camera: the real CameraManager starts and lists none, and opening
+  // the kiosk camera says so (the board program then falls back, docs/kiosk.md).
   const std::vector<std::string> ids = listLibcameraCameras();
   if (!ids.empty()) GTEST_SKIP() << "a camera is attached: " << ids.front();
   try {
-    requireLibcameraCamera();
-    FAIL();
+    LibcameraCamera camera(LibcameraOptions{});
+    FAIL() << "opened a camera on a machine without one";
   } catch (const HardwareUnavailable& e) {
-    EXPECT_NE(std::string(e.what()).find("no camera found"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("libcamera: no camera found"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(LibcameraBackend, BadControlsAreRefusedBeforeTheCameraIsTouched) {
+  LibcameraOptions o;
+  o.controls.exposureUs = 0;
+  try {
+    LibcameraCamera camera(o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("exposure_us must be in [1, 10000000] (got 0)"),
+              std::string::npos)
+        << e.what();
   }
 }
 #endif

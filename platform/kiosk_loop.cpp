@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <thread>
 
@@ -112,6 +113,7 @@ struct KioskLoop::State {
   std::vector<int64_t> recentStarts;  // the last frames' start times, for the HUD's fps
   LedState led = LedState::kError;
   bool overBudget = false;
+  std::map<std::string, std::string> faults;  // setFault(): key → HUD text
   float minX = 0, maxX = 0, minZ = 0, maxZ = 0;
 };
 
@@ -397,6 +399,7 @@ FrameReport KioskLoop::step() {
     r.warnings.push_back("BUTTON STUCK: " + names);
   }
   if (d.overBudget) r.warnings.push_back("OVER BUDGET");
+  for (const auto& [key, text] : s.faults) r.warnings.push_back(text);
   const LedState led = r.warnings.empty() ? LedState::kReady : LedState::kDegraded;
   if (led != s.led) {
     std::string why;
@@ -453,6 +456,18 @@ FrameReport KioskLoop::step() {
   r.stale = stale;
   r.led = led;
   return r;
+}
+
+void KioskLoop::productReplaced(uint32_t index) {
+  s_->compositor.productModelChanged(index);
+}
+
+void KioskLoop::setFault(const std::string& key, const std::string& hudText) {
+  if (hudText.empty()) {
+    s_->faults.erase(key);
+  } else {
+    s_->faults[key] = hudText;
+  }
 }
 
 }  // namespace penumbra::platform

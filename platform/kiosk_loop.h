@@ -126,6 +126,14 @@ class KioskLoop {
   uint32_t height() const { return bundle_.view.height; }
   const std::vector<uint32_t>& carousel() const { return carousel_; }
 
+  // The bundle's owner replaced product `index`'s model between two frames (a product file,
+  // platform/product_files.h): the next frame places and shades it afresh.
+  void productReplaced(uint32_t index);
+  // A fault found outside the loop (a refused product file), keyed by what it concerns: on
+  // the HUD and the LED degraded from the next frame until set again with an empty text.
+  // Whoever found it has logged it.
+  void setFault(const std::string& key, const std::string& hudText);
+
  private:
   struct State;
   void handleButtons(int64_t now);

@@ -65,6 +65,10 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
   if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);
 }
 
+void FrameCompositor::productModelChanged(uint32_t product) {
+  if (product == placedPose_.product) placedPose_.product = ~0u;  // compose() re-places it
+}
+
 // The product in world space: turned by yaw about +y, then moved to (x, floor, z).
 void FrameCompositor::placeProduct(const ProductPose& pose) {
   if (pose.product >= bundle_.products.size()) {

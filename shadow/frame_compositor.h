@@ -94,6 +94,9 @@ class FrameCompositor {
   // The shadow-map size of the next frames (the controller's ladder, Gibson 2003 §8: fewer
   // texels before fewer passes). A multiple of 16 in 16..4096.
   void setShadowMapSize(uint32_t size);
+  // Product `product`'s model in the bundle was replaced (kiosk product files): when it is
+  // the placed one, the next compose() places and shades it afresh.
+  void productModelChanged(uint32_t product);
 
   const ShaftHierarchy& hierarchy() const { return hierarchy_; }
   const raster::StaticView& view() const { return bundle_.view; }

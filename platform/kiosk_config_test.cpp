@@ -1,0 +1,79 @@
+// The board program's configuration (platform/kiosk_config.h): the camera keys and the
+// strictness that names the file and the key.
+#include "platform/kiosk_config.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/scratch_dir.h"
+
+namespace penumbra::platform {
+namespace {
+
+std::filesystem::path write(const std::string& text) {
+  const std::filesystem::path dir = test::scratchPath("kiosk-config");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "kiosk.json") << text;
+  return dir / "kiosk.json";
+}
+
+TEST(KioskConfig, ReadsCameraControlsAndFallback) {
+  const auto path = write(R"({"bundle": "room.bundle", "camera": "libcamera",
+      "camera_id": "/base/soc/i2c0mux/i2c@1/imx219@10",
+      "camera_controls": {"exposure_us": 12000, "analogue_gain": 2.0, "colour_gains": [1.8, 1.5]},
+      "camera_fallback": "simulated", "display": "none",
+      "product_files": [{"product": "chair", "file": "models/chair.obj"}]})");
+  const KioskConfig c = loadKioskConfig(path);
+  EXPECT_EQ(c.bundle, path.parent_path() / "room.bundle");
+  EXPECT_EQ(c.camera, "libcamera");
+  EXPECT_EQ(c.cameraId, "/base/soc/i2c0mux/i2c@1/imx219@10");
+  EXPECT_EQ(c.cameraControls.exposureUs, 12000);
+  EXPECT_EQ(c.cameraControls.analogueGain, 2.0f);
+  EXPECT_EQ(c.cameraControls.redGain, 1.8f);
+  EXPECT_EQ(c.cameraControls.blueGain, 1.5f);
+  EXPECT_EQ(c.cameraFallback, "simulated");
+  EXPECT_EQ(c.display, "none");
+  ASSERT_EQ(c.productFiles.size(), 1u);
+  EXPECT_EQ(c.productFiles[0].product, "chair");
+  EXPECT_EQ(c.productFiles[0].file, path.parent_path() / "models" / "chair.obj");
+  const KioskConfig d = loadKioskConfig(write(R"({"bundle": "b"})"));
+  EXPECT_EQ(d.camera, "auto");
+  EXPECT_EQ(d.cameraFallback, "photograph");
+  EXPECT_EQ(d.cameraControls.exposureUs, CameraControls{}.exposureUs);
+}
+
+TEST(KioskConfig, BadValuesNameTheFileAndKey) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {R"({"bundle": "b", "camera_controls": {"exposure_us": 0}})",
+       "camera_controls: exposure_us must be in [1, 10000000] (got 0)"},
+      {R"({"bundle": "b", "camera_controls": {"exposure_us": 1.5}})",
+       "camera_controls.exposure_us: must be an integer"},
+      {R"({"bundle": "b", "camera_controls": {"analogue_gain": 0.5}})",
+       "analogue_gain must be in [1, 64]"},
+      {R"({"bundle": "b", "camera_controls": {"colour_gains": [1.0]}})",
+       "camera_controls.colour_gains: must be [red, blue] numbers"},
+      {R"({"bundle": "b", "camera_controls": {"iso": 100}})", "camera_controls.iso: unknown key"},
+      {R"({"bundle": "b", "camera": "usb"})", "camera: 'auto', 'libcamera'"},
+      {R"({"bundle": "b", "camera_fallback": "black"})", "camera_fallback: 'photograph' or"},
+      {R"({"bundle": "b", "screen": "big"})", "screen: unknown key"},
+      {R"({"bundle": "b", "product_files": [{"product": "chair"}]})",
+       "product_files[0]: must be {\"product\": name, \"file\": path}"},
+      {R"({"camera": "auto"})", "bundle: required"},
+      {R"({"bundle": )", "not valid JSON"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const auto path = write(text);
+    try {
+      loadKioskConfig(path);
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(path.string() + ": ", 0), 0u) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::platform

@@ -1,0 +1,79 @@
+// Product models read from files on the kiosk (issue 6 faults: "a corrupt product model at
+// start-up (or hot-swapped): refuse it, keep the last good one, say why"). A shop replaces a
+// product's model by dropping a new file on the board; a truncated copy, a NaN vertex or a
+// model too heavy to shade must never reach the screen: the kiosk keeps showing the model it
+// had (the bundle's, or the last accepted file), the LED goes degraded and the log and HUD
+// name the file and the reason until a good file replaces it.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "platform/status.h"
+#include "shadow/scene_bundle.h"
+
+namespace penumbra::platform {
+
+class ProductFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The most triangles a product file may have: its own mesh is also its shadow proxy (the
+// offline `penumbra precompute` simplifies to 100-500, Gibson 2003 §7.2; the board has no
+// simplifier), and validateProducts() refuses proxies above this.
+constexpr size_t kMaxProductFileTriangles = 5000;
+
+// Reads `file` (OBJ, PLY; glTF/GLB in builds with tinygltf) as a new model for `current`,
+// whose name and material it keeps. Placed as `penumbra precompute` places products
+// (scene/scene_file.h): metres, y up, bounding box centred on x = z = 0, lowest point at
+// y = 0. Throws ProductFileError "FILE: reason": unreadable, truncated or malformed (the
+// loader's own message), a non-finite vertex, no triangles, too many triangles, or larger
+// than 10 m.
+shadow::ProductModel loadProductFile(const std::filesystem::path& file,
+                                     const shadow::ProductModel& current);
+
+struct ProductFile {
+  std::string product;  // the product's name in the bundle
+  std::filesystem::path file;
+};
+
+// Replaces the named product of `bundle` by the model in `swap.file`, or refuses it and
+// keeps the current model. Logs either way at `nowNs` (error with the reason on refusal).
+// Returns the refusal reason, empty when the model was replaced. Throws ProductFileError when
+// the bundle has no product of that name (a configuration error, not a bad file).
+std::string swapProductFile(shadow::SceneBundle& bundle, const ProductFile& swap, KioskLog& log,
+                            int64_t nowNs);
+
+// The HUD's text while a product's file is refused ("MODEL REFUSED: chair").
+std::string productFileFault(const std::string& product);
+
+// On the board: the configured product files, polled (by modification time, so a file
+// copied over an old one is noticed) and applied to the bundle when they change.
+class ProductFileWatcher {
+ public:
+  explicit ProductFileWatcher(std::vector<ProductFile> files);
+
+  struct Change {
+    uint32_t product = 0;  // index in the bundle
+    bool replaced = false;
+    std::string refusal;  // empty when replaced
+  };
+  // Applies every file that is new or changed since the last poll (all of them at the
+  // first) with swapProductFile(); a file that cannot be stat'ed counts as refused. Returns
+  // what changed, for KioskLoop::setFault / productReplaced. Throws ProductFileError for a
+  // product name the bundle does not have.
+  std::vector<Change> poll(shadow::SceneBundle& bundle, KioskLog& log, int64_t nowNs);
+
+ private:
+  struct Watched {
+    ProductFile file;
+    std::filesystem::file_time_type seen{};
+    bool polled = false;
+  };
+  std::vector<Watched> files_;
+};
+
+}  // namespace penumbra::platform

@@ -1,0 +1,124 @@
+// Product model files (platform/product_files.h) with the faulty models of
+// data/sessions/faulty-models/: each refused naming the file and the reason.
+#include "platform/product_files.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+
+#include "tests/scratch_dir.h"
+
+namespace penumbra::platform {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kData(PENUMBRA_DATA_DIR);
+
+shadow::ProductModel current() {
+  shadow::ProductModel p;
+  p.name = "bunny";
+  p.reflectance = glm::vec3(0.3f, 0.4f, 0.5f);
+  p.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  p.mesh.indices = {0, 1, 2};
+  p.proxy = p.mesh;
+  return p;
+}
+
+std::string refusal(const fs::path& file) {
+  try {
+    loadProductFile(file, current());
+  } catch (const ProductFileError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(ProductFiles, FaultyModelsAreRefusedNamingFileAndReason) {
+  const fs::path dir = kData / "sessions" / "faulty-models";
+  const std::string truncatedObj = refusal(dir / "truncated.obj");
+  EXPECT_EQ(truncatedObj.rfind((dir / "truncated.obj").string() + ":", 0), 0u) << truncatedObj;
+  EXPECT_NE(truncatedObj.find("line"), std::string::npos) << truncatedObj;
+  const std::string nan = refusal(dir / "nan-vertex.obj");
+  EXPECT_EQ(nan.rfind((dir / "nan-vertex.obj").string() + ":", 0), 0u) << nan;
+  EXPECT_NE(nan.find("non-finite"), std::string::npos) << nan;
+  const std::string glb = refusal(dir / "truncated.glb");
+  EXPECT_EQ(glb.rfind((dir / "truncated.glb").string() + ":", 0), 0u) << glb;
+  EXPECT_NE(refusal(dir / "absent.obj").find("absent.obj"), std::string::npos);
+}
+
+TEST(ProductFiles, TooManyTrianglesForTheBoardIsRefused) {
+  const fs::path file = test::scratchPath("product-files") / "dense.obj";
+  fs::create_directories(file.parent_path());
+  {
+    std::ofstream o(file);
+    o << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    for (size_t i = 0; i <= kMaxProductFileTriangles; ++i) o << "f 1 2 3\n";
+  }
+  EXPECT_NE(refusal(file).find("5001 triangles; at most 5000"), std::string::npos) << refusal(file);
+  fs::remove_all(file.parent_path());
+}
+
+TEST(ProductFiles, GoodModelIsPlacedOnTheFloorAndKeepsTheMaterial) {
+  const shadow::ProductModel m = loadProductFile(kData / "models" / "chair.obj", current());
+  EXPECT_EQ(m.name, "bunny");
+  EXPECT_EQ(m.reflectance, current().reflectance);
+  EXPECT_GT(m.mesh.triangleCount(), 10u);
+  EXPECT_EQ(m.proxy, m.mesh);
+  float minY = 1e9f, minX = 1e9f, maxX = -1e9f;
+  for (const raster::Vec3& p : m.mesh.positions) {
+    minY = std::min(minY, p.y), minX = std::min(minX, p.x), maxX = std::max(maxX, p.x);
+  }
+  EXPECT_EQ(minY, 0.0f);
+  EXPECT_NEAR(minX + maxX, 0.0f, 1e-6f);
+}
+
+TEST(ProductFiles, SwapKeepsTheLastGoodModelAndLogsWhy) {
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  const fs::path bad = kData / "sessions" / "faulty-models" / "nan-vertex.obj";
+  const std::string why = swapProductFile(b, {"bunny", bad}, log, 7);
+  EXPECT_NE(why.find("non-finite"), std::string::npos) << why;
+  EXPECT_EQ(b.products[0].mesh, current().mesh) << "the last good model must stay";
+  EXPECT_TRUE(log.contains("product bunny: refused " + bad.string()));
+  EXPECT_EQ(swapProductFile(b, {"bunny", kData / "models" / "chair.obj"}, log, 8), "");
+  EXPECT_NE(b.products[0].mesh, current().mesh);
+  EXPECT_TRUE(log.contains("product bunny: model "));
+  EXPECT_THROW(swapProductFile(b, {"sofa", bad}, log, 9), ProductFileError);
+}
+
+TEST(ProductFiles, WatcherAppliesNewAndChangedFilesOnly) {
+  const fs::path dir = test::scratchPath("product-watch");
+  fs::create_directories(dir);
+  const fs::path file = dir / "bunny.obj";
+  fs::copy_file(kData / "models" / "chair.obj", file);
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  ProductFileWatcher watcher({{"bunny", file}});
+  auto changes = watcher.poll(b, log, 1);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_TRUE(changes[0].replaced);
+  const raster::Mesh chair = b.products[0].mesh;
+  EXPECT_TRUE(watcher.poll(b, log, 2).empty()) << "an unchanged file is not read again";
+  // A corrupt copy lands over it: refused, the chair stays.
+  fs::copy_file(kData / "sessions" / "faulty-models" / "nan-vertex.obj", file,
+                fs::copy_options::overwrite_existing);
+  fs::last_write_time(file, fs::last_write_time(file) + std::chrono::seconds(1));
+  changes = watcher.poll(b, log, 3);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_FALSE(changes[0].replaced);
+  EXPECT_NE(changes[0].refusal.find("non-finite"), std::string::npos) << changes[0].refusal;
+  EXPECT_EQ(b.products[0].mesh, chair);
+  // Deleted: said once, then quiet until it is back.
+  fs::remove(file);
+  EXPECT_EQ(watcher.poll(b, log, 4).size(), 1u);
+  EXPECT_TRUE(watcher.poll(b, log, 5).empty());
+  EXPECT_EQ(b.products[0].mesh, chair);
+  EXPECT_EQ(productFileFault("bunny"), "MODEL REFUSED: bunny");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace penumbra::platform
