@@ -529,7 +529,6 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
     return;
   }
   std::array<uint16_t*, 256> acc;
-  const int count = static_cast<int>(workers.size());
   for (int32_t y = y0; y < y1; ++y) {
     const size_t row = stride * size_t(y);
     uint8_t* base = &rgba[4 * row];
@@ -537,10 +536,18 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
       std::memcpy(base + 4 * x0, &frame.background[4 * (size_t(width) * size_t(y) + size_t(x0))],
                   rowBytes);
     }
-    if (rowTouched(y)) {
-      for (int i = 0; i < count; ++i) acc[size_t(i)] = workers[size_t(i)].acc.data() + row;
-      kernels->subtractAccumulated(base, base, acc.data(), count, planeSize, x0, x1);
+    // A worker's sums are zero outside the runs its passes swept, so only the workers whose
+    // runs reach this row of the tile are summed, and only over the union of those runs:
+    // the same totals, a fraction of the 16-bit planes read and cleared.
+    int count = 0;
+    int32_t xa = x1, xb = x0;
+    for (Worker& w : workers) {
+      if (w.touchedBegin[y] >= x1 || w.touchedEnd[y] <= x0) continue;
+      acc[size_t(count++)] = w.acc.data() + row;
+      xa = std::min(xa, std::max(x0, w.touchedBegin[y]));
+      xb = std::max(xb, std::min(x1, w.touchedEnd[y]));
     }
+    if (count > 0) kernels->subtractAccumulated(base, base, acc.data(), count, planeSize, xa, xb);
     std::memcpy(&out[4 * (size_t(width) * size_t(y) + size_t(x0))], base + 4 * x0, rowBytes);
   }
 }
