@@ -597,9 +597,14 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   for (Worker& w : r.workers) w.mapPixels = w.passPixels = w.objectPixels = 0;
   const size_t tiles = size_t(r.tilesX) * size_t(r.tilesY);
   r.prepareObjects(frame);
-  r.pool.parallelFor(tiles, [&](size_t tile, int worker) {
-    r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
-  });
+  // Tiles are short jobs: each thread claims ~1/16 of its share at a time (JobPool).
+  const size_t tileGrain = std::max<size_t>(1, tiles / (16 * r.workers.size()));
+  r.pool.parallelFor(
+      tiles,
+      [&](size_t tile, int worker) {
+        r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
+      },
+      tileGrain);
   r.stats.msObjects = msSince(start);
   const auto passesStart = Clock::now();
   // Longest passes first (by their receivers' covered pixels), so that the workers finish
@@ -621,7 +626,8 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   r.stats.msPasses = msSince(passesStart);
   const auto finishStart = Clock::now();
   r.pool.parallelFor(
-      tiles, [&](size_t tile, int) { r.finishTile(static_cast<uint32_t>(tile), frame, rgbaOut); });
+      tiles, [&](size_t tile, int) { r.finishTile(static_cast<uint32_t>(tile), frame, rgbaOut); },
+      tileGrain);
   r.stats.msFinish = msSince(finishStart);
   for (Worker& w : r.workers) {
     std::fill(w.touchedBegin.begin(), w.touchedBegin.end(), r.width);
