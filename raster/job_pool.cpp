@@ -1,5 +1,7 @@
 #include "raster/job_pool.h"
 
+#include <algorithm>
+
 namespace penumbra::raster {
 
 JobPool::JobPool(int threads) {
@@ -16,7 +18,12 @@ JobPool::~JobPool() {
 }
 
 void JobPool::drain(int worker) {
-  for (size_t i = next_.fetch_add(1); i < jobSize_; i = next_.fetch_add(1)) (*job_)(i, worker);
+  const std::function<void(size_t, int)>& job = *job_;
+  const size_t size = jobSize_, grain = grain_;
+  for (size_t first = next_.fetch_add(grain); first < size; first = next_.fetch_add(grain)) {
+    const size_t last = std::min(size, first + grain);
+    for (size_t i = first; i < last; ++i) job(i, worker);
+  }
 }
 
 void JobPool::workerLoop(int worker) {
@@ -36,7 +43,7 @@ void JobPool::workerLoop(int worker) {
   }
 }
 
-void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn) {
+void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, size_t grain) {
   if (workers_.empty() || n <= 1) {
     for (size_t i = 0; i < n; ++i) fn(i, 0);
     return;
@@ -45,6 +52,7 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn) 
     std::lock_guard<std::mutex> lock(mutex_);
     job_ = &fn;
     jobSize_ = n;
+    grain_ = std::max<size_t>(1, grain);
     next_.store(0);
     busy_ = static_cast<int>(workers_.size());
     ++generation_;

@@ -23,7 +23,10 @@ class JobPool {
   JobPool& operator=(const JobPool&) = delete;
 
   // `fn(index, worker)`: worker in [0, threads()) identifies per-thread scratch space.
-  void parallelFor(size_t n, const std::function<void(size_t index, int worker)>& fn);
+  // Threads claim `grain` consecutive indices at a time: each claim is an atomic on a
+  // cache line the threads share, which costs more than a short job (a tile's finish).
+  void parallelFor(size_t n, const std::function<void(size_t index, int worker)>& fn,
+                   size_t grain = 1);
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
  private:
@@ -35,8 +38,10 @@ class JobPool {
   std::condition_variable wake_, done_;
   const std::function<void(size_t, int)>* job_ = nullptr;
   size_t jobSize_ = 0;
-  std::atomic<size_t> next_{0};
-  uint64_t generation_ = 0;
+  size_t grain_ = 1;
+  // On its own cache line: claims do not invalidate the fields every thread reads.
+  alignas(64) std::atomic<size_t> next_{0};
+  alignas(64) uint64_t generation_ = 0;
   int busy_ = 0;
   bool stop_ = false;
 };

@@ -531,23 +531,34 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
     }
     return;
   }
+  // Without objects the base is the background, and the sums are subtracted in place in the
+  // output (one copy instead of two through rgba) when the tile's rows end on a 16-pixel
+  // boundary: the kernel rewrites whole vectors, which must not reach the next output row.
+  const bool inOutput = !tileHasObject[tile] && x1 % 16 == 0;
+  const auto subtract = frame.accumulation == Accumulation::kFixed8_8
+                            ? kernels->subtractAccumulatedFixed8_8
+                            : kernels->subtractAccumulated;
   std::array<uint16_t*, 256> acc;
-  const int count = static_cast<int>(workers.size());
   for (int32_t y = y0; y < y1; ++y) {
     const size_t row = stride * size_t(y);
-    uint8_t* base = &rgba[4 * row];
+    const size_t outRow = 4 * size_t(width) * size_t(y);
+    uint8_t* base = inOutput ? &out[outRow] : &rgba[4 * row];
     if (!tileHasObject[tile]) {
-      std::memcpy(base + 4 * x0, &frame.background[4 * (size_t(width) * size_t(y) + size_t(x0))],
-                  rowBytes);
+      std::memcpy(base + 4 * x0, &frame.background[outRow + 4 * size_t(x0)], rowBytes);
     }
-    if (rowTouched(y)) {
-      for (int i = 0; i < count; ++i) acc[size_t(i)] = workers[size_t(i)].acc.data() + row;
-      const auto subtract = frame.accumulation == Accumulation::kFixed8_8
-                                ? kernels->subtractAccumulatedFixed8_8
-                                : kernels->subtractAccumulated;
-      subtract(base, base, acc.data(), count, planeSize, x0, x1);
+    // A worker's sums are zero outside the runs its passes swept, so only the workers whose
+    // runs reach this row of the tile are summed, and only over the union of those runs:
+    // the same totals, a fraction of the 16-bit planes read and cleared.
+    int count = 0;
+    int32_t xa = x1, xb = x0;
+    for (Worker& w : workers) {
+      if (w.touchedBegin[y] >= x1 || w.touchedEnd[y] <= x0) continue;
+      acc[size_t(count++)] = w.acc.data() + row;
+      xa = std::min(xa, std::max(x0, w.touchedBegin[y]));
+      xb = std::max(xb, std::min(x1, w.touchedEnd[y]));
     }
-    std::memcpy(&out[4 * (size_t(width) * size_t(y) + size_t(x0))], base + 4 * x0, rowBytes);
+    if (count > 0) subtract(base, base, acc.data(), count, planeSize, xa, xb);
+    if (!inOutput) std::memcpy(&out[outRow + 4 * size_t(x0)], base + 4 * x0, rowBytes);
   }
 }
 
@@ -592,9 +603,14 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   for (Worker& w : r.workers) w.mapPixels = w.passPixels = w.objectPixels = 0;
   const size_t tiles = size_t(r.tilesX) * size_t(r.tilesY);
   r.prepareObjects(frame);
-  r.pool.parallelFor(tiles, [&](size_t tile, int worker) {
-    r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
-  });
+  // Tiles are short jobs: each thread claims ~1/16 of its share at a time (JobPool).
+  const size_t tileGrain = std::max<size_t>(1, tiles / (16 * r.workers.size()));
+  r.pool.parallelFor(
+      tiles,
+      [&](size_t tile, int worker) {
+        r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
+      },
+      tileGrain);
   r.stats.msObjects = msSince(start);
   const auto passesStart = Clock::now();
   // Longest passes first (by their receivers' covered pixels), so that the workers finish
@@ -616,7 +632,8 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   r.stats.msPasses = msSince(passesStart);
   const auto finishStart = Clock::now();
   r.pool.parallelFor(
-      tiles, [&](size_t tile, int) { r.finishTile(static_cast<uint32_t>(tile), frame, rgbaOut); });
+      tiles, [&](size_t tile, int) { r.finishTile(static_cast<uint32_t>(tile), frame, rgbaOut); },
+      tileGrain);
   r.stats.msFinish = msSince(finishStart);
   for (Worker& w : r.workers) {
     std::fill(w.touchedBegin.begin(), w.touchedBegin.end(), r.width);

@@ -22,6 +22,7 @@ class ShadowMap {
     size_ = size;
     texels_.assign(size_t(stride()) * size_t(stride() + kSlackRows) + kVectorSlack, kInfinity);
     blocks_.assign(size_t(blocksPerRow()) * size_t(blocksPerRow()), 0);
+    lastMarked_ = {};
   }
   // Coarse occupancy for the mask sweep: block (bx, by) covers the texels (i, j) with
   // (i + 8) >> 3 == bx and (j + 8) >> 3 == by (so i = -1, the border, falls in block 0).
@@ -32,12 +33,19 @@ class ShadowMap {
   const uint32_t* blocks() const { return blocks_.data(); }
   // Records that texels [x0, x1) x [y0, y1) may have been written (x0 < x1, y0 < y1):
   // lanes with i in [x0 - 1, x1 - 1] and j in [y0 - 1, y1 - 1] reach them.
+  // Consecutive occluder triangles are small neighbours that mostly fall in the blocks the
+  // previous call marked (still set: only clear() and reset() unmark): those return early.
   void markWritten(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    const BlockRect r{(x0 - 1 + 8) >> 3, (y0 - 1 + 8) >> 3, (x1 - 1 + 8) >> 3, (y1 - 1 + 8) >> 3};
+    if (r.bx0 >= lastMarked_.bx0 && r.bx1 <= lastMarked_.bx1 && r.by0 >= lastMarked_.by0 &&
+        r.by1 <= lastMarked_.by1) {
+      return;
+    }
+    lastMarked_ = r;
     const int32_t bpr = blocksPerRow();
-    for (int32_t by = (y0 - 1 + 8) >> 3; by <= (y1 - 1 + 8) >> 3; ++by) {
-      for (int32_t bx = (x0 - 1 + 8) >> 3; bx <= (x1 - 1 + 8) >> 3; ++bx) {
+    for (int32_t by = r.by0; by <= r.by1; ++by) {
+      for (int32_t bx = r.bx0; bx <= r.bx1; ++bx)
         blocks_[size_t(by) * size_t(bpr) + size_t(bx)] = 1;
-      }
     }
   }
   // Texels [x0, x1) x [y0, y1) back to +inf, and every block to "not written".
@@ -45,6 +53,7 @@ class ShadowMap {
   // (a 256x256 map is then 65,536 single stores per pass); memcpy runs in vectors.
   void clear(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
     std::fill(blocks_.begin(), blocks_.end(), 0u);
+    lastMarked_ = {};
     if (x0 >= x1) return;
     if (infinities_.size() < size_t(x1 - x0)) infinities_.assign(size_t(stride()), kInfinity);
     for (int32_t y = y0; y < y1; ++y) {
@@ -66,6 +75,10 @@ class ShadowMap {
   std::vector<float> texels_;
   std::vector<float> infinities_;  // a row of +inf to clear from
   std::vector<uint32_t> blocks_;
+  struct BlockRect {
+    int32_t bx0 = 0, by0 = 0, bx1 = -1, by1 = -1;  // inclusive; empty by default
+  };
+  BlockRect lastMarked_;  // the blocks the last markWritten set
   int32_t size_ = 0;
 };
 

@@ -207,83 +207,81 @@ HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const Set
 }
 #endif
 
-// Large shadow-map triangles without RowWalker's per-row quotient stepping, which cost more
-// than the pixels (about 36 cycles per row).
+// Large shadow-map triangles as exact row runs: no RowWalker quotient stepping (about 36
+// cycles per row) and no edge tests per vector.
 //
-// Exact test in int32 lanes: with X = 256 x + 128 and dx = x - minX, spec §4's
-// E - bias = Ec + 256 a dx, where Ec is the row's value at minX (int64, stepped by 256 b per
-// row). So E - bias >= 0 <=> a dx >= T = ceil(-Ec / 256) = -(Ec >> 8) (arithmetic shift:
-// floor). |a dx| < 2^30 (LargeFits), so T clamped to [-2^30, 2^30] decides the same.
-// Which vectors of a row to test comes from each edge's x-intercept in binary64, widened
-// by two pixels: an estimate only (its error is far below a pixel), the lanes decide.
-HWY_INLINE bool LargeFits(const SetupTriangle& t) {
-  const int64_t span = int64_t{t.maxX - t.minX} + 32;
-  for (const Edge& g : t.edges) {
-    if ((g.a < 0 ? -g.a : g.a) * span >= (int64_t{1} << 30)) return false;
+// With X = 256 x + 128 and dx = x - minX, spec §4's E - bias = Ec + 256 a dx, where Ec is
+// the row's value at minX (int64, stepped exactly by 256 b per row). So E - bias >= 0 <=>
+// a dx >= T = ceil(-Ec / 256) = -(Ec >> 8) (arithmetic shift: floor). Each edge bounds the
+// row's run on its own: dx >= ceil(T / a) for a > 0, dx <= floor(T / a) for a < 0, all or
+// nothing for a = 0 (edgeRun). The run [lo, hi) is then exactly the row's covered pixels,
+// and the lanes only mask its last vector.
+struct EdgeRow {
+  int64_t a;
+  double reciprocal;  // 1 / a, for the quotient's estimate
+};
+
+// Narrows [lo, hi) (within [0, width]) to the dx with a dx >= t. The quotient t / a is
+// estimated in binary64 and truncated (it lies in [0, width] there, so truncation is floor
+// and the estimate is off by far less than one); exact int64 products then correct it by
+// one step either way. No libm rounding in this per-frame path.
+HWY_INLINE void edgeRun(const EdgeRow& g, int64_t t, int32_t width, int32_t& lo, int32_t& hi) {
+  const int64_t a = g.a;
+  if (a > 0) {
+    if (t <= 0) return;  // every dx >= 0 passes
+    if (t > a * width) {
+      hi = 0;
+      return;
+    }
+    int64_t first = static_cast<int64_t>(static_cast<double>(t) * g.reciprocal);
+    if (a * first < t) ++first;
+    if (a * (first - 1) >= t) --first;
+    lo = std::max(lo, static_cast<int32_t>(first));
+  } else if (a < 0) {
+    if (t > 0) {
+      hi = 0;
+      return;
+    }
+    if (t <= a * width) return;  // every dx <= width passes
+    int64_t last = static_cast<int64_t>(static_cast<double>(t) * g.reciprocal);
+    if (a * last < t) --last;
+    if (a * (last + 1) >= t) ++last;
+    hi = std::min(hi, static_cast<int32_t>(last + 1));
+  } else if (t > 0) {
+    hi = 0;
   }
-  return true;
 }
 
-HWY_NOINLINE uint32_t DepthTriangleLarge(float* depth, size_t stride, const SetupTriangle& t) {
+HWY_NOINLINE uint32_t DepthTriangleRuns(float* depth, size_t stride, const SetupTriangle& t) {
   const DF df;
   const DI di;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
   const VI lane = hn::Iota(di, 0);
   const VF laneX = hn::ConvertTo(df, lane);
   const VF dzdx = hn::Set(df, t.depth.dzdx), z00 = hn::Set(df, t.depth.z00);
-  const Edge& g0 = t.edges[0];
-  const Edge& g1 = t.edges[1];
-  const Edge& g2 = t.edges[2];
-  const VI a0 = hn::Set(di, static_cast<int32_t>(g0.a));
-  const VI a1 = hn::Set(di, static_cast<int32_t>(g1.a));
-  const VI a2 = hn::Set(di, static_cast<int32_t>(g2.a));
+  const int32_t width = t.maxX - t.minX;
   const int64_t xc = int64_t{256} * t.minX + 128;
   const int64_t yc = int64_t{256} * t.minY + 128;
-  int64_t ec0 = g0.a * xc + g0.b * yc + g0.c - g0.bias;
-  int64_t ec1 = g1.a * xc + g1.b * yc + g1.c - g1.bias;
-  int64_t ec2 = g2.a * xc + g2.b * yc + g2.c - g2.bias;
-  auto threshold = [](int64_t ec) {
-    const int64_t limit = int64_t{1} << 30;
-    return static_cast<int32_t>(std::clamp<int64_t>(-(ec >> 8), -limit, limit));
-  };
-  // Estimated run of a row in dx: edge with a > 0 bounds dx from below by -ec / (256 a),
-  // a < 0 from above; a = 0 bounds nothing (its lanes still test it).
-  const int32_t width = t.maxX - t.minX;
-  const double r0 = g0.a == 0 ? 0.0 : -1.0 / (256.0 * static_cast<double>(g0.a));
-  const double r1 = g1.a == 0 ? 0.0 : -1.0 / (256.0 * static_cast<double>(g1.a));
-  const double r2 = g2.a == 0 ? 0.0 : -1.0 / (256.0 * static_cast<double>(g2.a));
-  auto estimate = [&](int64_t ec, const Edge& g, double reciprocal, double& lo, double& hi) {
-    if (g.a == 0) return;
-    const double x = static_cast<double>(ec) * reciprocal;
-    if (g.a > 0) {
-      lo = std::max(lo, x);
-    } else {
-      hi = std::min(hi, x);
-    }
-  };
+  std::array<EdgeRow, 3> rows;
+  std::array<int64_t, 3> ec;
+  for (size_t k = 0; k < 3; ++k) {
+    const Edge& g = t.edges[k];
+    rows[k] = {g.a, g.a == 0 ? 0.0 : 1.0 / static_cast<double>(g.a)};
+    ec[k] = g.a * xc + g.b * yc + g.c - g.bias;
+  }
   uint32_t passed = 0;
   for (int32_t y = t.minY; y < t.maxY; ++y) {
-    double lo = 0.0, hi = width;
-    estimate(ec0, g0, r0, lo, hi);
-    estimate(ec1, g1, r1, lo, hi);
-    estimate(ec2, g2, r2, lo, hi);
-    const VI t0 = hn::Set(di, threshold(ec0)), t1 = hn::Set(di, threshold(ec1)),
-             t2 = hn::Set(di, threshold(ec2));
-    ec0 += g0.b * 256;
-    ec1 += g1.b * 256;
-    ec2 += g2.b * 256;
-    if (!(lo <= hi + 4.0)) continue;
-    const int32_t first = std::max(0, static_cast<int32_t>(lo) - 2);
-    const int32_t last = std::min(width, static_cast<int32_t>(hi) + 3);
+    int32_t lo = 0, hi = width;
+    for (size_t k = 0; k < 3; ++k) {
+      edgeRun(rows[k], -(ec[k] >> 8), width, lo, hi);
+      ec[k] += t.edges[k].b * 256;
+    }
+    if (lo >= hi) continue;
     float* row = depth + stride * static_cast<size_t>(y) + t.minX;
     const VF zy = hn::Set(df, t.depth.dzdy * static_cast<float>(y - t.minY));
-    for (int32_t dx = first; dx < last; dx += lanes) {
-      const VI column = hn::Add(lane, hn::Set(di, dx));
-      const MI covered =
-          hn::And(hn::Lt(column, hn::Set(di, width)),
-                  hn::And(GeI(hn::Mul(a0, column), t0),
-                          hn::And(GeI(hn::Mul(a1, column), t1), GeI(hn::Mul(a2, column), t2))));
-      if (hn::AllFalse(di, covered)) continue;
+    const VI end = hn::Set(di, hi);
+    for (int32_t dx = lo; dx < hi; dx += lanes) {
+      const MI covered = hn::Lt(hn::Add(lane, hn::Set(di, dx)), end);
       const VF fx = hn::Add(laneX, hn::Set(df, static_cast<float>(dx)));
       const VF z = hn::Add(hn::Add(z00, hn::Mul(dzdx, fx)), zy);
       const VF old = hn::LoadU(df, row + dx);
@@ -300,7 +298,7 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
   uint32_t passed = 0;
   if (!isSmall(t)) {
-    if (id == nullptr && LargeFits(t)) return DepthTriangleLarge(depth, stride, t);
+    if (id == nullptr) return DepthTriangleRuns(depth, stride, t);
     forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
       const size_t row = stride * static_cast<size_t>(y);
       passed +=
