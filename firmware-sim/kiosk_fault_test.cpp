@@ -59,7 +59,7 @@ bool contains(const std::vector<std::string>& v, const std::string& needle) {
 }
 
 // Runs the session and checks the kiosk's promise on every frame.
-Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs) {
+Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs, bool hashFrames = false) {
   Played p;
   for (uint32_t i = 0; i < frames; ++i) {
     FrameReport r = run.step();
@@ -76,7 +76,7 @@ Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs) {
       EXPECT_TRUE(run.log().contains("camera:", r.startNs)) << "frame " << r.frame;
     }
     EXPECT_EQ(r.led == LedState::kReady, r.warnings.empty()) << "frame " << r.frame;
-    p.hashes.push_back(scene::sha256Hex(rgba));
+    if (hashFrames) p.hashes.push_back(scene::sha256Hex(rgba));
     p.frames.push_back(std::move(r));
   }
   return p;
@@ -268,14 +268,14 @@ TEST(KioskFaults, CorruptProductFileKeepsTheLastGoodModel) {
       {"product": "chair", "file": ")" +
                             (faulty / "truncated.obj").string() + R"("},
       {"product": "chair", "file": ")" +
-                            (faulty / "nan-vertex.obj").string() + R"(", "at_ms": 300},
+                            (faulty / "nan-vertex.obj").string() + R"(", "at_ms": 200},
       {"product": "chair", "file": ")" +
-                            cube.string() + R"(", "at_ms": 600}])";
+                            cube.string() + R"(", "at_ms": 450}])";
   const std::string noHud = R"("kiosk": {"hud": false})";
-  const Session with = session("product-files", noHud + ", " + files, 30);
-  const Session without = session("no-product-files", noHud, 30);
+  const Session with = session("product-files", noHud + ", " + files, 20);
+  const Session without = session("no-product-files", noHud, 20);
   SimRun a(with, {}), b(without, {});
-  const Played pa = play(a, with.frames, kStale), pb = play(b, without.frames, kStale);
+  const Played pa = play(a, with.frames, kStale, true), pb = play(b, without.frames, kStale, true);
   EXPECT_TRUE(a.log().contains("product chair: refused " + (faulty / "truncated.obj").string()));
   EXPECT_TRUE(a.log().contains("product chair: refused " + (faulty / "nan-vertex.obj").string() +
                                ": line 4: non-finite coordinate 'nan'"));
@@ -283,7 +283,7 @@ TEST(KioskFaults, CorruptProductFileKeepsTheLastGoodModel) {
   bool replacedShows = false;
   for (size_t i = 0; i < pa.frames.size(); ++i) {
     const FrameReport& r = pa.frames[i];
-    const bool before = r.startNs < 600'000'000;
+    const bool before = r.startNs < 450'000'000;
     EXPECT_EQ(contains(r.warnings, "MODEL REFUSED: chair"), before) << "frame " << r.frame;
     if (before) {
       EXPECT_NE(r.led, LedState::kReady) << "frame " << r.frame;

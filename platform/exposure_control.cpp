@@ -15,7 +15,8 @@ std::string checkControls(const CameraControls& c) {
   auto range = [](const char* name, double v, double lo, double hi) -> std::string {
     if (std::isfinite(v) && v >= lo && v <= hi) return {};
     std::ostringstream s;
-    s << std::setprecision(9) << name << " must be in [" << lo << ", " << hi << "] (got " << v << ")";
+    s << std::setprecision(9) << name << " must be in [" << lo << ", " << hi << "] (got " << v
+      << ")";
     return s.str();
   };
   for (const std::string& why : {range("exposure_us", c.exposureUs, 1, 10'000'000),
