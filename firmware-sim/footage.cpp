@@ -112,9 +112,11 @@ std::vector<std::vector<uint8_t>> loadFootage(const fs::path& source, uint32_t w
     sink.add(cv::imread(source.string()), source.string());
     return sink.take();
   }
-  cv::VideoCapture video(source.string());
+  // FFmpeg only: the same decoder on every machine, and no fallback through GStreamer, whose
+  // plugin scan (libusb among others) leaks at exit under LeakSanitizer when a file is bad.
+  cv::VideoCapture video(source.string(), cv::CAP_FFMPEG);
   if (!video.isOpened()) {
-    throw FootageError(source.string() + ": OpenCV cannot open it as a video");
+    throw FootageError(source.string() + ": OpenCV (FFmpeg) cannot open it as a video");
   }
   cv::Mat frame;
   uint64_t k = 0;
