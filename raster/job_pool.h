@@ -8,6 +8,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -29,6 +30,11 @@ class JobPool {
                    size_t grain = 1);
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
+  // How long a thread polls for the next job (or, the caller, for the last worker) before
+  // it blocks. A frame makes three parallelFor calls a few hundred microseconds apart;
+  // waking a blocked thread took tens of microseconds each time on the 2-core VMs here.
+  static constexpr int64_t kSpinMicroseconds = 200;
+
  private:
   void workerLoop(int worker);
   void drain(int worker);
@@ -36,14 +42,15 @@ class JobPool {
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
+  // Written under mutex_ before generation_ is released; read after acquiring it.
   const std::function<void(size_t, int)>* job_ = nullptr;
   size_t jobSize_ = 0;
   size_t grain_ = 1;
   // On its own cache line: claims do not invalidate the fields every thread reads.
   alignas(64) std::atomic<size_t> next_{0};
-  alignas(64) uint64_t generation_ = 0;
-  int busy_ = 0;
-  bool stop_ = false;
+  alignas(64) std::atomic<uint64_t> generation_{0};
+  std::atomic<int> busy_{0};
+  bool stop_ = false;  // under mutex_
 };
 
 }  // namespace penumbra::raster
