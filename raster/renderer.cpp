@@ -83,7 +83,9 @@ struct ObjectTriangle {
 };
 
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
-struct Worker {
+// Cache-line aligned: a thread writes its counters and `setup` for every shadow-map
+// triangle, and the next thread's Worker must not share those lines.
+struct alignas(64) Worker {
   ShadowMap shadowMap;
   AlignedVector<uint32_t> s;                // packed S of the current pass; zero between passes
   AlignedVector<uint16_t> acc;              // r, g, b planes: sum of this thread's per-pass amounts
