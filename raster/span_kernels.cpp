@@ -27,9 +27,12 @@ using VI = hn::Vec<DI>;
 using VU = hn::Vec<DU>;
 using MI = hn::Mask<DI>;
 
-// a >= b on int32 lanes (Highway 1.0.3 has no integer Ge).
-HWY_INLINE MI GeI(VI a, VI b) {
-  return hn::Not(hn::Lt(a, b));
+// E0 >= 0 and E1 >= 0 and E2 >= 0 on int32 lanes: the sign bit of E0 | E1 | E2 is clear
+// exactly when no value is negative. One compare instead of three compares, three mask
+// inversions (Highway 1.0.3 has no integer Ge) and two mask ANDs, which share one port.
+HWY_INLINE MI insideEdges(VI e0, VI e1, VI e2) {
+  const DI di;
+  return hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));
 }
 
 // Lane positions and the run mask of the vector starting at aligned x.
@@ -41,7 +44,8 @@ struct Chunk {
 HWY_INLINE Chunk chunkAt(int32_t x, int32_t xa, int32_t xb) {
   const DI di;
   const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
-  return {px, hn::And(GeI(px, hn::Set(di, xa)), hn::Lt(px, hn::Set(di, xb)))};
+  // px >= xa is px > xa - 1 (xa >= 0: no overflow).
+  return {px, hn::And(hn::Gt(px, hn::Set(di, xa - 1)), hn::Lt(px, hn::Set(di, xb)))};
 }
 
 HWY_INLINE int32_t alignDown(int32_t x) {
@@ -186,9 +190,7 @@ HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const Set
     const MI inColumns = hn::Lt(column, hn::Set(di, t.maxX - t.minX));
     const VF zColumn = hn::Add(z00, hn::Mul(dzdx, hn::ConvertTo(df, column)));
     for (int32_t y = t.minY; y < t.maxY; y += R) {
-      MI covered = hn::And(
-          inColumns,
-          hn::And(GeI(e0, hn::Zero(di)), hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
+      MI covered = hn::And(inColumns, insideEdges(e0, e1, e2));
       e0 = hn::Add(e0, blockStep0);
       e1 = hn::Add(e1, blockStep1);
       e2 = hn::Add(e2, blockStep2);
@@ -350,9 +352,7 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
     const float fy = static_cast<float>(y - planes.oy);
     for (int32_t x = xStart; x < t.maxX; x += lanes) {
       const Chunk c = chunkAt(x, t.minX, t.maxX);
-      const MI covered = hn::And(
-          c.inRun,
-          hn::And(GeI(e0, hn::Zero(di)), hn::And(GeI(e1, hn::Zero(di)), GeI(e2, hn::Zero(di)))));
+      const MI covered = hn::And(c.inRun, insideEdges(e0, e1, e2));
       e0 = hn::Add(e0, hn::Mul(step0, advance));
       e1 = hn::Add(e1, hn::Mul(step1, advance));
       e2 = hn::Add(e2, hn::Mul(step2, advance));
