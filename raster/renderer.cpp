@@ -10,6 +10,7 @@
 
 #include "raster/aligned_vector.h"
 #include "raster/job_pool.h"
+#include "raster/occluder_setup.h"
 #include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
 #include "raster/triangle_setup.h"
@@ -93,9 +94,12 @@ struct alignas(64) Worker {
   std::vector<int32_t> touchedBegin, touchedEnd;       // per row: union over this frame
   int32_t mapX0 = 0, mapY0 = 0, mapX1 = 0, mapY1 = 0;  // what the last pass wrote
   std::vector<ClipVertex> clip;
-  std::vector<SnappedVertex> snapped;
   std::vector<std::array<SnappedVertex, 3>> fan;
-  SetupTriangle setup;  // the shadow-map triangle being drawn (runPass)
+  SetupTriangle setup;  // a clipped shadow-map triangle being drawn (runPass)
+  // The occluder's snapped vertices and set-up triangles when it needs no clipping.
+  std::vector<int32_t> mapX, mapY;
+  std::vector<float> mapZ;
+  std::vector<SetupTriangle> mapTriangles;
   uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0;
 };
 
@@ -105,6 +109,7 @@ struct Renderer::Impl {
   StaticView view;
   RenderOptions options;
   const SpanKernels* kernels;
+  const OccluderKernels* occluderKernels;
   JobPool pool;
   size_t stride;     // pixels per internal row (spec §8)
   size_t planeSize;  // stride * height
@@ -160,7 +165,11 @@ struct Renderer::Impl {
 };
 
 Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
-    : view(v), options(o), kernels(nullptr), pool(std::max(1, o.threads)) {
+    : view(v),
+      options(o),
+      kernels(nullptr),
+      occluderKernels(nullptr),
+      pool(std::max(1, o.threads)) {
   if (o.threads < 1 || o.threads > 256) throw std::invalid_argument("threads must be in 1..256");
   if (o.tileSize != 16 && o.tileSize != 32 && o.tileSize != 64) {
     throw std::invalid_argument("tile size must be 16, 32 or 64");
@@ -170,6 +179,7 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
                                 " is not supported on this CPU or not compiled in");
   }
   kernels = &spanKernelsFor(o.isa);
+  occluderKernels = &occluderKernelsFor(o.isa);
   FrameTrace probe;
   probe.view = v;
   probe.frame.background.resize(size_t{v.width} * v.height * 4);
@@ -369,43 +379,44 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   w.mapX0 = w.mapY0 = isize;
   w.mapX1 = w.mapY1 = 0;
   const Mesh& occluder = frame.occluders[pass.occluder];
-  w.clip.resize(occluder.positions.size());
-  bool allInside = true;
-  for (size_t i = 0; i < w.clip.size(); ++i) {
-    w.clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
-    allInside = allInside && insideClipVolume(w.clip[i]);
-  }
+  auto draw = [&](const SetupTriangle& t) {
+    w.mapPixels +=
+        kernels->depthTriangle(w.shadowMap.origin(), nullptr, size_t(w.shadowMap.stride()), t, 0);
+    w.shadowMap.markWritten(t.minX, t.minY, t.maxX, t.maxY);
+    w.mapX0 = std::min(w.mapX0, t.minX);
+    w.mapY0 = std::min(w.mapY0, t.minY);
+    w.mapX1 = std::max(w.mapX1, t.maxX);
+    w.mapY1 = std::max(w.mapY1, t.maxY);
+  };
   // Usually the light frustum encloses the whole occluder (Gibson 2003 §7.2): then every
   // triangle is drawn unclipped and each vertex snaps once, exactly as clipAndSnapTriangle
-  // would snap it (the corner weights do not matter for depth).
-  if (allInside) {
-    w.snapped.resize(w.clip.size());
-    for (size_t i = 0; i < w.clip.size(); ++i) {
-      w.snapped[i] = snapVertex(w.clip[i], size, size, {65536, 0, 0});
+  // would snap it (the corner weights do not matter for depth), several vertices and
+  // triangles per vector (raster/occluder_setup.h).
+  const size_t vertices = occluder.positions.size();
+  const size_t padded = (vertices + kOccluderBatch - 1) / kOccluderBatch * kOccluderBatch;
+  w.mapX.resize(padded);
+  w.mapY.resize(padded);
+  w.mapZ.resize(padded);
+  if (occluderKernels->snapInside(pass.lightViewProj, occluder.positions.data(), vertices, size,
+                                  w.mapX.data(), w.mapY.data(), w.mapZ.data())) {
+    w.mapTriangles.resize(occluder.triangleCount());
+    const size_t accepted = occluderKernels->setupTriangles(
+        w.mapX.data(), w.mapY.data(), w.mapZ.data(), occluder.indices.data(),
+        occluder.triangleCount(), size, w.mapTriangles.data());
+    for (size_t t = 0; t < accepted; ++t) draw(w.mapTriangles[t]);
+  } else {
+    w.clip.resize(vertices);
+    for (size_t i = 0; i < vertices; ++i) {
+      w.clip[i] = transformPoint(pass.lightViewProj, occluder.positions[i]);
     }
-  }
-  // One SetupTriangle for the whole pass: setupTriangle writes every field it reads back,
-  // and value-initialising ~250 bytes per triangle showed up in the profile.
-  SetupTriangle& mapTriangle = w.setup;
-  auto draw = [&](const std::array<SnappedVertex, 3>& tri) {
-    if (!setupTriangle(tri, size, size, mapTriangle)) return;
-    w.mapPixels += kernels->depthTriangle(w.shadowMap.origin(), nullptr,
-                                          size_t(w.shadowMap.stride()), mapTriangle, 0);
-    w.shadowMap.markWritten(mapTriangle.minX, mapTriangle.minY, mapTriangle.maxX, mapTriangle.maxY);
-    w.mapX0 = std::min(w.mapX0, mapTriangle.minX);
-    w.mapY0 = std::min(w.mapY0, mapTriangle.minY);
-    w.mapX1 = std::max(w.mapX1, mapTriangle.maxX);
-    w.mapY1 = std::max(w.mapY1, mapTriangle.maxY);
-  };
-  for (size_t t = 0; t < occluder.triangleCount(); ++t) {
-    const uint32_t* idx = &occluder.indices[3 * t];
-    if (allInside) {
-      draw({w.snapped[idx[0]], w.snapped[idx[1]], w.snapped[idx[2]]});
-      continue;
+    for (size_t t = 0; t < occluder.triangleCount(); ++t) {
+      const uint32_t* idx = &occluder.indices[3 * t];
+      w.fan.clear();
+      clipAndSnapTriangle({w.clip[idx[0]], w.clip[idx[1]], w.clip[idx[2]]}, size, size, w.fan);
+      for (const auto& tri : w.fan) {
+        if (setupTriangle(tri, size, size, w.setup)) draw(w.setup);
+      }
     }
-    w.fan.clear();
-    clipAndSnapTriangle({w.clip[idx[0]], w.clip[idx[1]], w.clip[idx[2]]}, size, size, w.fan);
-    for (const auto& tri : w.fan) draw(tri);
   }
 
   ShadowLookup lookup{};
