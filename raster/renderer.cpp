@@ -136,6 +136,7 @@ struct Renderer::Impl {
   AlignedVector<float> depth;
   AlignedVector<uint32_t> id;
   std::vector<uint8_t> tileHasObject, tileHadObject;
+  std::vector<uint32_t> objectTiles;  // tiles with objects now or last frame, costliest first
   std::vector<ObjectTriangle> objectTriangles;
   std::vector<uint32_t> objectFirstSub;  // object triangle g -> [first[g], first[g + 1])
   // Row runs of every object sub-triangle, once per frame when some pass lists object
@@ -618,12 +619,19 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   r.prepareObjects(frame);
   // Tiles are short jobs: each thread claims ~1/16 of its share at a time (JobPool).
   const size_t tileGrain = std::max<size_t>(1, tiles / (16 * r.workers.size()));
-  r.pool.parallelFor(
-      tiles,
-      [&](size_t tile, int worker) {
-        r.compositeObjects(static_cast<uint32_t>(tile), frame, r.workers[size_t(worker)]);
-      },
-      tileGrain);
+  // Only the tiles that hold objects now or did last frame have work, unevenly (one tile of
+  // the showroom's chair holds 197 of its 734 binned triangles): they are claimed one at a
+  // time, the most triangles first, so the threads finish together.
+  r.objectTiles.clear();
+  for (uint32_t tile = 0; tile < tiles; ++tile) {
+    if (r.tileHasObject[tile] || r.tileHadObject[tile]) r.objectTiles.push_back(tile);
+  }
+  std::stable_sort(r.objectTiles.begin(), r.objectTiles.end(), [&](uint32_t a, uint32_t b) {
+    return r.tileObjects[a].size() > r.tileObjects[b].size();
+  });
+  r.pool.parallelFor(r.objectTiles.size(), [&](size_t k, int worker) {
+    r.compositeObjects(r.objectTiles[k], frame, r.workers[size_t(worker)]);
+  });
   r.stats.msObjects = msSince(start);
   const auto passesStart = Clock::now();
   // Longest passes first (by their receivers' covered pixels), so that the workers finish
