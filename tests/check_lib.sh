@@ -20,3 +20,20 @@ finish() {
   echo "$((checks - failures)) of $checks checks passed, $failures failed"
   exit $((failures > 0))
 }
+# The workload of the end-to-end scripts. The asan and tsan test presets set
+# PENUMBRA_TEST_WORKLOAD=small: a sanitizer looks for memory errors and races, which a
+# 320x240 frame exercises on the same code paths as a 640x480 one, 5-20x slower than
+# release; the release and aarch64 stages keep the full size (CI time, issue 2).
+small_workload() { [[ "${PENUMBRA_TEST_WORKLOAD:-full}" == small ]]; }
+# showroom_scene DATA_DIR: prints the showroom scene to test with: data/showroom/showroom.json,
+# or under the small workload a 320x240 copy in $tmp (model paths made absolute).
+showroom_scene() {
+  local scene="$1/showroom/showroom.json"
+  if small_workload; then
+    sed -e 's|"image": {"width": 640, "height": 480}|"image": {"width": 320, "height": 240}|' \
+        -e "s|\"\\.\\./models/|\"$1/models/|" "$scene" >"$tmp/showroom-small.json"
+    grep -q '"width": 320' "$tmp/showroom-small.json" || { echo "showroom_scene: no 640x480 image in $scene" >&2; return 1; }
+    scene="$tmp/showroom-small.json"
+  fi
+  echo "$scene"
+}

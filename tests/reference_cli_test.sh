@@ -7,7 +7,8 @@ set -uo pipefail
 penumbra="$1" data="$2"
 source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
-"$penumbra" precompute "$data/showroom/showroom.json" -o "$tmp/s.bundle" >"$tmp/pre" 2>&1
+scene="$(showroom_scene "$data")" || exit 1
+"$penumbra" precompute "$scene" -o "$tmp/s.bundle" >"$tmp/pre" 2>&1
 check "precompute: showroom bundle" $?
 ref=("$penumbra" reference "$tmp/s.bundle" --spp 1 --light-samples 4)
 
