@@ -21,6 +21,7 @@ bool SnapInside(const Mat4& m, const Vec3* points, size_t count, uint32_t size, 
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const size_t lanes = hn::Lanes(df);
+  static_assert(hn::MaxLanes(decltype(df)()) <= kOccluderBatch, "batch arrays too small");
   const auto& a = m.m;
   auto row = [&](int r, auto px, auto py, auto pz) {
     return hn::Add(
@@ -77,6 +78,7 @@ size_t SetupTriangles(const int32_t* x, const int32_t* y, const float* z, const 
   const hn::ScalableTag<double> dd;
   using VD = hn::Vec<decltype(dd)>;
   const size_t lanes = hn::Lanes(dd);
+  static_assert(hn::MaxLanes(decltype(dd)()) <= kOccluderBatch, "batch arrays too small");
   HWY_ALIGN double cx[3][kOccluderBatch], cy[3][kOccluderBatch], cz[3][kOccluderBatch];
   HWY_ALIGN double res[19][kOccluderBatch];
   const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0);

@@ -84,7 +84,7 @@ struct ObjectTriangle {
 };
 
 // What one thread needs to run passes (spec §8: each thread sums its passes' amounts).
-// Cache-line aligned: a thread writes its counters and `setup` for every shadow-map
+// Cache-line aligned: a thread writes its counters and map bounds for every shadow-map
 // triangle, and the next thread's Worker must not share those lines.
 struct alignas(64) Worker {
   ShadowMap shadowMap;
