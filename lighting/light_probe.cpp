@@ -5,9 +5,9 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "lighting/parallel_for.h"
 #include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
+#include "raster/job_pool.h"
 #include "shadow/intensity_transfer.h"
 
 namespace penumbra::lighting {
@@ -160,7 +160,9 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
   out.radiance.assign(n, glm::dvec3(0.0));
   out.seen.assign(n, 0);
   const int side = options.samplesPerSide;
-  parallelItems(n, options.threads, [&](size_t p) {
+  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  raster::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(n, [&](size_t p, int) {
     const std::array<glm::dvec3, 4> poly = patchPolygon(mesh, static_cast<uint32_t>(p));
     const glm::dvec3& normal = mesh.patches[p].normal;
     const uint64_t key = shadow::splitmix64(options.seed ^ (uint64_t(p) * kGolden));

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "lighting/form_factor.h"
-#include "lighting/parallel_for.h"
+#include "raster/job_pool.h"
 #include "shadow/intensity_transfer.h"
 
 namespace penumbra::lighting {
@@ -176,7 +176,9 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
 
   // transfer[e * receiverCount + i] = L_ij for emitter e, receiver vertex i.
   std::vector<glm::dvec3> transfer(emitters.size() * receiverCount, glm::dvec3(0.0));
-  parallelItems(emitters.size(), options.threads, [&](size_t e) {
+  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  raster::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(emitters.size(), [&](size_t e, int) {
     const uint32_t j = emitters[e];
     const scene::Patch& patch = mesh.patches[j];
     const std::array<glm::dvec3, 4> polygon = patchPolygon(mesh, j);

@@ -1,7 +1,7 @@
 // Counter-based uniform variates for offline Monte Carlo stages (the ray-traced reference,
 // reference/): a draw is a pure function of (key, counter), so any thread reproduces any
 // draw (docs/design.md §3: randomness keyed by stable ids, never by thread order). The work
-// split that goes with it is lighting/parallel_for.h.
+// split that goes with it is raster/job_pool.h, one work item owning its outputs.
 #pragma once
 
 #include <cstdint>
