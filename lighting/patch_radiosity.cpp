@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "raster/job_pool.h"
+#include "core/job_pool.h"
 
 namespace penumbra::lighting {
 
@@ -21,7 +21,7 @@ std::vector<glm::dvec3> gatherPatchIrradiance(const scene::PatchMesh& mesh, cons
   }
   std::vector<glm::dvec3> out(n, glm::dvec3(0.0));
   // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
-  raster::JobPool pool(static_cast<int>(options.threads));
+  core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(n, [&](size_t i, int) {
     const scene::Patch& pi = mesh.patches[i];
     const glm::dvec3 from = pi.centre + options.normalOffset * pi.normal;

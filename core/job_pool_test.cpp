@@ -1,4 +1,4 @@
-#include "raster/job_pool.h"
+#include "core/job_pool.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 namespace {
 
 // Every index runs exactly once, on a valid worker, for any size and grain.
@@ -163,4 +163,4 @@ TEST(JobPool, ManyExceptionsRethrowOne) {
 }
 
 }  // namespace
-}  // namespace penumbra::raster
+}  // namespace penumbra::core

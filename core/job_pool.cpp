@@ -1,10 +1,10 @@
-#include "raster/job_pool.h"
+#include "core/job_pool.h"
 
 #include <algorithm>
 #include <chrono>
 #include <utility>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 namespace {
 
 void cpuRelax() {
@@ -111,4 +111,4 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, 
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
-}  // namespace penumbra::raster
+}  // namespace penumbra::core

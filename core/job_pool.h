@@ -26,7 +26,7 @@
 #include <thread>
 #include <vector>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 
 class JobPool {
  public:
@@ -69,4 +69,4 @@ class JobPool {
   bool stop_ = false;  // under mutex_
 };
 
-}  // namespace penumbra::raster
+}  // namespace penumbra::core
