@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace penumbra::core {
 namespace {
@@ -31,6 +32,7 @@ bool spinUntil(Ready&& ready) {
 }  // namespace
 
 JobPool::JobPool(int threads) {
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (int w = 1; w < threads; ++w) workers_.emplace_back([this, w] { workerLoop(w); });
 }
 
@@ -48,9 +50,19 @@ JobPool::~JobPool() {
 void JobPool::drain(int worker) {
   const std::function<void(size_t, int)>& job = *job_;
   const size_t size = jobSize_, grain = grain_;
-  for (size_t first = next_.fetch_add(grain); first < size; first = next_.fetch_add(grain)) {
-    const size_t last = std::min(size, first + grain);
-    for (size_t i = first; i < last; ++i) job(i, worker);
+  // An exception must not leave the thread: on a worker it would end the process, on the
+  // caller it would return while workers still run `job`.
+  try {
+    for (size_t first = next_.fetch_add(grain); first < size; first = next_.fetch_add(grain)) {
+      const size_t last = std::min(size, first + grain);
+      for (size_t i = first; i < last; ++i) job(i, worker);
+    }
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_) error_ = std::current_exception();
+    // Every later claim starts at or past `size`: the other threads stop after the indices
+    // they hold.
+    next_.store(size);
   }
 }
 
@@ -95,6 +107,8 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, 
     done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
   }
   job_ = nullptr;
+  // The workers stored error_ before their release of busy_, which the caller acquired.
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
 }  // namespace penumbra::core

@@ -1,14 +1,26 @@
-// A minimal fork-join pool for tile and pass jobs (docs/pipeline-spec.md §8).
+// A minimal fork-join pool for tile and pass jobs (docs/pipeline-spec.md §8) and for the
+// offline stages' work items (lighting/, reference/).
 //
 // parallelFor(n, fn) runs fn(0) ... fn(n-1), each exactly once, on the calling thread and
 // the workers, and returns when all have finished. Which thread runs which index is not
-// deterministic; callers make each index own its outputs, so the result is.
+// deterministic; callers make each index own its outputs, so the result is (design §3: same
+// bytes for any thread count).
+//
+// Exceptions: the first exception thrown by fn stops the remaining indices (threads claim
+// no new ones; indices already claimed finish) and is rethrown on the caller once every
+// thread has left the job. The pool stays usable.
+//
+// Per frame, the renderer keeps one pool for its lifetime: its three calls a frame are
+// hundreds of microseconds apart. An offline stage (a gather, a transfer matrix, a reference
+// image) runs for milliseconds to minutes and constructs a pool per call: starting the
+// threads costs tens of microseconds.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -18,7 +30,8 @@ namespace penumbra::core {
 
 class JobPool {
  public:
-  explicit JobPool(int threads);  // threads >= 1, including the caller
+  // `threads` includes the caller; 0 means std::thread::hardware_concurrency() (at least 1).
+  explicit JobPool(int threads);
   ~JobPool();
   JobPool(const JobPool&) = delete;
   JobPool& operator=(const JobPool&) = delete;
@@ -26,6 +39,7 @@ class JobPool {
   // `fn(index, worker)`: worker in [0, threads()) identifies per-thread scratch space.
   // Threads claim `grain` consecutive indices at a time: each claim is an atomic on a
   // cache line the threads share, which costs more than a short job (a tile's finish).
+  // Not reentrant: fn must not call parallelFor on the same pool.
   void parallelFor(size_t n, const std::function<void(size_t index, int worker)>& fn,
                    size_t grain = 1);
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
@@ -46,6 +60,8 @@ class JobPool {
   const std::function<void(size_t, int)>* job_ = nullptr;
   size_t jobSize_ = 0;
   size_t grain_ = 1;
+  // The job's first exception, under mutex_; the caller reads it after busy_ reached 0.
+  std::exception_ptr error_;
   // On its own cache line: claims do not invalidate the fields every thread reads.
   alignas(64) std::atomic<size_t> next_{0};
   alignas(64) std::atomic<uint64_t> generation_{0};

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -76,6 +79,87 @@ TEST(JobPool, DestructionJoinsIdleWorkers) {
     }
     EXPECT_EQ(runs.load(), 8);
   }
+}
+
+// threads == 0 asks for one thread per hardware thread (the offline stages' default).
+TEST(JobPool, ZeroThreadsMeansHardwareConcurrency) {
+  const JobPool pool(0);
+  EXPECT_EQ(pool.threads(), static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+}
+
+// On one thread (the inline path) the first exception ends the loop where it is thrown.
+TEST(JobPool, OneThreadStopsAtTheFirstException) {
+  JobPool pool(1);
+  std::vector<int> runs(10, 0);
+  try {
+    pool.parallelFor(runs.size(), [&](size_t i, int) {
+      ++runs[i];
+      if (i == 3) throw std::runtime_error("item 3");
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "item 3");
+  }
+  EXPECT_EQ(runs, (std::vector<int>{1, 1, 1, 1, 0, 0, 0, 0, 0, 0}));
+}
+
+// A worker thread's exception reaches the caller (it must not end the process), the other
+// threads stop claiming indices, and the pool runs the next job in full.
+TEST(JobPool, WorkerExceptionIsRethrownOnTheCallerAndStopsTheRest) {
+  for (int threads : {2, 4}) {
+    JobPool pool(threads);
+    constexpr size_t kItems = 1000;
+    std::atomic<bool> thrown{false};
+    std::atomic<int> startedAfterThrow{0};
+    const auto body = [&](size_t i, int worker) {
+      if (thrown.load()) {
+        startedAfterThrow.fetch_add(1);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        return;
+      }
+      if (worker == 0) {
+        // The caller's first index waits for a worker's throw, so a worker throws first.
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (!thrown.load() && std::chrono::steady_clock::now() < deadline) {
+          std::this_thread::sleep_for(std::chrono::microseconds(50));
+        }
+        return;
+      }
+      if (!thrown.exchange(true)) throw std::runtime_error("item " + std::to_string(i));
+    };
+    try {
+      pool.parallelFor(kItems, body);
+      ADD_FAILURE() << "no exception, threads " << threads;
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("item ", 0), 0u) << e.what();
+    }
+    // A pool that ignored the exception would start all ~1000 remaining indices; a stopped
+    // one starts those claimed before the stop: one per other thread, a few more only if
+    // the throwing thread is descheduled between its throw and the stop.
+    EXPECT_LT(startedAfterThrow.load(), int(kItems / 10)) << "threads " << threads;
+
+    std::atomic<size_t> runs{0};
+    pool.parallelFor(kItems, [&](size_t, int) { runs.fetch_add(1); });
+    EXPECT_EQ(runs.load(), kItems) << "threads " << threads;
+  }
+}
+
+// Every index throwing, on every thread at once: exactly one exception comes back (the
+// others are dropped), from the caller's share or a worker's, and nothing deadlocks.
+TEST(JobPool, ManyExceptionsRethrowOne) {
+  JobPool pool(4);
+  for (int round = 0; round < 50; ++round) {
+    for (size_t grain : {size_t{1}, size_t{16}}) {
+      EXPECT_THROW(
+          pool.parallelFor(
+              256, [](size_t i, int) { throw std::out_of_range(std::to_string(i)); }, grain),
+          std::out_of_range)
+          << "round " << round;
+    }
+  }
+  std::atomic<int> runs{0};
+  pool.parallelFor(8, [&](size_t, int) { runs.fetch_add(1); });
+  EXPECT_EQ(runs.load(), 8);
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "lighting/parallel_for.h"
+#include "core/job_pool.h"
 #include "scene/portable_trig.h"
 #include "shadow/intensity_transfer.h"
 
@@ -91,7 +91,9 @@ shadow::IrradianceVolume buildIrradianceVolume(const scene::PatchMesh& mesh,
   const int samples = 2 * n * n;
   const double weight = 4.0 * std::numbers::pi / samples;
 
-  parallelItems(count, options.threads, [&](size_t v) {
+  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  core::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(count, [&](size_t v, int) {
     const size_t i = v % options.dims.x, j = (v / options.dims.x) % options.dims.y,
                  k = v / (size_t{options.dims.x} * options.dims.y);
     // The same float position the lookup will use for this vertex.

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "lighting/parallel_for.h"
+#include "core/job_pool.h"
 #include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
 #include "shadow/intensity_transfer.h"
@@ -156,7 +156,9 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
   out.radiance.assign(n, glm::dvec3(0.0));
   out.seen.assign(n, 0);
   const int side = options.samplesPerSide;
-  parallelItems(n, options.threads, [&](size_t p) {
+  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  core::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(n, [&](size_t p, int) {
     const std::array<glm::dvec3, 4> poly = patchPolygon(mesh, static_cast<uint32_t>(p));
     const glm::dvec3& normal = mesh.patches[p].normal;
     const uint64_t key = core::splitmix64(options.seed ^ (uint64_t(p) * core::kGolden));

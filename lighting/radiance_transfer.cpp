@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/job_pool.h"
 #include "lighting/form_factor.h"
-#include "lighting/parallel_for.h"
 #include "shadow/intensity_transfer.h"
 
 namespace penumbra::lighting {
@@ -170,7 +170,9 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
 
   // transfer[e * receiverCount + i] = L_ij for emitter e, receiver vertex i.
   std::vector<glm::dvec3> transfer(emitters.size() * receiverCount, glm::dvec3(0.0));
-  parallelItems(emitters.size(), options.threads, [&](size_t e) {
+  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  core::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(emitters.size(), [&](size_t e, int) {
     const uint32_t j = emitters[e];
     const scene::Patch& patch = mesh.patches[j];
     const std::array<glm::dvec3, 4> polygon = patchPolygon(mesh, j);

@@ -180,16 +180,14 @@ bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint
     e.bias = topLeft ? 0 : 1;
   }
 
-  // Depth plane (spec §5), binary64 then rounded once to binary32. The two quotients are
-  // one two-lane division: each lane is the same correctly rounded IEEE quotient.
-  typedef double Double2 __attribute__((vector_size(16)));
+  // Depth plane (spec §5), binary64 then rounded once to binary32.
   const double dx1 = t.v[1].x - t.v[0].x, dy1 = t.v[1].y - t.v[0].y;
   const double dx2 = t.v[2].x - t.v[0].x, dy2 = t.v[2].y - t.v[0].y;
   const double z0 = t.v[0].z;
   const double dz1 = static_cast<double>(t.v[1].z) - z0, dz2 = static_cast<double>(t.v[2].z) - z0;
   const double detD = static_cast<double>(det);
-  const Double2 g = Double2{dz1 * dy2 - dz2 * dy1, dz2 * dx1 - dz1 * dx2} / Double2{detD, detD};
-  const double gX = g[0], gY = g[1];
+  const double gX = (dz1 * dy2 - dz2 * dy1) / detD;
+  const double gY = (dz2 * dx1 - dz1 * dx2) / detD;
   const double ox = 256.0 * t.minX + 128.0 - t.v[0].x;
   const double oy = 256.0 * t.minY + 128.0 - t.v[0].y;
   const double zc = z0 + gX * ox + gY * oy;

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/job_pool.h"
 #include "core/random.h"
 #include "lighting/embree_scene.h"
 #include "lighting/form_factor.h"
-#include "lighting/parallel_for.h"
 #include "lighting/radiance_transfer.h"
 
 namespace penumbra::reference {
@@ -312,7 +312,9 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
   uint32_t rowsDone = 0;
   const double halfW = 0.5 * scene.width, halfH = 0.5 * scene.height;
   // One image row per work item: a pixel's samples, draws and sums never leave its thread.
-  lighting::parallelItems(scene.height, options.threads, [&](size_t py) {
+  // One pool per image (raster/job_pool.h): rendering runs far longer than starting threads.
+  core::JobPool pool(static_cast<int>(options.threads));
+  pool.parallelFor(scene.height, [&](size_t py, int) {
     for (uint32_t px = 0; px < scene.width; ++px) {
       const size_t pixel = py * scene.width + px;
       const uint64_t pixelKey = core::splitmix64(options.seed ^ (uint64_t{pixel} * core::kGolden));

@@ -2,11 +2,85 @@
 
 #include <bit>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "shadow/irradiance_volume.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+// The corner blend per SIMD target (shCornerBlendFor). Each lane runs one coefficient's chain
+// with the scalar reference's IEEE operations in its order (Mul then Add, never MulAdd:
+// design §6), so every target gives the reference's bits.
+HWY_BEFORE_NAMESPACE();
+namespace penumbra::shadow::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Chains [first, first + kVectors * lanes) of the blend. Corner-outer: the kVectors chains
+// are independent, so their additions overlap instead of waiting on one chain's latency.
+template <size_t kVectors, class D>
+HWY_INLINE void BlendChains(D d, const float* const record[8], const float weight[8], float inv,
+                            size_t first, float* out) {
+  constexpr size_t kLanes = hn::MaxLanes(D());
+  hn::Vec<D> acc[kVectors];
+  for (size_t v = 0; v < kVectors; ++v) {
+    acc[v] = hn::Mul(hn::Set(d, weight[0]), hn::LoadU(d, record[0] + first + v * kLanes));
+  }
+  for (int corner = 1; corner < 8; ++corner) {
+    const hn::Vec<D> w = hn::Set(d, weight[corner]);
+    for (size_t v = 0; v < kVectors; ++v) {
+      acc[v] = hn::Add(acc[v], hn::Mul(w, hn::LoadU(d, record[corner] + first + v * kLanes)));
+    }
+  }
+  for (size_t v = 0; v < kVectors; ++v) {
+    hn::StoreU(hn::Mul(acc[v], hn::Set(d, inv)), d, out + first + v * kLanes);
+  }
+}
+
+void BlendCorners(const float* const record[8], const float weight[8], float inv,
+                  float out[kShFloats]) {
+  // 8 lanes on AVX2 and AVX-512 (3 vectors: a 16-lane vector would leave 11 chains over),
+  // 4 on SSE4 and NEON (6 vectors); the last 3 chains run in one-lane vectors.
+  const hn::CappedTag<float, 8> d;
+  constexpr size_t kVectors = kShFloats / hn::MaxLanes(decltype(d)());
+  constexpr size_t kVectorFloats = kVectors * hn::MaxLanes(decltype(d)());
+  BlendChains<kVectors>(d, record, weight, inv, 0, out);
+  if constexpr (kVectorFloats < kShFloats) {  // not on Highway's one-lane scalar target
+    BlendChains<kShFloats - kVectorFloats>(hn::CappedTag<float, 1>(), record, weight, inv,
+                                           kVectorFloats, out);
+  }
+}
+
+ShCornerBlend BlendCornersKernel() {
+  return &BlendCorners;
+}
+
+}  // namespace penumbra::shadow::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "simd/target_table.h"
+
 namespace penumbra::shadow {
+namespace {
+
+// The reference the targets must match, in the order irradiance_volume.h states.
+void blendCornersScalar(const float* const record[8], const float weight[8], float inv,
+                        float out[kShFloats]) {
+  for (int q = 0; q < kShFloats; ++q) out[q] = weight[0] * record[0][q];
+  for (int corner = 1; corner < 8; ++corner) {
+    for (int q = 0; q < kShFloats; ++q) out[q] = out[q] + weight[corner] * record[corner][q];
+  }
+  for (int q = 0; q < kShFloats; ++q) out[q] = out[q] * inv;
+}
+
+}  // namespace
+
+ShCornerBlend shCornerBlendFor(simd::Isa isa) {
+  if (isa == simd::Isa::kScalar) return &blendCornersScalar;
+  return PENUMBRA_TARGET_TABLE_LOOKUP(BlendCornersKernel, isa);
+}
 
 void IrradianceVolume::validate() const {
   if (dims.x < 1 || dims.y < 1 || dims.z < 1) {
@@ -77,43 +151,14 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
     weight[corner] = use ? w : 0.0f;
     weightSum = weightSum + weight[corner];
   }
-  // Blend the 27 coefficients over the corners, normalize, then dot with the basis.
-  // Bit-exactness: every coefficient is its own chain w0 r0 + w1 r1 + ... + w7 r7 in corner
-  // order, times 1/sum(w). The chains run four at a time with GCC vector extensions (SSE on
-  // x86, NEON on aarch64; -O2 does not vectorize this short loop itself): each lane does the
-  // same IEEE operations in the same order as the scalar formula, so the bits are the same
-  // on every machine (no FMA: -ffp-contract=off).
+  // Blend the 27 coefficients over the corners (shCornerBlendFor), normalize, then dot with
+  // the basis.
   float blended[kShFloats];
   const float* source = blended;
   if (weightSum > 0.0f) {
-    using Float4 = float __attribute__((vector_size(16)));
-    auto load4 = [](const float* from) {
-      Float4 v;
-      std::memcpy(&v, from, sizeof v);
-      return v;
-    };
-    constexpr int kVectorFloats = kShFloats / 4 * 4;  // 24; the last 3 run as scalars
-    constexpr int kVectors = kVectorFloats / 4;
-    // Corner-outer: the six vector chains and three scalar ones are independent, so their
-    // additions overlap instead of waiting on one chain's latency.
-    Float4 acc[kVectors];
-    float tail[kShFloats - kVectorFloats];
-    for (int v = 0; v < kVectors; ++v) acc[v] = weight[0] * load4(record[0] + 4 * v);
-    for (int q = kVectorFloats; q < kShFloats; ++q)
-      tail[q - kVectorFloats] = weight[0] * record[0][q];
-    for (int corner = 1; corner < 8; ++corner) {
-      const float w = weight[corner];
-      const float* r = record[corner];
-      for (int v = 0; v < kVectors; ++v) acc[v] = acc[v] + w * load4(r + 4 * v);
-      for (int q = kVectorFloats; q < kShFloats; ++q) {
-        tail[q - kVectorFloats] = tail[q - kVectorFloats] + w * r[q];
-      }
-    }
-    const float inv = 1.0f / weightSum;
-    for (int v = 0; v < kVectors; ++v) acc[v] = acc[v] * inv;
-    for (float& x : tail) x = x * inv;
-    std::memcpy(blended, acc, sizeof acc);
-    std::memcpy(blended + kVectorFloats, tail, sizeof tail);
+    // The widest target this CPU runs: all give the same bits (simd/targets.h).
+    static const ShCornerBlend blend = shCornerBlendFor(simd::bestIsa());
+    blend(record, weight, 1.0f / weightSum, blended);
   } else {
     source = fallback.data();
   }
@@ -184,3 +229,4 @@ std::vector<glm::vec3> vertexNormals(const core::Mesh& m) {
 }
 
 }  // namespace penumbra::shadow
+#endif  // HWY_ONCE

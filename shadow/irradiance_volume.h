@@ -13,8 +13,9 @@
 // Per-frame evaluation (bit-exact contract, design §3): float, IEEE +, -, *, / only, in the
 // order written in the .cpp (no libm, no FMA: the project builds with -ffp-contract=off),
 // one vertex at a time, so the bytes do not depend on the ISA, thread count or batch size.
-// Cost: one trilinear blend of eight 27-float records (vectorizable: each coefficient is its
-// own chain in corner order) and nine basis products per vertex; about 60 ns on one core.
+// Cost: one trilinear blend of eight 27-float records (vectorized per SIMD target: each
+// coefficient is its own chain in corner order) and nine basis products per vertex; about
+// 60 ns on one core.
 #pragma once
 
 #include <array>
@@ -26,6 +27,7 @@
 
 #include "raster/frame_trace.h"
 #include "shadow/intensity_transfer.h"
+#include "simd/targets.h"
 
 namespace penumbra::shadow {
 
@@ -77,6 +79,14 @@ struct IrradianceVolume {
   // the basis at n. The per-frame lookup.
   glm::vec3 irradianceOverPi(const glm::vec3& p, const glm::vec3& n) const;
 };
+
+// The trilinear blend of irradianceOverPi: for q < kShFloats,
+//   out[q] = (((w0 r0[q] + w1 r1[q]) + w2 r2[q]) + ... + w7 r7[q]) * inv,
+// products and sums rounded one by one in that order. Compiled per SIMD target; every target
+// gives the scalar reference's bits (tested on each). irradianceOverPi runs the best one.
+using ShCornerBlend = void (*)(const float* const record[8], const float weight[8], float inv,
+                               float out[kShFloats]);
+ShCornerBlend shCornerBlendFor(simd::Isa isa);
 
 // T() for float radiance, the same codes as ToneCurve::operator() but without its binary
 // search per channel: a table indexed by the top 15 bits of the (non-negative) float gives

@@ -3,10 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "scene/sha256.h"
+#include "tests/isa_params.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -141,6 +144,45 @@ TEST(ToneLut, SameCodesAsTheToneCurve) {
     EXPECT_EQ(lut(std::numeric_limits<float>::quiet_NaN()), 0);
   }
 }
+
+// Every target's corner blend gives the scalar reference's bits (design §3), for full-mantissa
+// records and weights (where a fused multiply-add or another summation order would round
+// differently), zero weights, and signed zeros; and writes nothing past the 27 outputs.
+class ShCornerBlendOnTarget : public ::testing::TestWithParam<simd::Isa> {};
+
+TEST_P(ShCornerBlendOnTarget, MatchesTheScalarReferenceBitForBit) {
+  const ShCornerBlend reference = shCornerBlendFor(simd::Isa::kScalar);
+  const ShCornerBlend blend = shCornerBlendFor(GetParam());
+  uint64_t state = 7;
+  auto next = [&](int exponentSpan) {  // random sign and mantissa, exponent in +-exponentSpan
+    state = core::splitmix64(state);
+    const int exponent = int(state >> 58) % (2 * exponentSpan + 1) - exponentSpan;
+    return std::ldexp(float(int32_t(state & 0xFFFFFF) - (1 << 23)) * 0x1.0p-23f, exponent);
+  };
+  std::vector<float> records(8 * kShFloats);
+  for (int trial = 0; trial < 2000; ++trial) {
+    for (float& r : records) r = next(20);
+    const float* record[8];
+    float weight[8];
+    float weightSum = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+      record[c] = &records[size_t(c) * kShFloats];
+      weight[c] = trial % 3 == 0 && c % 3 == 1 ? 0.0f : std::fabs(next(2));
+      weightSum = weightSum + weight[c];
+    }
+    if (trial % 5 == 0) records[3] = -0.0f;
+    float expected[kShFloats + 1], actual[kShFloats + 1];
+    expected[kShFloats] = actual[kShFloats] = 123.0f;
+    reference(record, weight, 1.0f / weightSum, expected);
+    blend(record, weight, 1.0f / weightSum, actual);
+    ASSERT_EQ(std::memcmp(expected, actual, sizeof expected), 0)
+        << simd::isaName(GetParam()) << ", trial " << trial;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllTargets, ShCornerBlendOnTarget,
+                         ::testing::ValuesIn(simd::supportedIsas()),
+                         penumbra::testing::isaTestName);
 
 // The bit-exact contract (design §3) for product shading: a golden hash of the radiance
 // and colours of 2,000 vertices shaded from a pseudo-random volume. The same on every ISA
