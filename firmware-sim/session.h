@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "firmware-sim/virtual_camera.h"
 #include "firmware-sim/virtual_gpio.h"
 #include "platform/kiosk_loop.h"
@@ -18,9 +19,9 @@
 
 namespace penumbra::firmware_sim {
 
-class SessionError : public std::runtime_error {
+class SessionError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // An extra cost charged to one frame (a page fault storm, a kernel hiccup): the

@@ -8,14 +8,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "platform/exposure_control.h"
 #include "platform/product_files.h"
 
 namespace penumbra::platform {
 
-class ConfigError : public std::runtime_error {
+class ConfigError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 struct KioskConfig {

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace penumbra::raster {
 
 // Row-major 4x4: clip = M * (x, y, z, 1), element (r, c) at m[4*r + c].
@@ -104,9 +106,9 @@ struct FrameTrace {
 };
 
 // Every failure to read or validate a trace: the message names the file and the field.
-class TraceError : public std::runtime_error {
+class TraceError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // Limits a valid trace respects (docs/trace-format.md §Limits).
