@@ -346,6 +346,20 @@ std::optional<JsonValue> JsonValue::find(std::string_view key) const {
   return JsonValue(document_, &*it, joinKey(field_, key));
 }
 
+JsonValue JsonValue::optionalObject(std::string_view key,
+                                    std::initializer_list<std::string_view> allowed) const {
+  static const nlohmann::json kEmpty = nlohmann::json::object();
+  const std::optional<JsonValue> v = find(key);
+  const JsonValue member = v ? *v : JsonValue(document_, &kEmpty, joinKey(field_, key));
+  member.object(allowed);
+  return member;
+}
+
+std::vector<JsonValue> JsonValue::optionalArray(std::string_view key) const {
+  const std::optional<JsonValue> v = find(key);
+  return v ? v->array() : std::vector<JsonValue>{};
+}
+
 double JsonValue::numberOr(std::string_view key, double fallback, double lo, double hi) const {
   const std::optional<JsonValue> v = find(key);
   return v ? v->number(lo, hi) : fallback;

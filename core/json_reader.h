@@ -94,6 +94,12 @@ class JsonValue {
   bool has(std::string_view key) const;
   JsonValue operator[](std::string_view key) const;  // required: "missing" otherwise
   std::optional<JsonValue> find(std::string_view key) const;
+  // An optional object member (checked against `allowed` like object()); an absent one
+  // reads as {}, so every field of it takes its default.
+  JsonValue optionalObject(std::string_view key,
+                           std::initializer_list<std::string_view> allowed) const;
+  // The elements of an optional array member; none when it is absent.
+  std::vector<JsonValue> optionalArray(std::string_view key) const;
   double numberOr(std::string_view key, double fallback, double lo, double hi) const;
   int64_t integerOr(std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const;
   bool booleanOr(std::string_view key, bool fallback) const;

@@ -42,6 +42,10 @@ TEST(JsonReader, ReadsTypedFields) {
   EXPECT_EQ(root.stringOr("absent", "d"), "d");
   EXPECT_FALSE(root.find("absent").has_value());
   EXPECT_EQ(root["a"]["b"].array()[2].field(), "a.b[2]");
+  EXPECT_EQ(root.optionalObject("absent", {"x"}).integerOr("x", 4, 0, 9), 4);
+  EXPECT_EQ(root.optionalObject("a", {"b"})["b"].field(), "a.b");
+  EXPECT_TRUE(root.optionalArray("absent").empty());
+  EXPECT_EQ(root.optionalArray("a.b").size(), 0u);  // a key, not a path
 }
 
 TEST(JsonReader, WrongTypeNamesFileFieldAndBothTypes) {
