@@ -141,8 +141,8 @@ class MarksFile : public ::testing::Test {
 };
 
 TEST_F(MarksFile, BundledExampleCalibrates) {
-  const auto path = std::filesystem::path(__FILE__).parent_path().parent_path() / "data" /
-                    "calibration" / "vanishing-marks.json";
+  const auto path =
+      std::filesystem::path(PENUMBRA_DATA_DIR) / "calibration" / "vanishing-marks.json";
   const VanishingCalibration c = calibrateFromVanishingPoints(loadVanishingMarks(path));
   EXPECT_GT(c.intrinsics.fx, 100);
   EXPECT_LT(c.rmsPx, 2.0);
