@@ -14,7 +14,7 @@ constexpr int64_t kMs = 1'000'000;
 constexpr int64_t kHour = 3'600'000;  // ms
 
 // "kiosk": the product's KioskOptions (frame rates, pass limits, attract mode, buttons).
-void readKioskOptions(const JsonValue& k, platform::KioskOptions& o) {
+void readKioskOptions(const JsonValue& k, kiosk::KioskOptions& o) {
   const int64_t fps = k.integerOr("fps", 30, 1, 240);
   const int64_t qfps = k.integerOr("quality_fps", 15, 1, 240);
   o.fastFrameNs = 1'000'000'000 / fps;
@@ -113,7 +113,7 @@ ScriptedPress readPress(const JsonValue& e) {
   ScriptedPress p;
   p.atNs = e["at_ms"].integer(0, kHour) * kMs;
   const std::string name = e["button"].string();
-  const auto b = platform::parseButton(name);
+  const auto b = kiosk::parseButton(name);
   if (!b) {
     e["button"].fail("unknown button '" + name +
                      "' (next, previous, left, right, forward, back, rotate, quality)");

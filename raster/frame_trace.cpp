@@ -18,17 +18,17 @@ static_assert(std::endian::native == std::endian::little);
 
 using nlohmann::json;
 
-bool finite(const Vec3& v) {
+bool finite(const core::Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-void validateMatrix(const Mat4& m, const std::string& where, const std::string& field) {
+void validateMatrix(const core::Mat4& m, const std::string& where, const std::string& field) {
   for (float v : m.m) {
     if (!std::isfinite(v)) throw TraceError(where, field, "contains a non-finite number");
   }
 }
 
-void validateMesh(const Mesh& mesh, const std::string& where, const std::string& field) {
+void validateMesh(const core::Mesh& mesh, const std::string& where, const std::string& field) {
   if (mesh.indices.size() % 3 != 0) {
     throw TraceError(where, field + ".indices",
                      "count " + std::to_string(mesh.indices.size()) + " is not a multiple of 3");
@@ -51,7 +51,7 @@ void validateMesh(const Mesh& mesh, const std::string& where, const std::string&
 
 // Receiver triangles of one pass with their S: each in range and listed once (spec §6: a
 // triangle listed twice would subtract twice), three colours per triangle.
-void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<Rgb8>& s,
+void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<core::Rgb8>& s,
                        size_t available, const std::string& where, const std::string& field,
                        const std::string& sField, const char* kind) {
   std::vector<bool> listed(available, false);
@@ -85,8 +85,8 @@ struct Reader {
     return static_cast<T>(v.integer(0, static_cast<int64_t>(kLimit)));
   }
 
-  static Mat4 matrix(const JsonValue& v) {
-    Mat4 m;
+  static core::Mat4 matrix(const JsonValue& v) {
+    core::Mat4 m;
     v.floats(m.m);
     return m;
   }
@@ -106,7 +106,7 @@ struct Reader {
     if (bytes > 0) std::memcpy(out.data(), blob->data() + offset, bytes);
   }
 
-  void vec3s(const JsonValue& v, std::vector<Vec3>& out) const {
+  void vec3s(const JsonValue& v, std::vector<core::Vec3>& out) const {
     std::vector<float> flat;
     view(v, 3, flat);
     out.resize(flat.size() / 3);
@@ -114,7 +114,7 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  void rgbs(const JsonValue& v, std::vector<Rgb8>& out) const {
+  void rgbs(const JsonValue& v, std::vector<core::Rgb8>& out) const {
     std::vector<uint8_t> flat;
     view(v, 3, flat);
     out.resize(flat.size() / 3);
@@ -122,8 +122,8 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  Mesh mesh(const JsonValue& v) const {
-    Mesh m;
+  core::Mesh mesh(const JsonValue& v) const {
+    core::Mesh m;
     vec3s(v["positions"], m.positions);
     view(v["indices"], 1, m.indices);
     return m;
@@ -143,33 +143,27 @@ struct Writer {
     blob.insert(blob.end(), p, p + bytes);
     return v;
   }
-  json vec3s(const std::vector<Vec3>& v) {
-    static_assert(sizeof(Vec3) == 12);
+  json vec3s(const std::vector<core::Vec3>& v) {
+    static_assert(sizeof(core::Vec3) == 12);
     return view(reinterpret_cast<const float*>(v.data()), v.size(), 3);
   }
-  json rgbs(const std::vector<Rgb8>& v) {
-    static_assert(sizeof(Rgb8) == 3);
+  json rgbs(const std::vector<core::Rgb8>& v) {
+    static_assert(sizeof(core::Rgb8) == 3);
     return view(reinterpret_cast<const uint8_t*>(v.data()), v.size(), 3);
   }
-  json mesh(const Mesh& m) {
+  json mesh(const core::Mesh& m) {
     return {{"positions", vec3s(m.positions)},
             {"indices", view(m.indices.data(), m.indices.size(), 1)}};
   }
 };
 
-json matrixJson(const Mat4& m) {
+json matrixJson(const core::Mat4& m) {
   json a = json::array();
   for (float v : m.m) a.push_back(static_cast<double>(v));  // exact: every float is a double
   return a;
 }
 
 }  // namespace
-
-Mat4 Mat4::identity() {
-  Mat4 m;
-  m.m[0] = m.m[5] = m.m[10] = m.m[15] = 1.0f;
-  return m;
-}
 
 void validateTrace(const FrameTrace& trace, const std::string& where) {
   const StaticView& view = trace.view;
@@ -326,7 +320,7 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
     doc["objects"].push_back(oj);
   }
   doc["occluders"] = json::array();
-  for (const Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
+  for (const core::Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
   doc["accumulation"] = accumulationName(trace.frame.accumulation);
   doc["passes"] = json::array();
   for (const ShadowPass& p : trace.frame.passes) {

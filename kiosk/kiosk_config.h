@@ -9,10 +9,10 @@
 #include <string>
 
 #include "core/error.h"
-#include "platform/exposure_control.h"
-#include "platform/product_files.h"
+#include "kiosk/exposure_control.h"
+#include "kiosk/product_files.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 class ConfigError : public core::Error {
  public:
@@ -36,4 +36,4 @@ struct KioskConfig {
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "platform/status.h"
+#include "kiosk/status.h"
 #include "shadow/scene_bundle.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 class ProductFileError : public core::Error {
  public:
@@ -77,4 +77,4 @@ class ProductFileWatcher {
   std::vector<Watched> files_;
 };
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,4 +1,4 @@
-#include "platform/kiosk_config.h"
+#include "kiosk/kiosk_config.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 
 #include "core/json_reader.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 namespace {
 
@@ -73,4 +73,4 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   return c;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk
