@@ -15,11 +15,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/error.h"
+
 namespace penumbra::firmware_sim {
 
-class FootageError : public std::runtime_error {
+class FootageError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // RGBA8 frames of width × height, in order. Throws FootageError naming the file (or

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/clock.h"
+#include "core/error.h"
 #include "firmware-sim/virtual_camera.h"
 #include "firmware-sim/virtual_gpio.h"
 #include "kiosk/kiosk_loop.h"
@@ -19,9 +20,9 @@
 
 namespace penumbra::firmware_sim {
 
-class SessionError : public std::runtime_error {
+class SessionError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // An extra cost charged to one frame (a page fault storm, a kernel hiccup): the

@@ -8,14 +8,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "kiosk/exposure_control.h"
 #include "kiosk/product_files.h"
 
 namespace penumbra::kiosk {
 
-class ConfigError : public std::runtime_error {
+class ConfigError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 struct KioskConfig {

@@ -11,14 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "kiosk/status.h"
 #include "shadow/scene_bundle.h"
 
 namespace penumbra::kiosk {
 
-class ProductFileError : public std::runtime_error {
+class ProductFileError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // The most triangles a product file may have: its own mesh is also its shadow proxy (the

@@ -3,12 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
-#include <nlohmann/json.hpp>
-
+#include "core/json_reader.h"
 #include "lighting/camera_response.h"
 #include "lighting/embree_scene.h"
 #include "lighting/exr_io.h"
@@ -22,78 +19,87 @@
 namespace penumbra::lighting {
 namespace {
 
-using nlohmann::json;
+using core::JsonValue;
 namespace fs = std::filesystem;
 
 // --- manifest ------------------------------------------------------------------------
 
-class Reader {
- public:
-  explicit Reader(fs::path file) : file_(std::move(file)) {}
+// A file named by the manifest: relative names are relative to the manifest's folder.
+fs::path filePath(const JsonValue& v, const fs::path& manifest) {
+  const fs::path p = v.nonEmptyString();
+  return p.is_absolute() ? p : fs::absolute(manifest).parent_path() / p;
+}
 
-  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
-    throw CaptureError(file_.string() + ": " + field + ": " + problem);
+double positive(const JsonValue& v) {
+  const double d = v.number();
+  if (!(d > 0)) v.fail("must be > 0");
+  return d;
+}
+
+glm::dvec3 vec3(const JsonValue& v) {
+  const std::vector<double> c = v.numbers(3);
+  return {c[0], c[1], c[2]};
+}
+
+int integer(const JsonValue& v, int lo, int hi) {
+  return static_cast<int>(v.integer(lo, hi));
+}
+
+// "calibration": vanishing-point marks, or chessboard photographs plus room corners.
+void readCalibration(const JsonValue& cal, const fs::path& file, CaptureManifest& m) {
+  cal.object({"vanishing", "origin_world", "chessboard", "corners"});
+  if (cal.has("vanishing") == cal.has("chessboard")) {
+    cal.fail("exactly one of \"vanishing\" and \"chessboard\" is needed");
   }
-
-  // Unknown fields are errors (a typo must not silently fall back to a default); fields
-  // starting with '_' are notes.
-  void onlyFields(const json& j, const std::string& where,
-                  std::initializer_list<const char*> allowed) const {
-    if (!j.is_object()) fail(where.empty() ? "(top level)" : where, "must be an object");
-    for (const auto& [key, value] : j.items()) {
-      if (!key.empty() && key[0] == '_') continue;
-      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) ==
-          allowed.end()) {
-        fail(join(where, key), "unknown field");
-      }
+  if (cal.has("vanishing")) {
+    m.vanishingMarks = filePath(cal["vanishing"], file);
+    if (cal.has("origin_world")) m.vanishingOriginWorld = vec3(cal["origin_world"]);
+  } else {
+    if (cal.has("origin_world")) cal["origin_world"].fail("only with \"vanishing\"");
+    const JsonValue cb = cal["chessboard"].object({"images", "cols", "rows", "square"});
+    const JsonValue images = cb["images"];
+    if (!images.json().is_array() || images.json().size() < 3) {
+      images.fail("must list at least 3 photos");
+    }
+    for (const JsonValue& image : images.array()) {
+      m.chessboardPhotos.push_back(filePath(image, file));
+    }
+    m.chessboardCols = integer(cb["cols"], 2, 100);
+    m.chessboardRows = integer(cb["rows"], 2, 100);
+    if (cb.has("square")) m.chessboardSquare = positive(cb["square"]);
+    if (!cal.has("corners")) {
+      throw CaptureError(file.string(), "calibration.corners",
+                         "required with \"chessboard\" (the pose comes from them)");
     }
   }
+  if (cal.has("corners")) m.corners = filePath(cal["corners"], file);
+}
 
-  static std::string join(const std::string& where, const std::string& key) {
-    return where.empty() ? key : where + "." + key;
+// "probe": the light probe's image, mapping, position and orientation in the room.
+void readProbe(const JsonValue& pr, const fs::path& file, CaptureManifest& m) {
+  pr.object({"image", "mapping", "fisheye_fov_deg", "position", "yaw_deg", "pitch_deg",
+             "saturation", "scale"});
+  m.probeImage = filePath(pr["image"], file);
+  m.probeMapping = pr["mapping"].oneOf<ProbeMapping>({{"latlong", ProbeMapping::LatLong},
+                                                      {"mirror_ball", ProbeMapping::MirrorBall},
+                                                      {"fisheye", ProbeMapping::Fisheye}});
+  if (const auto fov = pr.find("fisheye_fov_deg")) {
+    if (m.probeMapping != ProbeMapping::Fisheye) fov->fail("only for fisheye");
+    m.probeFisheyeFovDegrees = positive(*fov);
+    if (m.probeFisheyeFovDegrees > 360) fov->fail("must be <= 360");
   }
-
-  const json& need(const json& j, const std::string& where, const char* key) const {
-    if (!j.contains(key)) fail(join(where, key), "missing");
-    return j.at(key);
-  }
-
-  double number(const json& v, const std::string& field) const {
-    if (!v.is_number()) fail(field, "must be a number");
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(field, "must be finite");
-    return d;
-  }
-
-  double positive(const json& v, const std::string& field) const {
-    const double d = number(v, field);
-    if (!(d > 0)) fail(field, "must be > 0");
-    return d;
-  }
-
-  int integer(const json& v, const std::string& field, int lo, int hi) const {
-    if (!v.is_number_integer()) fail(field, "must be an integer");
-    const int64_t i = v.get<int64_t>();
-    if (i < lo || i > hi) {
-      fail(field, "must be in " + std::to_string(lo) + ".." + std::to_string(hi));
+  m.probePosition = vec3(pr["position"]);
+  if (pr.has("yaw_deg")) m.probeYawDegrees = pr["yaw_deg"].number();
+  if (pr.has("pitch_deg")) m.probePitchDegrees = pr["pitch_deg"].number();
+  if (pr.has("saturation")) m.probeSaturation = float(positive(pr["saturation"]));
+  if (const auto scale = pr.find("scale")) {
+    if (scale->json() != "fit") {
+      const glm::dvec3 s = vec3(*scale);
+      if (!(s.x > 0 && s.y > 0 && s.z > 0)) scale->fail("must be > 0 (or \"fit\")");
+      m.probeScale = s;
     }
-    return int(i);
   }
-
-  glm::dvec3 vec3(const json& v, const std::string& field) const {
-    if (!v.is_array() || v.size() != 3) fail(field, "must be [x, y, z]");
-    return {number(v[0], field + "[0]"), number(v[1], field + "[1]"), number(v[2], field + "[2]")};
-  }
-
-  fs::path path(const json& v, const std::string& field) const {
-    if (!v.is_string() || v.get<std::string>().empty()) fail(field, "must be a file name");
-    const fs::path p = v.get<std::string>();
-    return p.is_absolute() ? p : fs::absolute(file_).parent_path() / p;
-  }
-
- private:
-  fs::path file_;
-};
+}
 
 // Probe frame -> room: Ry(yaw) Rx(pitch) (columns: probe axes in the room).
 glm::dmat3 probeRotation(double yawDegrees, double pitchDegrees) {
@@ -117,147 +123,10 @@ double quantile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
 }
 
-}  // namespace
+// --- the stages of runCapture --------------------------------------------------------
 
-CaptureManifest loadCaptureManifest(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw CaptureError(path.string() + ": cannot read");
-  std::stringstream text;
-  text << in.rdbuf();
-  const Reader r(path);
-  json j;
-  try {
-    j = json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    r.fail("(json)", e.what());
-  }
-  CaptureManifest m;
-  m.source = path;
-  r.onlyFields(
-      j, "", {"format", "version", "scene", "calibration", "exposures", "live_exposure", "probe"});
-  const json& format = r.need(j, "", "format");
-  if (format != "penumbra-capture") r.fail("format", "must be \"penumbra-capture\"");
-  if (r.integer(r.need(j, "", "version"), "version", 1, 1000) != 1) {
-    r.fail("version", "must be 1");
-  }
-  m.scene = r.path(r.need(j, "", "scene"), "scene");
-
-  const json& cal = r.need(j, "", "calibration");
-  r.onlyFields(cal, "calibration", {"vanishing", "origin_world", "chessboard", "corners"});
-  if (cal.contains("vanishing") == cal.contains("chessboard")) {
-    r.fail("calibration", "exactly one of \"vanishing\" and \"chessboard\" is needed");
-  }
-  if (cal.contains("vanishing")) {
-    m.vanishingMarks = r.path(cal["vanishing"], "calibration.vanishing");
-    if (cal.contains("origin_world")) {
-      m.vanishingOriginWorld = r.vec3(cal["origin_world"], "calibration.origin_world");
-    }
-  } else {
-    if (cal.contains("origin_world")) {
-      r.fail("calibration.origin_world", "only with \"vanishing\"");
-    }
-    const json& cb = cal["chessboard"];
-    r.onlyFields(cb, "calibration.chessboard", {"images", "cols", "rows", "square"});
-    const json& images = r.need(cb, "calibration.chessboard", "images");
-    if (!images.is_array() || images.size() < 3) {
-      r.fail("calibration.chessboard.images", "must list at least 3 photos");
-    }
-    for (size_t i = 0; i < images.size(); ++i) {
-      m.chessboardPhotos.push_back(
-          r.path(images[i], "calibration.chessboard.images[" + std::to_string(i) + "]"));
-    }
-    m.chessboardCols = r.integer(r.need(cb, "calibration.chessboard", "cols"),
-                                 "calibration.chessboard.cols", 2, 100);
-    m.chessboardRows = r.integer(r.need(cb, "calibration.chessboard", "rows"),
-                                 "calibration.chessboard.rows", 2, 100);
-    if (cb.contains("square")) {
-      m.chessboardSquare = r.positive(cb["square"], "calibration.chessboard.square");
-    }
-    if (!cal.contains("corners")) {
-      r.fail("calibration.corners", "required with \"chessboard\" (the pose comes from them)");
-    }
-  }
-  if (cal.contains("corners")) m.corners = r.path(cal["corners"], "calibration.corners");
-
-  const json& ex = r.need(j, "", "exposures");
-  if (!ex.is_array() || ex.size() < 2) r.fail("exposures", "must list at least 2 photographs");
-  for (size_t i = 0; i < ex.size(); ++i) {
-    const std::string f = "exposures[" + std::to_string(i) + "]";
-    r.onlyFields(ex[i], f, {"image", "seconds"});
-    m.exposures.push_back({r.path(r.need(ex[i], f, "image"), f + ".image"),
-                           r.positive(r.need(ex[i], f, "seconds"), f + ".seconds")});
-  }
-  const json& live = r.need(j, "", "live_exposure");
-  r.onlyFields(live, "live_exposure", {"index", "seconds"});
-  if (live.contains("index") == live.contains("seconds")) {
-    r.fail("live_exposure", "exactly one of \"index\" and \"seconds\" is needed");
-  }
-  if (live.contains("index")) {
-    m.liveIndex = r.integer(live["index"], "live_exposure.index", 0, int(ex.size()) - 1);
-  } else {
-    m.liveSeconds = r.positive(live["seconds"], "live_exposure.seconds");
-  }
-
-  const json& pr = r.need(j, "", "probe");
-  r.onlyFields(pr, "probe",
-               {"image", "mapping", "fisheye_fov_deg", "position", "yaw_deg", "pitch_deg",
-                "saturation", "scale"});
-  m.probeImage = r.path(r.need(pr, "probe", "image"), "probe.image");
-  const json& mapping = r.need(pr, "probe", "mapping");
-  if (mapping == "latlong") {
-    m.probeMapping = ProbeMapping::LatLong;
-  } else if (mapping == "mirror_ball") {
-    m.probeMapping = ProbeMapping::MirrorBall;
-  } else if (mapping == "fisheye") {
-    m.probeMapping = ProbeMapping::Fisheye;
-  } else {
-    r.fail("probe.mapping", "must be \"latlong\", \"mirror_ball\" or \"fisheye\"");
-  }
-  if (pr.contains("fisheye_fov_deg")) {
-    if (m.probeMapping != ProbeMapping::Fisheye)
-      r.fail("probe.fisheye_fov_deg", "only for fisheye");
-    m.probeFisheyeFovDegrees = r.positive(pr["fisheye_fov_deg"], "probe.fisheye_fov_deg");
-    if (m.probeFisheyeFovDegrees > 360) r.fail("probe.fisheye_fov_deg", "must be <= 360");
-  }
-  m.probePosition = r.vec3(r.need(pr, "probe", "position"), "probe.position");
-  if (pr.contains("yaw_deg")) m.probeYawDegrees = r.number(pr["yaw_deg"], "probe.yaw_deg");
-  if (pr.contains("pitch_deg")) m.probePitchDegrees = r.number(pr["pitch_deg"], "probe.pitch_deg");
-  if (pr.contains("saturation")) {
-    m.probeSaturation = float(r.positive(pr["saturation"], "probe.saturation"));
-  }
-  if (pr.contains("scale")) {
-    if (pr["scale"] != "fit") {
-      const glm::dvec3 s = r.vec3(pr["scale"], "probe.scale");
-      if (!(s.x > 0 && s.y > 0 && s.z > 0)) r.fail("probe.scale", "must be > 0 (or \"fit\")");
-      m.probeScale = s;
-    }
-  }
-  return m;
-}
-
-CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
-                         const CaptureProgress& progress) {
-  const std::string src = m.source.string();
-  CaptureResult result;
-  CaptureSummary& s = result.summary;
-  constexpr int kOwnStages = 6;
-  const int kStages = kOwnStages + (options.irradianceVolume ? 6 : 5);
-  int stage = 0;
-  auto start = std::chrono::steady_clock::now();
-  auto begin = [&](const std::string& name) {
-    start = std::chrono::steady_clock::now();
-    if (progress) progress(name, stage, kStages);
-    s.timings.push_back({name, 0});
-    ++stage;
-  };
-  auto endStage = [&] {
-    s.timings.back().ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  };
-
-  // --- photographs --------------------------------------------------------------------
-  begin("photographs");
-  scene::SceneDescription scene = scene::loadSceneFile(m.scene);
+// The bracket of photographs, all of one size.
+std::vector<Exposure> readBracket(const CaptureManifest& m, const std::string& src) {
   std::vector<Exposure> bracket;
   for (const CaptureManifest::Photo& p : m.exposures) {
     const scene::PhotoRgb8 photo = scene::readPhotoRgb8(p.file);
@@ -271,11 +140,13 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
     bracket.push_back(
         {p.file.filename().string(), p.seconds, {photo.width, photo.height, photo.rgb}});
   }
-  const int width = bracket[0].image.width, height = bracket[0].image.height;
-  endStage();
+  return bracket;
+}
 
-  // --- calibration (Gibson & Chalmers 2003 §3) -----------------------------------------
-  begin("calibration");
+// Intrinsics and pose (Gibson & Chalmers 2003 §3) into s.intrinsics and s.pose; the scene's
+// camera and image size become the calibrated ones.
+void calibrateCamera(const CaptureManifest& m, int width, int height, const std::string& src,
+                     scene::SceneDescription& scene, CaptureSummary& s) {
   scene::Intrinsics intr;
   scene::Pose pose;
   if (!m.vanishingMarks.empty()) {
@@ -335,10 +206,11 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
       s.warnings.push_back(buf);
     }
   }
-  endStage();
+}
 
-  // --- response and HDR (§4) ------------------------------------------------------------
-  begin("camera response");
+// The camera response into s.response (§4) and T() at the live exposure.
+shadow::ToneCurve recoverToneCurve(const CaptureManifest& m, const std::vector<Exposure>& bracket,
+                                   CaptureSummary& s) {
   s.response = recoverResponse(bracket);
   const CameraResponse& response = s.response;
   for (const std::string& w : response.warnings) s.warnings.push_back("response: " + w);
@@ -365,9 +237,17 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
     samples.push_back({t.radiance / live, t.value});
   }
   const shadow::ToneCurve tone = shadow::ToneCurve::fromSamples(samples);
-  endStage();
+  return tone;
+}
 
-  begin("HDR merge");
+struct HdrPhotos {
+  MergeResult merged;               // radiance in the grey curve's units
+  std::vector<uint8_t> background;  // the kiosk's live view, RGBA8
+};
+
+HdrPhotos mergeHdr(const CaptureManifest& m, const std::vector<Exposure>& bracket,
+                   const shadow::ToneCurve& tone, int width, int height, CaptureSummary& s) {
+  const CameraResponse& response = s.response;
   MergeResult merged = mergeExposures(bracket, response);
   for (size_t i = 0; i < merged.radiance.rgb.size(); ++i) {
     merged.radiance.rgb[i] = float(double(merged.radiance.rgb[i]) * s.channelToGrey[int(i % 3)]);
@@ -390,10 +270,10 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
                                           : tone(double(merged.radiance.rgb[3 * i + c]));
     }
   }
-  endStage();
+  return {std::move(merged), std::move(background)};
+}
 
-  // --- probe -> patches (§4.2) -------------------------------------------------------------
-  begin("light probe");
+LightProbe readLightProbe(const CaptureManifest& m, CaptureSummary& s) {
   ExrReadReport exrReport;
   LightProbe probe;
   probe.image = readExr(m.probeImage, &exrReport);
@@ -407,11 +287,16 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
   probe.fisheyeFovDegrees = m.probeFisheyeFovDegrees;
   probe.position = m.probePosition;
   probe.rotation = probeRotation(m.probeYawDegrees, m.probePitchDegrees);
-  const scene::PatchMesh mesh = precomputePatchMesh(scene, options);
-  const EmbreeScene rays(mesh);
+  return probe;
+}
+
+// The probe's radiance on every patch it sees (§4.2).
+ProbeProjection projectLightProbe(const LightProbe& probe, const scene::PatchMesh& mesh,
+                                  const EmbreeScene& rays, const CaptureManifest& m,
+                                  unsigned threads, const std::string& src, CaptureSummary& s) {
   ProbeProjectionOptions po;
   po.saturationLevel = m.probeSaturation;
-  po.threads = options.threads;
+  po.threads = threads;
   ProbeProjection proj;
   try {
     proj = projectProbe(probe, mesh, rays, po);
@@ -421,15 +306,21 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
   for (const std::string& w : proj.warnings) s.warnings.push_back("probe: " + w);
   s.probeSeenPatches = proj.seenPatches;
   s.probeEmitters = proj.emitters;
-  endStage();
+  return proj;
+}
 
-  // --- probe units -> photograph units ------------------------------------------------------
-  // The probe was taken with another camera (or exposure) than the kiosk photographs, so
-  // its radiance is in other units. Reflectance L/G is a ratio and does not care, but the
-  // emission (and so every transfer and T() of the frame) does. Each seen reflector that
-  // the calibrated camera also sees gives a ratio photo / probe per channel; the median
-  // ties the units (robust to the few patches where the room model and the photo disagree).
-  begin("probe scale");
+// The probe was taken with another camera (or exposure) than the kiosk photographs, so
+// its radiance is in other units. Reflectance L/G is a ratio and does not care, but the
+// emission (and so every transfer and T() of the frame) does. Each seen reflector that
+// the calibrated camera also sees gives a ratio photo / probe per channel; the median
+// ties the units (robust to the few patches where the room model and the photo disagree).
+void scaleProbeToPhotographs(const CaptureManifest& m, const std::vector<Exposure>& bracket,
+                             const MergeResult& merged, const scene::PatchMesh& mesh,
+                             const EmbreeScene& rays, const std::string& src, ProbeProjection& proj,
+                             CaptureSummary& s) {
+  const scene::Intrinsics& intr = s.intrinsics;
+  const scene::Pose& pose = s.pose;
+  const int width = bracket[0].image.width, height = bracket[0].image.height;
   if (m.probeScale) {
     s.probeScale = *m.probeScale;
   } else {
@@ -501,13 +392,99 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
     proj.radiance[p] *= s.probeScale;
     proj.materials[p].emission *= s.probeScale;
   }
+}
+
+}  // namespace
+
+CaptureManifest loadCaptureManifest(const fs::path& path) {
+  const core::JsonDocument doc(path, core::throwAs<CaptureError>);
+  const JsonValue j = doc.root().object(
+      {"format", "version", "scene", "calibration", "exposures", "live_exposure", "probe"});
+  CaptureManifest m;
+  m.source = path;
+  if (j["format"].json() != "penumbra-capture") j["format"].fail("must be \"penumbra-capture\"");
+  if (integer(j["version"], 1, 1000) != 1) j["version"].fail("must be 1");
+  m.scene = filePath(j["scene"], path);
+  readCalibration(j["calibration"], path, m);
+
+  const JsonValue ex = j["exposures"];
+  if (!ex.json().is_array() || ex.json().size() < 2) ex.fail("must list at least 2 photographs");
+  for (const JsonValue& e : ex.array()) {
+    e.object({"image", "seconds"});
+    m.exposures.push_back({filePath(e["image"], path), positive(e["seconds"])});
+  }
+  const JsonValue live = j["live_exposure"].object({"index", "seconds"});
+  if (live.has("index") == live.has("seconds")) {
+    live.fail("exactly one of \"index\" and \"seconds\" is needed");
+  }
+  if (live.has("index")) {
+    m.liveIndex = integer(live["index"], 0, int(m.exposures.size()) - 1);
+  } else {
+    m.liveSeconds = positive(live["seconds"]);
+  }
+  readProbe(j["probe"], path, m);
+  return m;
+}
+
+CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
+                         const CaptureProgress& progress) {
+  const std::string src = m.source.string();
+  CaptureResult result;
+  CaptureSummary& s = result.summary;
+  constexpr int kOwnStages = 6;
+  const int kStages = kOwnStages + (options.irradianceVolume ? 6 : 5);
+  int stage = 0;
+  auto start = std::chrono::steady_clock::now();
+  auto begin = [&](const std::string& name) {
+    start = std::chrono::steady_clock::now();
+    if (progress) progress(name, stage, kStages);
+    s.timings.push_back({name, 0});
+    ++stage;
+  };
+  auto endStage = [&] {
+    s.timings.back().ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  // --- photographs --------------------------------------------------------------------
+  begin("photographs");
+  scene::SceneDescription scene = scene::loadSceneFile(m.scene);
+  const std::vector<Exposure> bracket = readBracket(m, src);
+  const int width = bracket[0].image.width, height = bracket[0].image.height;
+  endStage();
+
+  // --- calibration (Gibson & Chalmers 2003 §3) -----------------------------------------
+  begin("calibration");
+  calibrateCamera(m, width, height, src, scene, s);
+  endStage();
+
+  // --- response and HDR (§4) ------------------------------------------------------------
+  begin("camera response");
+  const shadow::ToneCurve tone = recoverToneCurve(m, bracket, s);
+  endStage();
+
+  begin("HDR merge");
+  HdrPhotos hdr = mergeHdr(m, bracket, tone, width, height, s);
+  endStage();
+
+  // --- probe -> patches (§4.2) -------------------------------------------------------------
+  begin("light probe");
+  const LightProbe probe = readLightProbe(m, s);
+  const scene::PatchMesh mesh = precomputePatchMesh(scene, options);
+  const EmbreeScene rays(mesh);
+  ProbeProjection proj = projectLightProbe(probe, mesh, rays, m, options.threads, src, s);
+  endStage();
+
+  // --- probe units -> photograph units ------------------------------------------------------
+  begin("probe scale");
+  scaleProbeToPhotographs(m, bracket, hdr.merged, mesh, rays, src, proj, s);
   endStage();
 
   // --- precompute with everything measured ----------------------------------------------------
   options.measuredMaterials = proj.materials;
   options.measuredRadiance = proj.radiance;
   options.tone = tone;
-  options.background = std::move(background);
+  options.background = std::move(hdr.background);
   const int offset = stage;
   std::vector<StageTiming> inner;
   result.bundle = precomputeBundle(scene, options, inner, [&](const std::string& n, int i, int) {

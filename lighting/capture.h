@@ -27,6 +27,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/error.h"
 #include "lighting/camera_response.h"
 #include "lighting/light_probe.h"
 #include "lighting/precompute.h"
@@ -36,9 +37,9 @@
 namespace penumbra::lighting {
 
 // Bad manifest or inconsistent inputs: the message starts with "FILE: field: ".
-class CaptureError : public std::runtime_error {
+class CaptureError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 struct CaptureManifest {

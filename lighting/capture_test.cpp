@@ -375,7 +375,7 @@ TEST(Capture, ManifestErrorsNameFileAndField) {
     EXPECT_EQ(*m.liveIndex, 0);
     EXPECT_FALSE(m.probeScale.has_value());
   }
-  expectError("{", "(json)");
+  expectError("{", "line 1: ");
   expectError(head + cal + ex + live + probe.substr(0, probe.size() - 1) + R"(, "colour": 1})",
               "colour: unknown field");
   expectError(head + R"("calibration": {}, )" + ex + live + probe, "calibration: exactly one");
@@ -387,7 +387,7 @@ TEST(Capture, ManifestErrorsNameFileAndField) {
           live + probe,
       "exposures[0].seconds: must be > 0");
   expectError(head + cal + ex + R"("live_exposure": {"index": 5}, )" + probe,
-              "live_exposure.index: must be in 0..1");
+              "live_exposure.index: 5 is not in [0, 1]");
   expectError(head + cal + ex + live +
                   R"("probe": {"image": "p.exr", "mapping": "cube", "position": [1, 1, 1]}})",
               "probe.mapping");

@@ -9,11 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace penumbra::lighting {
 
-class HdrError : public std::runtime_error {
+class HdrError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // 8-bit RGB, 3 bytes per pixel, rows top to bottom.

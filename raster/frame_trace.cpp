@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/json_reader.h"
+
 namespace penumbra::raster {
 namespace {
 
@@ -16,36 +18,33 @@ static_assert(std::endian::native == std::endian::little);
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& where, const std::string& field,
-                       const std::string& what) {
-  throw TraceError(where + ": " + field + ": " + what);
-}
-
 bool finite(const core::Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 void validateMatrix(const core::Mat4& m, const std::string& where, const std::string& field) {
   for (float v : m.m) {
-    if (!std::isfinite(v)) fail(where, field, "contains a non-finite number");
+    if (!std::isfinite(v)) throw TraceError(where, field, "contains a non-finite number");
   }
 }
 
 void validateMesh(const core::Mesh& mesh, const std::string& where, const std::string& field) {
   if (mesh.indices.size() % 3 != 0) {
-    fail(where, field + ".indices",
-         "count " + std::to_string(mesh.indices.size()) + " is not a multiple of 3");
+    throw TraceError(where, field + ".indices",
+                     "count " + std::to_string(mesh.indices.size()) + " is not a multiple of 3");
   }
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     if (!finite(mesh.positions[i])) {
-      fail(where, field + ".positions", "vertex " + std::to_string(i) + " is not finite");
+      throw TraceError(where, field + ".positions",
+                       "vertex " + std::to_string(i) + " is not finite");
     }
   }
   for (size_t i = 0; i < mesh.indices.size(); ++i) {
     if (mesh.indices[i] >= mesh.positions.size()) {
-      fail(where, field + ".indices",
-           "index " + std::to_string(i) + " = " + std::to_string(mesh.indices[i]) +
-               " is out of range (" + std::to_string(mesh.positions.size()) + " vertices)");
+      throw TraceError(where, field + ".indices",
+                       "index " + std::to_string(i) + " = " + std::to_string(mesh.indices[i]) +
+                           " is out of range (" + std::to_string(mesh.positions.size()) +
+                           " vertices)");
     }
   }
 }
@@ -58,104 +57,76 @@ void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector
   std::vector<bool> listed(available, false);
   for (uint32_t t : triangles) {
     if (t >= available) {
-      fail(where, field,
-           "triangle " + std::to_string(t) + " is out of range (" + std::to_string(available) +
-               " " + kind + " triangles)");
+      throw TraceError(where, field,
+                       "triangle " + std::to_string(t) + " is out of range (" +
+                           std::to_string(available) + " " + kind + " triangles)");
     }
-    if (listed[t]) fail(where, field, "triangle " + std::to_string(t) + " is listed twice");
+    if (listed[t])
+      throw TraceError(where, field, "triangle " + std::to_string(t) + " is listed twice");
     listed[t] = true;
   }
-  if (s.size() != 3 * triangles.size()) fail(where, sField, "count must be 3 x the triangle count");
+  if (s.size() != 3 * triangles.size())
+    throw TraceError(where, sField, "count must be 3 x the triangle count");
 }
 
 // --- reading -------------------------------------------------------------------------
 
+using core::JsonValue;
+
+// The JSON part of a trace names views into the binary sidecar `blob`.
 struct Reader {
-  std::string where;
   const std::vector<uint8_t>* blob;
 
-  const json& need(const json& j, const std::string& key, const std::string& path) const {
-    if (!j.is_object() || !j.contains(key)) fail(where, path + key, "missing");
-    return j.at(key);
-  }
-
+  // Views and sizes are below 2^53 in any real file; larger counts are refused.
   template <class T>
-  T number(const json& j, const std::string& key, const std::string& path) const {
-    const json& v = need(j, key, path);
-    if (!v.is_number()) fail(where, path + key, "not a number");
-    if constexpr (std::is_integral_v<T>) {
-      // Views and sizes are below 2^53 in any real file; larger counts are refused.
-      constexpr uint64_t kLimit =
-          std::min<uint64_t>(std::numeric_limits<T>::max(), uint64_t{1} << 53);
-      if (!v.is_number_integer() || v.get<int64_t>() < 0 ||
-          static_cast<uint64_t>(v.get<int64_t>()) > kLimit) {
-        fail(where, path + key, "not a non-negative integer in range");
-      }
-      return static_cast<T>(v.get<int64_t>());
-    } else {
-      return static_cast<T>(v.get<double>());
-    }
+  static T count(const JsonValue& v) {
+    constexpr uint64_t kLimit =
+        std::min<uint64_t>(std::numeric_limits<T>::max(), uint64_t{1} << 53);
+    return static_cast<T>(v.integer(0, static_cast<int64_t>(kLimit)));
   }
 
-  core::Mat4 matrix(const json& j, const std::string& key, const std::string& path) const {
-    const json& v = need(j, key, path);
-    if (!v.is_array() || v.size() != 16) fail(where, path + key, "needs 16 numbers");
+  static core::Mat4 matrix(const JsonValue& v) {
     core::Mat4 m;
-    for (size_t i = 0; i < 16; ++i) {
-      if (!v[i].is_number())
-        fail(where, path + key, "element " + std::to_string(i) + " is not a number");
-      m.m[i] = static_cast<float>(v[i].get<double>());
-    }
+    v.floats(m.m);
     return m;
   }
 
-  // Reads a view of `elementBytes`-byte elements into `out` (resized to count*components).
+  // Reads a view of `components`-element items of T into `out` (resized to
+  // count*components).
   template <class T>
-  void view(const json& j, const std::string& key, const std::string& path, size_t components,
-            std::vector<T>& out) const {
-    const json& v = need(j, key, path);
-    const std::string field = path + key;
-    const auto offset = number<uint64_t>(v, "offset", field + ".");
-    const auto count = number<uint64_t>(v, "count", field + ".");
-    const uint64_t bytes = count * components * sizeof(T);
-    if (count > (uint64_t{1} << 32) || offset > blob->size() || bytes > blob->size() - offset) {
-      fail(where, field,
-           "view [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
-               ") runs past the end of the buffer (" + std::to_string(blob->size()) + " bytes)");
+  void view(const JsonValue& v, size_t components, std::vector<T>& out) const {
+    const auto offset = count<uint64_t>(v["offset"]);
+    const auto n = count<uint64_t>(v["count"]);
+    const uint64_t bytes = n * components * sizeof(T);
+    if (n > (uint64_t{1} << 32) || offset > blob->size() || bytes > blob->size() - offset) {
+      v.fail("view [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
+             ") runs past the end of the buffer (" + std::to_string(blob->size()) + " bytes)");
     }
-    out.resize(count * components);
+    out.resize(n * components);
     if (bytes > 0) std::memcpy(out.data(), blob->data() + offset, bytes);
   }
 
-  void vec3s(const json& j, const std::string& key, const std::string& path,
-             std::vector<core::Vec3>& out) const {
+  void vec3s(const JsonValue& v, std::vector<core::Vec3>& out) const {
     std::vector<float> flat;
-    view(j, key, path, 3, flat);
+    view(v, 3, flat);
     out.resize(flat.size() / 3);
     for (size_t i = 0; i < out.size(); ++i)
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  void rgbs(const json& j, const std::string& key, const std::string& path,
-            std::vector<core::Rgb8>& out) const {
+  void rgbs(const JsonValue& v, std::vector<core::Rgb8>& out) const {
     std::vector<uint8_t> flat;
-    view(j, key, path, 3, flat);
+    view(v, 3, flat);
     out.resize(flat.size() / 3);
     for (size_t i = 0; i < out.size(); ++i)
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  core::Mesh mesh(const json& j, const std::string& path) const {
+  core::Mesh mesh(const JsonValue& v) const {
     core::Mesh m;
-    vec3s(j, "positions", path, m.positions);
-    view(j, "indices", path, 1, m.indices);
+    vec3s(v["positions"], m.positions);
+    view(v["indices"], 1, m.indices);
     return m;
-  }
-
-  const json& array(const json& j, const std::string& key) const {
-    const json& v = need(j, key, "");
-    if (!v.is_array()) fail(where, key, "not an array");
-    return v;
   }
 };
 
@@ -196,12 +167,14 @@ json matrixJson(const core::Mat4& m) {
 
 void validateTrace(const FrameTrace& trace, const std::string& where) {
   const StaticView& view = trace.view;
-  if (view.width < 1 || view.width > kMaxImageSide) fail(where, "width", "must be in 1..4096");
-  if (view.height < 1 || view.height > kMaxImageSide) fail(where, "height", "must be in 1..4096");
+  if (view.width < 1 || view.width > kMaxImageSide)
+    throw TraceError(where, "width", "must be in 1..4096");
+  if (view.height < 1 || view.height > kMaxImageSide)
+    throw TraceError(where, "height", "must be in 1..4096");
   validateMatrix(view.cameraViewProj, where, "camera_view_proj");
   validateMesh(view.staticMesh, where, "static_mesh");
   if (view.staticMesh.triangleCount() > kMaxStaticTriangles) {
-    fail(where, "static_mesh.indices", "more than 2^31 triangles");
+    throw TraceError(where, "static_mesh.indices", "more than 2^31 triangles");
   }
   validateFrame(trace.frame, view.width, view.height, view.staticMesh.triangleCount(), where);
 }
@@ -210,29 +183,30 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
                    size_t staticTriangles, const std::string& where) {
   const size_t pixels = size_t{width} * height;
   if (frame.background.size() != pixels * 4) {
-    fail(where, "background",
-         "has " + std::to_string(frame.background.size()) +
-             " bytes, expected width*height*4 = " + std::to_string(pixels * 4));
+    throw TraceError(where, "background",
+                     "has " + std::to_string(frame.background.size()) +
+                         " bytes, expected width*height*4 = " + std::to_string(pixels * 4));
   }
   for (size_t i = 0; i < frame.objects.size(); ++i) {
     const std::string field = "objects[" + std::to_string(i) + "]";
     validateMesh(frame.objects[i].mesh, where, field);
     if (frame.objects[i].colours.size() != frame.objects[i].mesh.positions.size()) {
-      fail(where, field + ".colours", "count differs from the vertex count");
+      throw TraceError(where, field + ".colours", "count differs from the vertex count");
     }
   }
   size_t objectTriangles = 0;
   for (const ShadedMesh& o : frame.objects) objectTriangles += o.mesh.triangleCount();
-  if (objectTriangles > kMaxObjectTriangles) fail(where, "objects", "too many triangles");
+  if (objectTriangles > kMaxObjectTriangles)
+    throw TraceError(where, "objects", "too many triangles");
   for (size_t i = 0; i < frame.occluders.size(); ++i) {
     validateMesh(frame.occluders[i], where, "occluders[" + std::to_string(i) + "]");
   }
   // Each pass subtracts at most 255 per channel and the renderer sums them in 16 bits
   // (spec §8): 257 * 255 = 65535.
   if (frame.passes.size() > kMaxPasses) {
-    fail(where, "passes",
-         std::to_string(frame.passes.size()) + " passes, at most " + std::to_string(kMaxPasses) +
-             " are allowed");
+    throw TraceError(where, "passes",
+                     std::to_string(frame.passes.size()) + " passes, at most " +
+                         std::to_string(kMaxPasses) + " are allowed");
   }
   for (size_t i = 0; i < frame.passes.size(); ++i) {
     const ShadowPass& pass = frame.passes[i];
@@ -240,19 +214,20 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
     validateMatrix(pass.lightViewProj, where, field + ".light_view_proj");
     if (pass.shadowMapSize < 16 || pass.shadowMapSize > kMaxShadowMapSize ||
         pass.shadowMapSize % 16 != 0) {
-      fail(where, field + ".shadow_map_size", "must be a multiple of 16 in 16..4096");
+      throw TraceError(where, field + ".shadow_map_size", "must be a multiple of 16 in 16..4096");
     }
-    if (!std::isfinite(pass.depthBias)) fail(where, field + ".depth_bias", "is not finite");
+    if (!std::isfinite(pass.depthBias))
+      throw TraceError(where, field + ".depth_bias", "is not finite");
     if (pass.occluder >= frame.occluders.size()) {
-      fail(where, field + ".occluder",
-           "index " + std::to_string(pass.occluder) + " is out of range");
+      throw TraceError(where, field + ".occluder",
+                       "index " + std::to_string(pass.occluder) + " is out of range");
     }
     validateReceivers(pass.receiverTriangles, pass.receiverS, staticTriangles, where,
                       field + ".receiver_triangles", field + ".receiver_s", "static");
     validateReceivers(pass.objectTriangles, pass.objectS, objectTriangles, where,
                       field + ".object_triangles", field + ".object_s", "object");
     if (!std::isfinite(pass.objectDepthBias)) {
-      fail(where, field + ".object_depth_bias", "is not finite");
+      throw TraceError(where, field + ".object_depth_bias", "is not finite");
     }
   }
 }
@@ -264,74 +239,60 @@ const char* accumulationName(Accumulation a) {
 Accumulation parseAccumulation(const std::string& name, const std::string& where) {
   if (name == "u8") return Accumulation::kU8;
   if (name == "fixed8_8") return Accumulation::kFixed8_8;
-  throw TraceError(where + ": accumulation: must be \"u8\" or \"fixed8_8\", not \"" + name + "\"");
+  throw TraceError(where, "accumulation",
+                   "expected one of \"u8\", \"fixed8_8\", got \"" + name + "\"");
 }
 
 FrameTrace loadTrace(const std::filesystem::path& path) {
   const std::string where = path.string();
-  std::ifstream in(path);
-  if (!in) throw TraceError(where + ": cannot open file");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw TraceError(where + ": not valid JSON: " + e.what());
+  const core::JsonDocument doc(path, core::throwAs<TraceError>);
+  const JsonValue root = doc.root().object();
+  if (root.stringOr("format", "") != "penumbra-frame-trace") {
+    doc.fail("format", "must be \"penumbra-frame-trace\"");
   }
-  if (!doc.is_object()) throw TraceError(where + ": top level is not a JSON object");
-  if (doc.value("format", std::string()) != "penumbra-frame-trace") {
-    fail(where, "format", "must be \"penumbra-frame-trace\"");
-  }
-  if (!doc.contains("version") || doc["version"] != 1) fail(where, "version", "must be 1");
-  if (!doc.contains("buffer") || !doc["buffer"].is_string()) fail(where, "buffer", "missing");
-  const std::filesystem::path blobPath = path.parent_path() / doc["buffer"].get<std::string>();
+  if (!root.has("version") || root["version"].json() != 1) doc.fail("version", "must be 1");
+  const std::filesystem::path blobPath = path.parent_path() / root["buffer"].string();
   std::vector<uint8_t> blob;
   {
     std::ifstream bin(blobPath, std::ios::binary);
-    if (!bin) fail(where, "buffer", "cannot open " + blobPath.string());
+    if (!bin) doc.fail("buffer", "cannot open " + blobPath.string());
     blob.assign(std::istreambuf_iterator<char>(bin), std::istreambuf_iterator<char>());
   }
 
-  Reader r{where, &blob};
+  const Reader r{&blob};
   FrameTrace t;
-  t.view.width = r.number<uint32_t>(doc, "width", "");
-  t.view.height = r.number<uint32_t>(doc, "height", "");
-  t.view.cameraViewProj = r.matrix(doc, "camera_view_proj", "");
-  t.view.staticMesh = r.mesh(r.need(doc, "static_mesh", ""), "static_mesh.");
-  r.view(doc, "background", "", 1, t.frame.background);
-  const json& objects = r.array(doc, "objects");
-  for (size_t i = 0; i < objects.size(); ++i) {
-    const std::string p = "objects[" + std::to_string(i) + "].";
+  t.view.width = Reader::count<uint32_t>(root["width"]);
+  t.view.height = Reader::count<uint32_t>(root["height"]);
+  t.view.cameraViewProj = Reader::matrix(root["camera_view_proj"]);
+  t.view.staticMesh = r.mesh(root["static_mesh"]);
+  r.view(root["background"], 1, t.frame.background);
+  for (const JsonValue& oj : root["objects"].array()) {
     ShadedMesh o;
-    o.mesh = r.mesh(objects[i], p);
-    r.rgbs(objects[i], "colours", p, o.colours);
+    o.mesh = r.mesh(oj);
+    r.rgbs(oj["colours"], o.colours);
     t.frame.objects.push_back(std::move(o));
   }
-  const json& occluders = r.array(doc, "occluders");
-  for (size_t i = 0; i < occluders.size(); ++i) {
-    t.frame.occluders.push_back(r.mesh(occluders[i], "occluders[" + std::to_string(i) + "]."));
+  for (const JsonValue& occluder : root["occluders"].array()) {
+    t.frame.occluders.push_back(r.mesh(occluder));
   }
-  if (doc.contains("accumulation")) {  // optional: "u8" when absent (spec §8)
-    if (!doc["accumulation"].is_string()) fail(where, "accumulation", "not a string");
-    t.frame.accumulation = parseAccumulation(doc["accumulation"].get<std::string>(), where);
+  // Optional: "u8" when absent (spec §8).
+  if (const auto accumulation = root.find("accumulation")) {
+    t.frame.accumulation = accumulation->oneOf<Accumulation>(
+        {{"u8", Accumulation::kU8}, {"fixed8_8", Accumulation::kFixed8_8}});
   }
-  const json& passes = r.array(doc, "passes");
-  for (size_t i = 0; i < passes.size(); ++i) {
-    const std::string p = "passes[" + std::to_string(i) + "].";
-    const json& pj = passes[i];
+  for (const JsonValue& pj : root["passes"].array()) {
     ShadowPass pass;
-    pass.lightViewProj = r.matrix(pj, "light_view_proj", p);
-    pass.shadowMapSize = r.number<uint32_t>(pj, "shadow_map_size", p);
-    pass.depthBias = r.number<float>(pj, "depth_bias", p);
-    const json& pcf = r.need(pj, "pcf2x2", p);
-    if (!pcf.is_boolean()) fail(where, p + "pcf2x2", "not a boolean");
-    pass.pcf2x2 = pcf.get<bool>();
-    pass.occluder = r.number<uint32_t>(pj, "occluder", p);
-    r.view(pj, "receiver_triangles", p, 1, pass.receiverTriangles);
-    r.rgbs(pj, "receiver_s", p, pass.receiverS);
-    if (pj.contains("object_triangles")) {  // optional: self-shadowing (§7.2)
-      r.view(pj, "object_triangles", p, 1, pass.objectTriangles);
-      r.rgbs(pj, "object_s", p, pass.objectS);
-      pass.objectDepthBias = r.number<float>(pj, "object_depth_bias", p);
+    pass.lightViewProj = Reader::matrix(pj["light_view_proj"]);
+    pass.shadowMapSize = Reader::count<uint32_t>(pj["shadow_map_size"]);
+    pass.depthBias = static_cast<float>(pj["depth_bias"].number());
+    pass.pcf2x2 = pj["pcf2x2"].boolean();
+    pass.occluder = Reader::count<uint32_t>(pj["occluder"]);
+    r.view(pj["receiver_triangles"], 1, pass.receiverTriangles);
+    r.rgbs(pj["receiver_s"], pass.receiverS);
+    if (pj.has("object_triangles")) {  // optional: self-shadowing (§7.2)
+      r.view(pj["object_triangles"], 1, pass.objectTriangles);
+      r.rgbs(pj["object_s"], pass.objectS);
+      pass.objectDepthBias = static_cast<float>(pj["object_depth_bias"].number());
     }
     t.frame.passes.push_back(std::move(pass));
   }

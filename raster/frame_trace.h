@@ -15,8 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/colour.h"
-#include "core/geometry.h"
+#include "core/error.h"
 
 namespace penumbra::raster {
 
@@ -82,9 +81,9 @@ struct FrameTrace {
 };
 
 // Every failure to read or validate a trace: the message names the file and the field.
-class TraceError : public std::runtime_error {
+class TraceError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // Limits a valid trace respects (docs/trace-format.md §Limits).

@@ -31,14 +31,15 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "reference/flip.h"
 
 namespace penumbra::reference {
 
 // Bad input: unreadable or mismatched files. The message names the file and the problem.
-class MetricsError : public std::runtime_error {
+class MetricsError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 struct Rgb8Image {

@@ -19,11 +19,13 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/error.h"
+
 namespace penumbra::scene {
 
-class BundleError : public std::runtime_error {
+class BundleError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 class BundleWriter {

@@ -14,13 +14,14 @@
 
 #include <glm/glm.hpp>
 
+#include "core/error.h"
 #include "scene/camera.h"
 
 namespace penumbra::scene {
 
-class CalibrationError : public std::runtime_error {
+class CalibrationError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 struct Intrinsics {

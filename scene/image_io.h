@@ -7,11 +7,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/error.h"
+
 namespace penumbra::scene {
 
-class ImageError : public std::runtime_error {
+class ImageError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // Writes RGBA8 pixels (row 0 at the top) as a PNG; throws ImageError.

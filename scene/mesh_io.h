@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/error.h"
 #include "scene/patch_mesh.h"
 
 namespace penumbra::scene {
@@ -30,9 +31,9 @@ struct TriangleMesh {
   Aabb bounds() const;
 };
 
-class MeshError : public std::runtime_error {
+class MeshError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // Loads by extension (.obj, .ply, or .gltf/.glb with PENUMBRA_WITH_GLTF, any case). Throws

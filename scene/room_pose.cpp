@@ -1,17 +1,13 @@
 #include "scene/room_pose.h"
 
 #include <cmath>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
+#include "core/json_reader.h"
+
 namespace penumbra::scene {
 namespace {
-
-[[noreturn]] void fail(const std::string& source, const std::string& problem) {
-  throw CalibrationError(source + ": " + problem);
-}
 
 bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -22,10 +18,12 @@ bool finite(const glm::dvec3& v) {
 PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
                 const std::string& source) {
   if (!(k.fx > 0 && k.fy > 0) || !std::isfinite(k.cx) || !std::isfinite(k.cy)) {
-    fail(source, "intrinsics need positive focal lengths and a finite principal point");
+    throw CalibrationError(source, "",
+                           "intrinsics need positive focal lengths and a finite principal point");
   }
   if (marks.size() < 4) {
-    fail(source, std::to_string(marks.size()) + " corner mark(s), need at least 4");
+    throw CalibrationError(source, "",
+                           std::to_string(marks.size()) + " corner mark(s), need at least 4");
   }
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
@@ -33,7 +31,7 @@ PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
     const CornerMark& m = marks[i];
     const std::string name = m.name.empty() ? "corners[" + std::to_string(i) + "]" : m.name;
     if (!finite(m.world) || !std::isfinite(m.image.x) || !std::isfinite(m.image.y)) {
-      fail(source, name + ": not a finite number");
+      throw CalibrationError(source, name, "not a finite number");
     }
     object.emplace_back(m.world.x, m.world.y, m.world.z);
     image.emplace_back(m.image.x, m.image.y);
@@ -50,7 +48,8 @@ PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
     }
   }
   if (!(extent > 0) || !(bestArea > 1e-6 * extent * extent)) {
-    fail(source, "the marked room points are coincident or collinear: no pose");
+    throw CalibrationError(source, "",
+                           "the marked room points are coincident or collinear: no pose");
   }
   const cv::Matx33d camera(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
   const cv::Matx<double, 5, 1> dist(k.k1, k.k2, k.p1, k.p2, k.k3);
@@ -66,9 +65,9 @@ PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
     }
     if (ok) cv::solvePnPRefineLM(object, image, camera, dist, rvec, tvec);
   } catch (const cv::Exception& e) {
-    fail(source, std::string("solvePnP failed: ") + e.what());
+    throw CalibrationError(source, "", std::string("solvePnP failed: ") + e.what());
   }
-  if (!ok) fail(source, "solvePnP found no pose");
+  if (!ok) throw CalibrationError(source, "", "solvePnP found no pose");
   cv::Mat r;
   cv::Rodrigues(rvec, r);
   PoseFit fit;
@@ -80,8 +79,9 @@ PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
   for (size_t i = 0; i < marks.size(); ++i) {
     const glm::dvec3 pc = fit.pose.toCamera(marks[i].world);
     if (!(pc.z > 0)) {
-      fail(source, (marks[i].name.empty() ? "corners[" + std::to_string(i) + "]" : marks[i].name) +
-                       ": behind the fitted camera (the marks do not match the room points)");
+      throw CalibrationError(
+          source, marks[i].name.empty() ? "corners[" + std::to_string(i) + "]" : marks[i].name,
+          "behind the fitted camera (the marks do not match the room points)");
     }
     const double e = glm::length(k.project(pc) - marks[i].image);
     fit.residualsPx.push_back(e);
@@ -93,54 +93,15 @@ PoseFit fitPose(const Intrinsics& k, const std::vector<CornerMark>& marks,
 }
 
 std::vector<CornerMark> loadCornerMarks(const std::filesystem::path& path) {
-  using nlohmann::json;
-  const std::string source = path.filename().string();
-  std::ifstream in(path);
-  if (!in) fail(source, "cannot open " + path.string());
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {
-    fail(source, std::string("not valid JSON: ") + e.what());
-  }
-  if (!doc.is_object() || !doc.contains("corners") || !doc["corners"].is_array()) {
-    fail(source, "corners: missing, or not an array");
-  }
-  for (auto it = doc.begin(); it != doc.end(); ++it) {
-    if (it.key() != "corners" && it.key() != "comment") fail(source, it.key() + ": unknown field");
-  }
-  auto numbers = [&](const json& j, size_t n, const std::string& field) {
-    if (!j.is_array() || j.size() != n)
-      fail(source, field + ": must be " + std::to_string(n) + " numbers");
-    std::vector<double> v;
-    for (size_t i = 0; i < n; ++i) {
-      if (!j[i].is_number() || !std::isfinite(j[i].get<double>())) {
-        fail(source, field + "[" + std::to_string(i) + "]: must be a finite number");
-      }
-      v.push_back(j[i].get<double>());
-    }
-    return v;
-  };
+  const core::JsonDocument doc(path, core::throwAs<CalibrationError>);
+  const core::JsonValue root = doc.root().object({"corners", "comment"});
   std::vector<CornerMark> marks;
-  const json& corners = doc["corners"];
-  for (size_t i = 0; i < corners.size(); ++i) {
-    const std::string field = "corners[" + std::to_string(i) + "]";
-    const json& c = corners[i];
-    if (!c.is_object() || !c.contains("world") || !c.contains("image")) {
-      fail(source, field + ": needs \"world\" and \"image\"");
-    }
-    for (auto it = c.begin(); it != c.end(); ++it) {
-      if (it.key() != "name" && it.key() != "world" && it.key() != "image") {
-        fail(source, field + "." + it.key() + ": unknown field");
-      }
-    }
+  for (const core::JsonValue& c : root["corners"].array()) {
+    c.object({"name", "world", "image"});
     CornerMark m;
-    if (c.contains("name")) {
-      if (!c["name"].is_string()) fail(source, field + ".name: must be a string");
-      m.name = c["name"].get<std::string>();
-    }
-    const std::vector<double> w = numbers(c["world"], 3, field + ".world");
-    const std::vector<double> im = numbers(c["image"], 2, field + ".image");
+    m.name = c.stringOr("name", "");
+    const std::vector<double> w = c["world"].numbers(3);
+    const std::vector<double> im = c["image"].numbers(2);
     m.world = {w[0], w[1], w[2]};
     m.image = {im[0], im[1]};
     marks.push_back(m);

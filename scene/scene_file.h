@@ -20,15 +20,16 @@
 
 #include <glm/glm.hpp>
 
+#include "core/error.h"
 #include "scene/camera.h"
 #include "scene/mesh_io.h"
 #include "scene/patch_mesh.h"
 
 namespace penumbra::scene {
 
-class SceneFileError : public std::runtime_error {
+class SceneFileError : public core::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using core::Error::Error;
 };
 
 // Display response parameters: value = 255 * min(1, exposure * L)^(1 / gamma)

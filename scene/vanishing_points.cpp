@@ -1,47 +1,19 @@
 #include "scene/vanishing_points.h"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "core/json_reader.h"
 
 namespace penumbra::scene {
 namespace {
 
 constexpr const char* kAxisNames[3] = {"x", "y", "z"};
 
-using nlohmann::json;
-
-[[noreturn]] void fail(const std::string& source, const std::string& field,
-                       const std::string& problem) {
-  throw CalibrationError(source + ": " + field + ": " + problem);
-}
-
-double number(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_number()) fail(source, field, "must be a number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) fail(source, field, "is not a finite number");
-  return v;
-}
-
-glm::dvec2 point(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_array() || j.size() != 2) fail(source, field, "must be [u, v] (pixels)");
-  return {number(j[0], source, field + "[0]"), number(j[1], source, field + "[1]")};
-}
-
-void onlyKeys(const json& j, std::initializer_list<const char*> keys, const std::string& source,
-              const std::string& where) {
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    bool known = false;
-    for (const char* k : keys) known = known || it.key() == k;
-    if (!known) fail(source, where + it.key(), "unknown field");
-  }
-}
-
-const json& member(const json& j, const char* key, const std::string& source,
-                   const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) fail(source, where + key, "missing");
-  return j.at(key);
+glm::dvec2 point(const core::JsonValue& v) {
+  const std::vector<double> p = v.numbers(2);  // [u, v] in pixels
+  return {p[0], p[1]};
 }
 
 // Homogeneous line through two points, scaled so its normal (a, b) has unit length.
@@ -76,70 +48,56 @@ glm::dvec2 vanishingPoint(const ImageLine& l0, const ImageLine& l1, const std::s
 }
 
 VanishingMarks loadVanishingMarks(const std::filesystem::path& path) {
-  const std::string source = path.filename().string();
-  std::ifstream in(path);
-  if (!in) throw CalibrationError(source + ": cannot open " + path.string());
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {
-    throw CalibrationError(source + ": not valid JSON: " + e.what());
-  }
-  if (!doc.is_object()) fail(source, "(document)", "must be a JSON object");
-  onlyKeys(doc, {"image", "vanishing_lines", "origin", "axis_points", "comment"}, source, "");
+  const core::JsonDocument doc(path, core::throwAs<CalibrationError>);
+  const core::JsonValue root =
+      doc.root().object({"image", "vanishing_lines", "origin", "axis_points", "comment"});
   VanishingMarks m;
-  m.source = source;
-  const json& image = member(doc, "image", source, "");
-  onlyKeys(image, {"width", "height"}, source, "image.");
-  const double w = number(member(image, "width", source, "image."), source, "image.width");
-  const double h = number(member(image, "height", source, "image."), source, "image.height");
-  if (!(w >= 2 && h >= 2 && w <= 1e5 && h <= 1e5) || w != std::floor(w) || h != std::floor(h)) {
-    fail(source, "image", "width and height must be whole numbers of pixels in [2, 100000]");
+  m.source = path.filename().string();
+  const core::JsonValue image = root["image"].object({"width", "height"});
+  const double w = image["width"].number(2, 1e5);
+  const double h = image["height"].number(2, 1e5);
+  if (w != std::floor(w) || h != std::floor(h)) {
+    image.fail("width and height must be whole numbers of pixels in [2, 100000]");
   }
   m.width = int(w);
   m.height = int(h);
 
-  const json& lines = member(doc, "vanishing_lines", source, "");
-  if (!lines.is_object()) fail(source, "vanishing_lines", "must be an object");
-  onlyKeys(lines, {"x", "y", "z"}, source, "vanishing_lines.");
-  if (lines.size() != 2) {
-    fail(source, "vanishing_lines", "mark exactly two of the directions x, y, z");
-  }
+  const core::JsonValue lines = root["vanishing_lines"].object({"x", "y", "z"});
+  if (lines.json().size() != 2) lines.fail("mark exactly two of the directions x, y, z");
   for (int a = 0; a < 3; ++a) {
-    if (!lines.contains(kAxisNames[a])) continue;
-    const std::string field = std::string("vanishing_lines.") + kAxisNames[a];
-    const json& pair = lines.at(kAxisNames[a]);
-    if (!pair.is_array() || pair.size() != 2) {
-      fail(source, field, "must hold two lines [[u0, v0], [u1, v1]]");
+    const std::optional<core::JsonValue> pair = lines.find(kAxisNames[a]);
+    if (!pair) continue;
+    if (!pair->json().is_array() || pair->json().size() != 2) {
+      pair->fail("must hold two lines [[u0, v0], [u1, v1]]");
     }
     std::array<ImageLine, 2> ls;
     for (int i = 0; i < 2; ++i) {
-      const std::string lf = field + "[" + std::to_string(i) + "]";
-      if (!pair[i].is_array() || pair[i].size() != 2) {
-        fail(source, lf, "must be a line [[u0, v0], [u1, v1]]");
+      const core::JsonValue line = pair->array()[static_cast<size_t>(i)];
+      if (!line.json().is_array() || line.json().size() != 2) {
+        line.fail("must be a line [[u0, v0], [u1, v1]]");
       }
-      ls[i].a = point(pair[i][0], source, lf + "[0]");
-      ls[i].b = point(pair[i][1], source, lf + "[1]");
+      ls[i].a = point(line.array()[0]);
+      ls[i].b = point(line.array()[1]);
     }
     m.lines[a] = ls;
   }
 
-  m.origin = point(member(doc, "origin", source, ""), source, "origin");
-  const json& axes = member(doc, "axis_points", source, "");
-  if (!axes.is_object()) fail(source, "axis_points", "must be an object");
-  onlyKeys(axes, {"x", "y", "z"}, source, "axis_points.");
+  m.origin = point(root["origin"]);
+  const core::JsonValue axes = root["axis_points"].object({"x", "y", "z"});
   for (int a = 0; a < 3; ++a) {
-    const std::string field = std::string("axis_points.") + kAxisNames[a];
-    if (!axes.contains(kAxisNames[a])) {
-      if (m.lines[a]) fail(source, field, "missing (needed for every line-marked axis)");
+    const std::optional<core::JsonValue> p = axes.find(kAxisNames[a]);
+    if (!p) {
+      if (m.lines[a]) {
+        doc.fail(std::string("axis_points.") + kAxisNames[a],
+                 "missing (needed for every line-marked axis)");
+      }
       continue;
     }
-    const json& p = axes.at(kAxisNames[a]);
-    onlyKeys(p, {"image", "distance"}, source, field + ".");
+    p->object({"image", "distance"});
     AxisPoint ap;
-    ap.image = point(member(p, "image", source, field + "."), source, field + ".image");
-    ap.distance = number(member(p, "distance", source, field + "."), source, field + ".distance");
-    if (!(ap.distance > 0)) fail(source, field + ".distance", "must be positive");
+    ap.image = point((*p)["image"]);
+    ap.distance = (*p)["distance"].number();
+    if (!(ap.distance > 0)) (*p)["distance"].fail("must be positive");
     m.axisPoints[a] = ap;
   }
   return m;
@@ -147,16 +105,20 @@ VanishingMarks loadVanishingMarks(const std::filesystem::path& path) {
 
 VanishingCalibration calibrateFromVanishingPoints(const VanishingMarks& m) {
   const std::string& src = m.source;
-  if (m.width < 2 || m.height < 2) fail(src, "image", "size must be at least 2x2 pixels");
+  if (m.width < 2 || m.height < 2)
+    throw CalibrationError(src, "image", "size must be at least 2x2 pixels");
   VanishingCalibration out;
   int n = 0;
   for (int a = 0; a < 3; ++a) {
     if (m.lines[a]) {
-      if (n == 2) fail(src, "vanishing_lines", "mark exactly two of the directions x, y, z");
+      if (n == 2)
+        throw CalibrationError(src, "vanishing_lines",
+                               "mark exactly two of the directions x, y, z");
       out.markedAxes[n++] = a;
     }
   }
-  if (n != 2) fail(src, "vanishing_lines", "mark exactly two of the directions x, y, z");
+  if (n != 2)
+    throw CalibrationError(src, "vanishing_lines", "mark exactly two of the directions x, y, z");
   out.derivedAxis = 3 - out.markedAxes[0] - out.markedAxes[1];
 
   // Principal point at the image centre (pixel centres at integers: (w - 1) / 2).
@@ -169,10 +131,11 @@ VanishingCalibration calibrateFromVanishingPoints(const VanishingMarks& m) {
   const glm::dvec2 d0 = out.vanishingPoints[0] - c, d1 = out.vanishingPoints[1] - c;
   const double f2 = -(d0.x * d1.x + d0.y * d1.y);  // tutorial §3, eq. 1
   if (!(f2 > 0) || !std::isfinite(f2)) {
-    fail(src, "vanishing_lines",
-         "f^2 = -(v.v') = " + std::to_string(f2) + " <= 0: the vanishing points of " +
-             kAxisNames[out.markedAxes[0]] + " and " + kAxisNames[out.markedAxes[1]] +
-             " cannot belong to orthogonal directions (check the marked lines)");
+    throw CalibrationError(src, "vanishing_lines",
+                           "f^2 = -(v.v') = " + std::to_string(f2) +
+                               " <= 0: the vanishing points of " + kAxisNames[out.markedAxes[0]] +
+                               " and " + kAxisNames[out.markedAxes[1]] +
+                               " cannot belong to orthogonal directions (check the marked lines)");
   }
   const double f = std::sqrt(f2);
 
@@ -183,24 +146,27 @@ VanishingCalibration calibrateFromVanishingPoints(const VanishingMarks& m) {
   for (int i = 0; i < 2; ++i) {
     const int a = out.markedAxes[i];
     const std::string field = std::string("axis_points.") + kAxisNames[a];
-    if (!m.axisPoints[a]) fail(src, field, "missing (needed for every line-marked axis)");
+    if (!m.axisPoints[a])
+      throw CalibrationError(src, field, "missing (needed for every line-marked axis)");
     const glm::dvec2 toAxis = m.axisPoints[a]->image - m.origin;
     const glm::dvec2 toVp = out.vanishingPoints[i] - m.origin;
     const double la = glm::length(toAxis), lv = glm::length(toVp);
-    if (!(la > 1e-6)) fail(src, field + ".image", "coincides with the origin");
+    if (!(la > 1e-6)) throw CalibrationError(src, field + ".image", "coincides with the origin");
     const glm::dvec3 q = glm::normalize(glm::dvec3(out.vanishingPoints[i] - c, f));
     if (!(lv > 1e-6)) {
-      fail(src, "origin", std::string("lies on the vanishing point of ") + kAxisNames[a]);
+      throw CalibrationError(src, "origin",
+                             std::string("lies on the vanishing point of ") + kAxisNames[a]);
     }
     const double cosAngle = glm::dot(toAxis, toVp) / (la * lv);
     // Away from v the image of the axis runs from v through the origin; either way the
     // axis point must lie on the line through the origin and v (|cos| near 1).
     if (std::abs(cosAngle) < 0.9) {
-      fail(src, field + ".image",
-           std::string("is not on the line from the origin towards the vanishing point of ") +
-               kAxisNames[a] + " (the marks disagree by " +
-               std::to_string(std::acos(std::abs(cosAngle)) * 180.0 / 3.14159265358979) +
-               " degrees)");
+      throw CalibrationError(
+          src, field + ".image",
+          std::string("is not on the line from the origin towards the vanishing point of ") +
+              kAxisNames[a] + " (the marks disagree by " +
+              std::to_string(std::acos(std::abs(cosAngle)) * 180.0 / 3.14159265358979) +
+              " degrees)");
     }
     r[a] = cosAngle > 0 ? q : -q;
   }
@@ -230,12 +196,14 @@ VanishingCalibration calibrateFromVanishingPoints(const VanishingMarks& m) {
     }
   }
   if (!(den > 1e-12 * f2 * f2)) {
-    fail(src, "axis_points", "the axis points lie on the origin's line of sight: no scale");
+    throw CalibrationError(src, "axis_points",
+                           "the axis points lie on the origin's line of sight: no scale");
   }
   const double lambda = num / den;
   if (!(lambda > 0) || !std::isfinite(lambda)) {
-    fail(src, "axis_points",
-         "the marked distances put the origin behind the camera (check the axis points)");
+    throw CalibrationError(
+        src, "axis_points",
+        "the marked distances put the origin behind the camera (check the axis points)");
   }
   out.pose.translation = lambda * qo;
 

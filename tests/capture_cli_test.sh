@@ -31,7 +31,7 @@ bad() {  # bad NAME SED-EXPRESSION EXPECTED-TEXT
   [[ $rc == 1 && ! -e "$tmp/bad.bundle" ]] && grep -q "$3" "$tmp/err"
   check "bad manifest: $1 (exit $rc): $(grep -o 'error: .*' "$tmp/err" | head -c 160)" $?
 }
-bad "live exposure out of range" 's/"index": 4/"index": 9/' "bad.json: live_exposure.index: must be in"
+bad "live exposure out of range" 's/"index": 4/"index": 9/' "bad.json: live_exposure.index: 9 is not in"
 bad "unknown field" 's/"mapping"/"colour": 1, "mapping"/' "bad.json: probe.colour: unknown field"
 bad "probe outside the room" 's/"position": \[/"position": [-9, 1, 1], "_was": [/' "bad.json: probe: .*sees no patch"
 bad "missing probe file" 's/probe.exr/nope.exr/' "nope.exr: no such file"

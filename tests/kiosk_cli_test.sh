@@ -45,7 +45,7 @@ grep -q "product chair: refused .*truncated.obj: line 174: face needs at least 3
 grep -q "MODEL REFUSED: chair" "$tmp/err6" || fail "refused product file not on the LED/HUD"
 echo '{"bundle": "x.bundle", "screen": "big"}' >"$tmp/bad.json"
 if "$kiosk" "$tmp/bad.json" --frames 1 2>"$tmp/err2"; then fail "bad config accepted"; fi
-grep -q "bad.json: screen: unknown key" "$tmp/err2" || fail "unclear error: $(cat "$tmp/err2")"
+grep -q "bad.json: screen: unknown field" "$tmp/err2" || fail "unclear error: $(cat "$tmp/err2")"
 echo '{"bundle": "missing.bundle", "display": "none", "camera": "none"}' >"$tmp/nob.json"
 if "$kiosk" "$tmp/nob.json" --frames 1 2>"$tmp/err3"; then fail "missing bundle accepted"; fi
 grep -q "missing.bundle" "$tmp/err3" || fail "missing bundle not named: $(cat "$tmp/err3")"
