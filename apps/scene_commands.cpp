@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "apps/render_flags.h"
+#include "core/clock.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
 #include "scene/sha256.h"
-#include "shadow/clock.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
@@ -138,7 +138,7 @@ struct RenderCommand {
       o.minPasses = 4;
       o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
       shadow::FrameRateController controller(o);
-      shadow::SteadyClock clock;
+      core::SteadyClock clock;
       for (uint32_t f = 1; f <= 40; ++f) {
         const shadow::FrameRateController::Decision d = controller.next();
         n = d.passes;

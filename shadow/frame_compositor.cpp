@@ -87,7 +87,7 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
   placeMesh(model.mesh, pose, placedMesh_);
   placeMesh(model.proxy, pose, placedProxy_);
   productBounds_ = scene::Aabb::emptyBox();
-  for (const raster::Vec3& p : placedMesh_.positions) productBounds_.extend({p.x, p.y, p.z});
+  for (const core::Vec3& p : placedMesh_.positions) productBounds_.extend({p.x, p.y, p.z});
   placedPose_ = pose;
   shadeProduct();
 }
@@ -98,11 +98,11 @@ void FrameCompositor::placeProduct(const ProductPose& pose) {
 // emitting patch, unshadowed, reflectance x sum_j L_j F(x, n -> j). Either way each source's
 // form-factor transfer is kept as that source's L_ij for self-shadowing (§7.2).
 void FrameCompositor::shadeProduct() {
-  const raster::Mesh& m = placedMesh_;
+  const core::Mesh& m = placedMesh_;
   std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
   for (size_t t = 0; t < m.triangleCount(); ++t) {
-    const raster::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
-                       &c = m.positions[m.indices[3 * t + 2]];
+    const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                     &c = m.positions[m.indices[3 * t + 2]];
     const glm::dvec3 n = glm::cross(glm::dvec3(b.x - a.x, b.y - a.y, b.z - a.z),
                                     glm::dvec3(c.x - a.x, c.y - a.y, c.z - a.z));
     for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted
@@ -238,7 +238,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     const glm::dvec3 total(tr.vertexRadiance[rv]);
     const std::span<const glm::dvec3> transfers(clusterTransfer_.data() + slot * clusters,
                                                 clusters);
-    const std::span<raster::Rgb8> s(clusterS_.data() + slot * clusters, clusters);
+    const std::span<core::Rgb8> s(clusterS_.data() + slot * clusters, clusters);
     if (options_.gradedTransfers && occlusion_[rv] >= 0.0f) {
       intensityTransfersForOcclusions(total, transfers,
                                       clusterShares(slot * clusters, clusters, occlusion_[rv]),
@@ -267,7 +267,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   }
   for (size_t v = 0; v < productVertices; ++v) {
     const std::span<const glm::dvec3> transfers(productCluster_.data() + v * clusters, clusters);
-    const std::span<raster::Rgb8> s(productS_.data() + v * clusters, clusters);
+    const std::span<core::Rgb8> s(productS_.data() + v * clusters, clusters);
     if (options_.gradedTransfers && productOcclusion_[v] >= 0.0f) {
       intensityTransfersForOcclusions(productRadiance_[v], transfers,
                                       clusterShares(v * clusters, clusters, productOcclusion_[v]),
@@ -330,7 +330,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
                                 mesh_.positions[v[2]])) {
           continue;
         }
-        std::array<raster::Rgb8, 3> s{};
+        std::array<core::Rgb8, 3> s{};
         bool any = false;
         for (int c = 0; c < 3; ++c) {
           const uint32_t rv = receiverVertexOf_[mesh_.indices[3 * size_t(t) + size_t(c)]];
@@ -347,7 +347,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     pass.objectS.clear();
     pass.objectDepthBias = options_.objectDepthBias;
     for (size_t t = 0; productVertices > 0 && t < placedMesh_.triangleCount(); ++t) {
-      std::array<raster::Rgb8, 3> s{};
+      std::array<core::Rgb8, 3> s{};
       bool any = false;
       for (int c = 0; c < 3; ++c) {
         s[size_t(c)] = productS_[size_t(placedMesh_.indices[3 * t + size_t(c)]) * clusters + k];

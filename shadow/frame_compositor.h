@@ -84,7 +84,7 @@ class FrameCompositor {
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
   // as probes, then hand the masks to observe().
-  std::span<const raster::Vec3> probes() const { return probes_; }
+  std::span<const core::Vec3> probes() const { return probes_; }
   size_t objectProbesFrom() const { return frameVertices_.size(); }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded, and which sources they occluded
@@ -119,8 +119,8 @@ class FrameCompositor {
   TraversalResult traversal_;
   ClusterSelection selection_;
   ProductPose placedPose_{~0u, 0, 0, 0};
-  raster::Mesh placedMesh_, placedProxy_;
-  std::vector<raster::Rgb8> productColours_;
+  core::Mesh placedMesh_, placedProxy_;
+  std::vector<core::Rgb8> productColours_;
   std::vector<glm::dvec3> productRadiance_;  // per vertex: unshadowed radiance
   std::vector<glm::vec3> volumeRadiance_;    // per vertex, from the irradiance volume
   ToneLut toneLut_;
@@ -131,18 +131,18 @@ class FrameCompositor {
   std::vector<PhongLobe> lobes_;             // per product
   std::vector<glm::dvec3> productTransfer_;  // [source * vertices + v]: from each source
   std::vector<glm::dvec3> productCluster_;   // [v * clusters + k]
-  std::vector<raster::Rgb8> productS_;       // [v * clusters + k]
+  std::vector<core::Rgb8> productS_;         // [v * clusters + k]
   scene::Aabb productBounds_;
   std::vector<uint32_t> frameVertices_;  // receiver vertices touched this frame
   std::vector<uint32_t> vertexSlot_;     // receiver vertex -> slot in frameVertices_
   std::vector<uint32_t> vertexSlotFrame_;
   std::vector<glm::dvec3> clusterTransfer_;  // [slot * clusters + k]
-  std::vector<raster::Rgb8> clusterS_;       // [slot * clusters + k]
+  std::vector<core::Rgb8> clusterS_;         // [slot * clusters + k]
   std::vector<glm::dvec3> transfersScratch_;
   std::vector<uint8_t> setsScratch_;
-  std::vector<raster::Rgb8> sScratch_;
+  std::vector<core::Rgb8> sScratch_;
   std::vector<uint32_t> passCluster_;  // emitted pass -> cluster
-  std::vector<raster::Vec3> probes_;   // per slot
+  std::vector<core::Vec3> probes_;     // per slot
   std::vector<float> occlusion_;       // per receiver vertex: measured share, or < 0
   // [receiver vertex * sources + source]: 1 occluded, 0 not, as the last observed frame saw
   // it at that vertex; -1 not seen. The same for the product's vertices.
