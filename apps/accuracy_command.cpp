@@ -15,6 +15,7 @@
 #include "apps/render_flags.h"
 #include "raster/renderer.h"
 #include "reference/image_metrics.h"
+#include "reference/shadow_region.h"
 #include "scene/image_io.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_loop.h"
@@ -46,67 +47,6 @@ void writeRgb(const std::string& path, const reference::Rgb8Image& img) {
 
 nlohmann::json orNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
-}
-
-// Shadow acne and light leaking at contact (design §5, docs/failure-regimes.md), against the
-// reference: the contact band is the shadow region within `radius` pixels of the product's
-// own pixels (where it meets the floor), its signed mean error > 0 meaning too light (light
-// leaking under the product); spurious shadow counts pixels outside the shadow region and
-// the product that the frame darkens by 3 levels or more (acne, or shadow where none falls).
-struct ContactErrors {
-  uint64_t bandPixels = 0, spuriousPixels = 0;
-  double meanAbs = 0, meanSigned = 0;
-};
-
-ContactErrors contactErrors(const reference::Rgb8Image& ref, const std::vector<uint8_t>& frame,
-                            const std::vector<uint8_t>& unshadowed,
-                            const std::vector<uint8_t>& background, const reference::Mask& mask,
-                            int radius) {
-  const int w = int(ref.width), h = int(ref.height);
-  auto product = [&](int x, int y) {
-    const size_t i = 4 * (size_t(y) * size_t(w) + size_t(x));
-    return unshadowed[i] != background[i] || unshadowed[i + 1] != background[i + 1] ||
-           unshadowed[i + 2] != background[i + 2];
-  };
-  std::vector<uint8_t> near(size_t(w) * size_t(h), 0);  // product pixels dilated by radius
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (!product(x, y)) continue;
-      for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v) {
-        for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {
-          near[size_t(v) * size_t(w) + size_t(u)] = 1;
-        }
-      }
-    }
-  }
-  ContactErrors e;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const size_t p = size_t(y) * size_t(w) + size_t(x);
-      if (product(x, y)) continue;
-      if (!mask.inside[p]) {
-        for (size_t c = 0; c < 3; ++c) {
-          if (int(unshadowed[4 * p + c]) - int(frame[4 * p + c]) >= 3) {
-            ++e.spuriousPixels;
-            break;
-          }
-        }
-        continue;
-      }
-      if (!near[p]) continue;
-      ++e.bandPixels;
-      for (size_t c = 0; c < 3; ++c) {
-        const int d = int(frame[4 * p + c]) - int(ref.rgb[3 * p + c]);
-        e.meanAbs += std::abs(d);
-        e.meanSigned += d;
-      }
-    }
-  }
-  if (e.bandPixels > 0) {
-    e.meanAbs /= 3.0 * double(e.bandPixels);
-    e.meanSigned /= 3.0 * double(e.bandPixels);
-  }
-  return e;
 }
 
 struct AccuracyCommand {
@@ -182,12 +122,8 @@ struct AccuracyCommand {
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
     } else if (mask.inside.empty()) {
-      mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region of the reference"};
-      for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (size_t k = 0; k < 3; ++k) {
-          if (ref.rgb[3 * i + k] != zero.rgba[4 * i + k]) mask.inside[i] = 1;
-        }
-      }
+      mask = reference::shadowRegion(ref, zero.rgba, bundle.background,
+                                     "shadow region of the reference");
     }
     if (!referenceOut.empty()) writeRgb(referenceOut, ref);
     if (!maskOut.empty()) {
@@ -217,8 +153,8 @@ struct AccuracyCommand {
           ref, reference::fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"),
           &mask, co);
       const reference::RegionErrors& s = *c.masked;
-      const ContactErrors contact =
-          contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, contactRadius);
+      const reference::ContactErrors contact =
+          reference::contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, contactRadius);
       rows.push_back({{"passes_asked", n},
                       {"passes", f.stats.passes},
                       {"ms_per_frame", median(ms)},

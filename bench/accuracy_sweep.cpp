@@ -6,8 +6,8 @@
 // The reference is pluggable: --reference REF.png (e.g. the ray-traced ground truth, once it
 // lands); without it, a high-quality Penumbra render (the largest share in --shares, the most
 // passes, a 2048² shadow map) stands in — the chart titles say which. The error region is
-// --mask, or the pixels where the reference differs from the zero-pass frame (background +
-// product) by at least --mask-threshold levels in some channel (the shadow region).
+// --mask, or the reference's shadow region (reference/shadow_region.h: the pixels outside
+// the product where the reference differs from the zero-pass frame by a level or more).
 //
 //   penumbra-accuracy-sweep data/showroom/showroom.json --csv sweep.csv
 #include <CLI/CLI.hpp>
@@ -22,6 +22,7 @@
 #include "lighting/precompute.h"
 #include "raster/renderer.h"
 #include "reference/image_metrics.h"
+#include "reference/shadow_region.h"
 #include "scene/image_io.h"
 #include "scene/scene_file.h"
 #include "shadow/frame_compositor.h"
@@ -48,14 +49,11 @@ int main(int argc, char** argv) {
   std::vector<int> curvePasses{1,  2,  3,  4,  5,  6,  8,   10,  12,  15, 20,
                                25, 30, 40, 50, 60, 80, 100, 120, 150, 200};
   double curveShare = 0.7;
-  int curveMap = 256, frames = 5, threads = 2, maskThreshold = 1, refMap = 2048;
+  int curveMap = 256, frames = 5, threads = 2, refMap = 2048;
   app.add_option("SCENE", scenePath, "scene file (data/showroom/showroom.json)")->required();
   app.add_option("--csv", csvPath, "CSV output")->required();
   app.add_option("--reference", referencePath, "reference PNG (default: a Penumbra render)");
   app.add_option("--mask", maskPath, "error region PNG (default: the reference's shadow)");
-  app.add_option("--mask-threshold", maskThreshold, "levels that put a pixel in the region")
-      ->check(CLI::Range(1, 255))
-      ->capture_default_str();
   app.add_option("--reference-out", referenceOut, "write the reference used as PNG");
   app.add_option("--shares", shares, "source-set power shares")->delimiter(',');
   app.add_option("--maps", maps, "shadow-map sizes")->delimiter(',');
@@ -94,7 +92,6 @@ int main(int argc, char** argv) {
     // The zero-pass frame: background + product, no shadow.
     shadow::FrameLoop zero(refBundle, 256, ro);
     zero.still(pose, 0);
-    const reference::Rgb8Image unshadowed = reference::fromRgba8(zero.rgba, w, h, "zero-pass");
 
     reference::Rgb8Image ref;
     std::string refLabel;
@@ -126,14 +123,7 @@ int main(int argc, char** argv) {
       if (ref.width != w || ref.height != h) {
         throw reference::MetricsError(ref.name + ": size differs from the showroom's frame");
       }
-      mask = {w, h, std::vector<uint8_t>(size_t(w) * h), "shadow region"};
-      for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (size_t k = 0; k < 3; ++k) {
-          if (std::abs(int(ref.rgb[3 * i + k]) - int(unshadowed.rgb[3 * i + k])) >= maskThreshold) {
-            mask.inside[i] = 1;
-          }
-        }
-      }
+      mask = reference::shadowRegion(ref, zero.rgba, refBundle.background, "shadow region");
     }
 
     std::ofstream out(csvPath);

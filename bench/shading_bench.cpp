@@ -10,6 +10,7 @@
 #include "lighting/embree_scene.h"
 #include "lighting/irradiance_volume.h"
 #include "lighting/patch_radiosity.h"
+#include "lighting/radiance_transfer.h"
 #include "shadow/environment_map.h"
 #include "shadow/irradiance_volume.h"
 
@@ -52,6 +53,36 @@ void BM_IrradianceVolumeBuild(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * 20 * 10 * 20);
 }
 BENCHMARK(BM_IrradianceVolumeBuild)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The showroom's light transport (Gibson 2003 §4-5): the camera's receiver set and the
+// point-to-patch radiance transfers of a 0.7 power share, 2 threads (was printed by
+// lighting/radiance_transfer_test.cpp's showroom test).
+void BM_ShowroomTransfers(benchmark::State& state) {
+  const scene::PatchMesh mesh = benchRoom();
+  const lighting::EmbreeScene rays(mesh);
+  scene::Camera camera;
+  camera.eye = dvec3(0.35, 1.6, 0.35);
+  camera.target = dvec3(3.2, 0.7, 2.8);
+  camera.fovYDegrees = 60;
+  camera.aspect = 640.0 / 480.0;
+  camera.zNear = 0.05;
+  camera.zFar = 15;
+  lighting::TransferOptions options;
+  options.threads = 2;
+  size_t entries = 0;
+  for (auto _ : state) {
+    const std::vector<uint8_t> visible =
+        lighting::patchesVisibleFromCamera(mesh, rays, camera.viewProj(), 640, 480);
+    const shadow::SourceReceiverSets sets = shadow::selectSourcesAndReceivers(mesh, visible, 0.7);
+    const shadow::RadianceTransfers t =
+        lighting::computeRadianceTransfers(mesh, sets, rays, options);
+    entries = t.entryVertex.size();
+    benchmark::DoNotOptimize(t.entryTransfer.data());
+  }
+  state.counters["patches"] = double(mesh.patches.size());
+  state.counters["entries"] = double(entries);
+}
+BENCHMARK(BM_ShowroomTransfers)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Per-frame: trilinear SH9 lookup x reflectance, T() per channel, split into contiguous
 // blocks over a job pool (each vertex is independent, so the bytes do not depend on it).

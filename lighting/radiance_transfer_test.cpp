@@ -2,9 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstring>
-#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -303,7 +301,8 @@ TEST(CameraVisibility, SeesTheFrontWallNotTheBackWall) {
 
 // ---------------------------------------------------------------------------------------
 // The synthetic showroom of apps/synth_trace.cpp (6 x 3 x 5 m, four ceiling panels, a
-// window, a desk; 0.45 m patches; 640 x 480 camera), end to end with its timing.
+// window, a desk; 0.45 m patches; 640 x 480 camera), end to end (timed in
+// bench/shading_bench.cpp).
 
 scene::Region regionMetres(const scene::Quad& q, double u0, double u1, double v0, double v1,
                            const scene::Material& m, double patchSize) {
@@ -311,7 +310,7 @@ scene::Region regionMetres(const scene::Quad& q, double u0, double u1, double v0
   return scene::Region{"region", u0 / lu, u1 / lu, v0 / lv, v1 / lv, m, patchSize};
 }
 
-TEST(RadianceTransfer, ShowroomTiming) {
+TEST(RadianceTransfer, ShowroomEndToEnd) {
   scene::RoomDescription room;
   const uint32_t floor =
       room.addRoomShell(scene::Aabb{dvec3(0, 0, 0), dvec3(6, 3, 5)}, diffuse(0.45, 0.38, 0.30),
@@ -336,26 +335,13 @@ TEST(RadianceTransfer, ShowroomTiming) {
   camera.zFar = 15;
   const scene::PatchMesh mesh = scene::buildPatchMesh(room, 0.45);
 
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
   const EmbreeScene rays(mesh);
-  const auto t1 = Clock::now();
   const std::vector<uint8_t> visible =
       patchesVisibleFromCamera(mesh, rays, camera.viewProj(), 640, 480);
-  const auto t2 = Clock::now();
   const shadow::SourceReceiverSets sets = shadow::selectSourcesAndReceivers(mesh, visible, 0.7);
   TransferOptions options;
   options.threads = 2;
-  const auto t3 = Clock::now();
   const shadow::RadianceTransfers t = computeRadianceTransfers(mesh, sets, rays, options);
-  const auto t4 = Clock::now();
-  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  std::cout << "showroom: " << mesh.triangleCount() << " triangles, " << mesh.patches.size()
-            << " patches, " << emitters(mesh).size() << " emitters; sources " << sets.sources.size()
-            << ", receiver patches " << sets.receivers.size() << ", receiver vertices "
-            << t.receiverVertices.size() << ", entries " << t.entryVertex.size()
-            << "\n  embree build " << ms(t1 - t0) << " ms, camera visibility " << ms(t2 - t1)
-            << " ms, transfers (2 threads) " << ms(t4 - t3) << " ms\n";
   EXPECT_GT(sets.sources.size(), 0u);
   EXPECT_GT(t.entryVertex.size(), 0u);
 }

@@ -5,7 +5,8 @@
 if(PENUMBRA_WITH_OPENCV)
   find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs quality)
   add_library(penumbra_metrics STATIC ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
-                                      ${CMAKE_CURRENT_LIST_DIR}/flip.cpp)
+                                      ${CMAKE_CURRENT_LIST_DIR}/flip.cpp
+                                      ${CMAKE_CURRENT_LIST_DIR}/shadow_region.cpp)
   target_link_libraries(penumbra_metrics PUBLIC penumbra_core ${OpenCV_LIBS} nlohmann_json::nlohmann_json)
   target_include_directories(penumbra_metrics SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 endif()

@@ -65,25 +65,23 @@ core::Mesh toRaster(const scene::TriangleMesh& m) {
   return out;
 }
 
-}  // namespace
+// The "real room" and the kiosk camera every stage looks through.
+struct SynthView {
+  uint32_t width = 0, height = 0;
+  scene::PatchMesh room;  // the scene's own patch mesh, in double
+  scene::Aabb bounds;     // of the room's vertices
+  scene::Camera camera;   // the scene's, at the image's aspect
+  glm::dmat4 viewProj{1.0};
+};
 
-uint8_t CameraResponse::operator()(double exposure) const {
-  if (!(exposure > 0)) return 0;
-  const double e = std::pow(exposure, gamma), m = std::pow(midExposure, gamma);
-  const double code = std::floor(255.0 * e / (e + m) + 0.5);
-  return static_cast<uint8_t>(std::clamp(code, 0.0, 255.0));
-}
+// The photographs' exposure series (docs/capture.md manifest entries).
+struct BracketSeries {
+  double middle = 0;  // the photograph's exposure time
+  int mid = 0;        // its index in the series
+  json times = json::array(), files = json::array(), exposures = json::array();
+};
 
-double CameraResponse::inverse(int code) const {
-  // Continuous curve v = 255 E^g / (E^g + m^g)  =>  E = m (v / (255 - v))^(1/g).
-  auto at = [&](double v) { return midExposure * std::pow(v / (255.0 - v), 1.0 / gamma); };
-  if (code <= 0) return 0.5 * at(0.5);
-  if (code >= 255) return at(254.5);
-  return at(double(code));
-}
-
-void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions& options,
-                        const std::filesystem::path& dir, const ReferenceProgress& progress) {
+void checkOptions(const SynthOptions& options) {
   if (options.exposures < 5 || options.exposures > 15) {
     throw std::invalid_argument("synth-showroom: exposures must be 5..15");
   }
@@ -97,62 +95,71 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
     throw std::invalid_argument("synth-showroom: probe size must be 8.." +
                                 std::to_string(raster::kMaxImageSide));
   }
-  const uint32_t width = options.width ? options.width : scene.width;
-  const uint32_t height = options.height ? options.height : scene.height;
+}
 
-  // The "real room": the scene's own patch mesh, in double.
-  const scene::PatchMesh room = scene::buildPatchMesh(scene.room, scene.patchSize);
-  scene::Aabb bounds = scene::Aabb::emptyBox();
-  for (const dvec3& p : room.positions) bounds.extend(p);
+// The scene's room, bounds and camera; the probe inside the room and the product present.
+SynthView viewOf(const scene::SceneDescription& scene, const SynthOptions& options,
+                 const shadow::ProductPose& pose) {
+  SynthView v;
+  v.width = options.width ? options.width : scene.width;
+  v.height = options.height ? options.height : scene.height;
+  v.room = scene::buildPatchMesh(scene.room, scene.patchSize);
+  v.bounds = scene::Aabb::emptyBox();
+  for (const dvec3& p : v.room.positions) v.bounds.extend(p);
   const dvec3& q = options.probePosition;
+  const scene::Aabb& bounds = v.bounds;
   if (!(q.x > bounds.min.x && q.y > bounds.min.y && q.z > bounds.min.z && q.x < bounds.max.x &&
         q.y < bounds.max.y && q.z < bounds.max.z)) {
     throw std::invalid_argument("synth-showroom: the probe position is outside the room");
   }
-  shadow::ProductPose pose = options.pose.value_or(shadow::ProductPose{
-      static_cast<uint32_t>(scene.startPose.product), static_cast<float>(scene.startPose.x),
-      static_cast<float>(scene.startPose.z), static_cast<float>(scene.startPose.yawDegrees), 0.0f});
   if (pose.product >= scene.products.size()) {
     throw std::invalid_argument("synth-showroom: product " + std::to_string(pose.product) +
                                 " does not exist (" + std::to_string(scene.products.size()) +
                                 " products)");
   }
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (!std::filesystem::is_directory(dir)) {
-    throw scene::ImageError(dir.string() + ": cannot create the output folder");
-  }
+  v.camera = scene.camera;
+  v.camera.aspect = double(v.width) / v.height;
+  v.viewProj = v.camera.viewProj();
+  return v;
+}
 
-  // 1. The kiosk camera: empty room and object-present room from the same samples.
-  scene::Camera camera = scene.camera;
-  camera.aspect = double(width) / height;
+// 1. The kiosk camera: empty room and object-present room from the same samples.
+ReferenceImage renderKioskView(const scene::SceneDescription& scene, const SynthView& view,
+                               const shadow::ProductPose& pose, const SynthOptions& options,
+                               const std::filesystem::path& dir,
+                               const ReferenceProgress& progress) {
+  const uint32_t width = view.width, height = view.height;
   ReferenceScene kiosk;
-  kiosk.room = room;
-  kiosk.viewProj = camera.viewProj();
+  kiosk.room = view.room;
+  kiosk.viewProj = view.viewProj;
   kiosk.width = width;
   kiosk.height = height;
   ReferenceObject object;
   shadow::placeMesh(toRaster(scene.products[pose.product].mesh), pose, object.mesh);
   object.reflectance = scene.products[pose.product].reflectance;
   kiosk.object = std::move(object);
-  const ReferenceImage image = renderReference(kiosk, options.render, progress);
+  ReferenceImage image = renderReference(kiosk, options.render, progress);
   lighting::writeExr(dir / "room.exr", hdrImageOf(width, height, image.noObject));
   lighting::writeExr(dir / "object_present.exr", hdrImageOf(width, height, image.withObject));
+  return image;
+}
 
-  // 2. Bracketed photographs through the documented response.
-  const double middle =
-      options.middleExposureTime > 0 ? options.middleExposureTime : scene.tone.exposure;
-  json times = json::array();
-  json files = json::array();
-  json exposures = json::array();  // docs/capture.md manifest entries
-  const int mid = options.exposures / 2;
+// 2. Bracketed photographs through the documented response.
+BracketSeries writePhotographs(const scene::SceneDescription& scene, const SynthView& view,
+                               const ReferenceImage& image, const SynthOptions& options,
+                               const std::filesystem::path& dir) {
+  const uint32_t width = view.width, height = view.height;
+  BracketSeries b;
+  b.middle = options.middleExposureTime > 0 ? options.middleExposureTime : scene.tone.exposure;
+  const double middle = b.middle;
+  b.mid = options.exposures / 2;
   for (int i = 0; i < options.exposures; ++i) {
-    const double t = middle * std::exp2(options.stopsBetween * (i - mid));
+    const double t = middle * std::exp2(options.stopsBetween * (i - b.mid));
     const std::string name = "bracket-" + std::to_string(i) + ".png";
     scene::writePng(dir / name, width, height, photograph(image.noObject, t, options.response));
-    times.push_back(t);
-    files.push_back(name);
-    exposures.push_back({{"image", name}, {"seconds", t}});
+    b.times.push_back(t);
+    b.files.push_back(name);
+    b.exposures.push_back({{"image", name}, {"seconds", t}});
   }
   scene::writePng(dir / "photograph.png", width, height,
                   photograph(image.noObject, middle, options.response));
@@ -167,16 +174,23 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
              {"gamma", options.response.gamma},
              {"e_mid", options.response.midExposure},
              {"noise", "none"},
-             {"exposure_times", times},
-             {"files", files},
+             {"exposure_times", b.times},
+             {"files", b.files},
              {"photograph_time", middle},
              {"inverse_exposure_per_code", inverse}});
+  return b;
+}
 
-  // 3. The mirrored ball: an ideal reflective sphere of vanishing radius at the probe
-  // position, seen orthographically from direction `toward` (the kiosk camera's side).
-  // The ball's frame is lighting/light_probe.h's MirrorBall frame turned by yaw about +y
-  // (docs/capture.md probe.yaw_deg: probe -> room = R_y(yaw)): the viewer is at +z of the
-  // probe frame, so yaw is chosen to put it on the kiosk camera's side of the ball.
+// 3. The mirrored ball: an ideal reflective sphere of vanishing radius at the probe
+// position, seen orthographically from direction `toward` (the kiosk camera's side).
+// The ball's frame is lighting/light_probe.h's MirrorBall frame turned by yaw about +y
+// (docs/capture.md probe.yaw_deg: probe -> room = R_y(yaw)): the viewer is at +z of the
+// probe frame, so yaw is chosen to put it on the kiosk camera's side of the ball.
+// Returns the ball's yaw in degrees.
+double writeProbe(const scene::SceneDescription& scene, const scene::PatchMesh& room,
+                  const SynthOptions& options, const std::filesystem::path& dir,
+                  const ReferenceProgress& progress) {
+  const dvec3& q = options.probePosition;
   const double yaw = std::atan2(scene.camera.eye.x - q.x, scene.camera.eye.z - q.z);
   const dvec3 toward(std::sin(yaw), 0.0, std::cos(yaw));  // R_y(yaw) (0, 0, 1)
   const dvec3 up(0, 1, 0);
@@ -218,16 +232,47 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
               "size; inside u^2 + v^2 < 1 the sphere normal is n = u right + v up + sqrt(1 - u^2 "
               "- v^2) toward_viewer and the pixel holds the radiance arriving at `position` from "
               "direction r = d - 2 (d . n) n, d = -toward_viewer; black outside the disc"}});
+  return yawDegrees;
+}
 
-  // 4. Calibration marks: known room corners and line pairs along x and z, as the camera
-  // sees them (projections of exact 3D points; a calibration should recover `camera`).
-  const lighting::EmbreeScene rays(room);
-  const glm::dmat4 vp = kiosk.viewProj;
+// The part of the segment a-b the camera sees (201 samples along it), as world and window
+// end points; null when less than a nanometre of it is in the image.
+json visibleSegment(const SynthView& view, const dvec3& a, const dvec3& b, const char* axis,
+                    const char* name) {
+  const uint32_t width = view.width, height = view.height;
+  const glm::dmat4& vp = view.viewProj;
+  json j = {{"axis", axis}, {"name", name}};
+  std::optional<dvec3> first, last;
+  for (int s = 0; s <= 200; ++s) {
+    const dvec3 p = a + (s / 200.0) * (b - a);
+    glm::dvec2 w;
+    if (project(vp, width, height, glm::dvec4(p, 1.0), w) && inImage(w, width, height)) {
+      if (!first) first = p;
+      last = p;
+    }
+  }
+  if (!first || glm::length(*last - *first) < 1e-9) return json();
+  glm::dvec2 wa, wb;
+  project(vp, width, height, glm::dvec4(*first, 1.0), wa);
+  project(vp, width, height, glm::dvec4(*last, 1.0), wb);
+  j["world"] = json::array({vec(*first), vec(*last)});
+  j["image"] = json::array({json::array({wa.x, wa.y}), json::array({wb.x, wb.y})});
+  return j;
+}
+
+// 4. Calibration marks: known room corners and line pairs along x and z, as the camera
+// sees them (projections of exact 3D points; a calibration should recover `camera`).
+void writeCalibration(const SynthView& view, const std::filesystem::path& dir) {
+  const uint32_t width = view.width, height = view.height;
+  const scene::Aabb& bounds = view.bounds;
+  const scene::Camera& camera = view.camera;
+  const lighting::EmbreeScene rays(view.room);
+  const glm::dmat4 vp = view.viewProj;
   json corners = json::array();
   for (int k = 0; k < 8; ++k) {
     const dvec3 p((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,
                   (k & 4) ? bounds.max.z : bounds.min.z);
-    glm::dvec2 w;
+    glm::dvec2 w(0.0);  // project() leaves it alone for a point at the camera's plane
     const bool front = project(vp, width, height, glm::dvec4(p, 1.0), w);
     // A corner lies on three walls; it is visible when nothing else is in the way.
     const bool visible = front && inImage(w, width, height) && !rays.occluded(camera.eye, p);
@@ -238,39 +283,25 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
                        {"visible", visible}});
   }
   // Lines: floor and ceiling edges of the far walls, each clipped to its visible part.
-  auto line = [&](const dvec3& a, const dvec3& b, const char* axis, const char* name) {
-    json j = {{"axis", axis}, {"name", name}};
-    std::optional<dvec3> first, last;
-    for (int s = 0; s <= 200; ++s) {
-      const dvec3 p = a + (s / 200.0) * (b - a);
-      glm::dvec2 w;
-      if (project(vp, width, height, glm::dvec4(p, 1.0), w) && inImage(w, width, height)) {
-        if (!first) first = p;
-        last = p;
-      }
-    }
-    if (!first || glm::length(*last - *first) < 1e-9) return json();
-    glm::dvec2 wa, wb;
-    project(vp, width, height, glm::dvec4(*first, 1.0), wa);
-    project(vp, width, height, glm::dvec4(*last, 1.0), wb);
-    j["world"] = json::array({vec(*first), vec(*last)});
-    j["image"] = json::array({json::array({wa.x, wa.y}), json::array({wb.x, wb.y})});
-    return j;
-  };
   const dvec3 lo = bounds.min, hi = bounds.max;
   json lines = json::array();
-  for (const json& j :
-       {line({lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, "x", "floor edge of wall z = max"),
-        line({lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}, "x", "ceiling edge of wall z = max"),
-        line({lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, "x", "floor edge of wall z = min"),
-        line({hi.x, lo.y, lo.z}, {hi.x, lo.y, hi.z}, "z", "floor edge of wall x = max"),
-        line({hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, "z", "ceiling edge of wall x = max"),
-        line({lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, "z", "floor edge of wall x = min")}) {
+  for (const json& j : {visibleSegment(view, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, "x",
+                                       "floor edge of wall z = max"),
+                        visibleSegment(view, {lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}, "x",
+                                       "ceiling edge of wall z = max"),
+                        visibleSegment(view, {lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, "x",
+                                       "floor edge of wall z = min"),
+                        visibleSegment(view, {hi.x, lo.y, lo.z}, {hi.x, lo.y, hi.z}, "z",
+                                       "floor edge of wall x = max"),
+                        visibleSegment(view, {hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, "z",
+                                       "ceiling edge of wall x = max"),
+                        visibleSegment(view, {lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, "z",
+                                       "floor edge of wall x = min")}) {
     if (!j.is_null()) lines.push_back(j);
   }
   json vanishing = json::object();
   for (const auto& [axis, d] : {std::pair{"x", dvec3(1, 0, 0)}, std::pair{"z", dvec3(0, 0, 1)}}) {
-    glm::dvec2 w;
+    glm::dvec2 w(0.0);  // as above: a direction along the image plane has no image
     project(vp, width, height, glm::dvec4(d, 0.0), w);
     vanishing[axis] = json::array({w.x, w.y});
   }
@@ -292,12 +323,18 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
                {"fov_y_deg", camera.fovYDegrees},
                {"focal_px", 0.5 * height / tanHalf},
                {"principal_point", json::array({0.5 * width, 0.5 * height})}}}});
+}
 
-  // 4b. The same marks in the vanishing-point format `penumbra capture` reads
-  // (docs/calibration.md "marks file": pixel centres at integer positions, so window
-  // positions minus 0.5): per axis x and z, the two room edges along it that are longest in
-  // the view; the origin is the floor point under the image point (0.5 w, 0.8 h), with
-  // axis points 0.5 m along +x, +y and +z. Exact projections, not rounded to clicks.
+// 4b. The same marks in the vanishing-point format `penumbra capture` reads
+// (docs/calibration.md "marks file": pixel centres at integer positions, so window
+// positions minus 0.5): per axis x and z, the two room edges along it that are longest in
+// the view; the origin is the floor point under the image point (0.5 w, 0.8 h), with
+// axis points 0.5 m along +x, +y and +z. Exact projections, not rounded to clicks.
+// Returns the marks' origin on the floor.
+dvec3 writeMarks(const SynthView& view, const std::filesystem::path& dir) {
+  const uint32_t width = view.width, height = view.height;
+  const glm::dmat4& vp = view.viewProj;
+  const dvec3 lo = view.bounds.min, hi = view.bounds.max;
   auto mark = [&](const dvec3& p) {
     glm::dvec2 w;
     const bool ok = project(vp, width, height, glm::dvec4(p, 1.0), w) && inImage(w, width, height);
@@ -312,7 +349,7 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
       if (k & 2) a.y = hi.y;
       dvec3 b = a;
       b[axis] = hi[axis];
-      const json j = line(a, b, axis == 0 ? "x" : "z", "");
+      const json j = visibleSegment(view, a, b, axis == 0 ? "x" : "z", "");
       if (j.is_null()) continue;
       const json& im = j["image"];
       const double du = im[1][0].get<double>() - im[0][0].get<double>();
@@ -360,23 +397,34 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
     marks["axis_points"][std::string(1, "xyz"[a])] = {{"image", m}, {"distance", 0.5}};
   }
   writeJson(dir / "marks.json", marks);
+  return origin;
+}
 
-  // 4c. The capture manifest (docs/capture.md, "penumbra-capture" version 1): these
-  // photographs, marks and probe as a real capture of this room would give them.
+// 4c. The capture manifest (docs/capture.md, "penumbra-capture" version 1): these
+// photographs, marks and probe as a real capture of this room would give them.
+void writeCaptureManifest(const scene::SceneDescription& scene, const SynthOptions& options,
+                          const BracketSeries& brackets, const dvec3& origin, double yawDegrees,
+                          const std::filesystem::path& dir) {
+  const dvec3& q = options.probePosition;
   writeJson(dir / "capture.json",
             {{"format", "penumbra-capture"},
              {"version", 1},
              {"scene", std::filesystem::absolute(scene.source).string()},
              {"calibration", {{"vanishing", "marks.json"}, {"origin_world", vec(origin)}}},
-             {"exposures", exposures},
-             {"live_exposure", {{"index", mid}}},
+             {"exposures", brackets.exposures},
+             {"live_exposure", {{"index", brackets.mid}}},
              {"probe",
               {{"image", "probe.exr"},
                {"mapping", "mirror_ball"},
                {"position", vec(q)},
                {"yaw_deg", yawDegrees}}}});
+}
 
-  // 5. The manifest.
+// 5. The manifest.
+void writeManifest(const scene::SceneDescription& scene, const SynthOptions& options,
+                   const SynthView& view, const shadow::ProductPose& pose,
+                   const BracketSeries& brackets, const std::filesystem::path& dir) {
+  const uint32_t width = view.width, height = view.height;
   const ReferenceOptions& r = options.render;
   writeJson(dir / "synth_showroom.json", {{"format", "penumbra-synthetic-showroom"},
                                           {"version", 1},
@@ -396,7 +444,7 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
                                             {"yaw_deg", pose.yawDegrees}}},
                                           {"files",
                                            {{"room_hdr", "room.exr"},
-                                            {"exposures", files},
+                                            {"exposures", brackets.files},
                                             {"camera_response", "camera_response.json"},
                                             {"photograph", "photograph.png"},
                                             {"object_present", "object_present.png"},
@@ -406,6 +454,44 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
                                             {"calibration", "calibration.json"},
                                             {"marks", "marks.json"},
                                             {"capture_manifest", "capture.json"}}}});
+}
+
+}  // namespace
+
+uint8_t CameraResponse::operator()(double exposure) const {
+  if (!(exposure > 0)) return 0;
+  const double e = std::pow(exposure, gamma), m = std::pow(midExposure, gamma);
+  const double code = std::floor(255.0 * e / (e + m) + 0.5);
+  return static_cast<uint8_t>(std::clamp(code, 0.0, 255.0));
+}
+
+double CameraResponse::inverse(int code) const {
+  // Continuous curve v = 255 E^g / (E^g + m^g)  =>  E = m (v / (255 - v))^(1/g).
+  auto at = [&](double v) { return midExposure * std::pow(v / (255.0 - v), 1.0 / gamma); };
+  if (code <= 0) return 0.5 * at(0.5);
+  if (code >= 255) return at(254.5);
+  return at(double(code));
+}
+
+void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions& options,
+                        const std::filesystem::path& dir, const ReferenceProgress& progress) {
+  checkOptions(options);
+  const shadow::ProductPose pose = options.pose.value_or(shadow::ProductPose{
+      static_cast<uint32_t>(scene.startPose.product), static_cast<float>(scene.startPose.x),
+      static_cast<float>(scene.startPose.z), static_cast<float>(scene.startPose.yawDegrees), 0.0f});
+  const SynthView view = viewOf(scene, options, pose);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir)) {
+    throw scene::ImageError(dir.string() + ": cannot create the output folder");
+  }
+  const ReferenceImage image = renderKioskView(scene, view, pose, options, dir, progress);
+  const BracketSeries brackets = writePhotographs(scene, view, image, options, dir);
+  const double yawDegrees = writeProbe(scene, view.room, options, dir, progress);
+  writeCalibration(view, dir);
+  const dvec3 origin = writeMarks(view, dir);
+  writeCaptureManifest(scene, options, brackets, origin, yawDegrees, dir);
+  writeManifest(scene, options, view, pose, brackets, dir);
 }
 
 }  // namespace penumbra::reference

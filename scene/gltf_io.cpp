@@ -27,7 +27,6 @@ ProductMaterial mapMetallicRoughness(const glm::dvec3& baseColour, double metall
 #include <glm/gtc/quaternion.hpp>
 
 #include <cstring>
-#include <functional>
 #include <string>
 
 namespace penumbra::scene {
@@ -121,7 +120,9 @@ T load(const unsigned char* p) {
 
 }  // namespace
 
-GltfModel loadGltf(const std::filesystem::path& path) {
+namespace {
+
+tinygltf::Model readModel(const std::filesystem::path& path) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
@@ -132,22 +133,108 @@ GltfModel loadGltf(const std::filesystem::path& path) {
   const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
                                 : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
   if (!ok) fail(path, "not a valid glTF 2.0 file: " + (err.empty() ? warn : err));
-  const Reader reader(path, model);
+  return model;
+}
 
-  GltfModel out;
-  glm::dvec3 diffuseSum(0.0), specularSum(0.0), baseSum(0.0);
-  double exponentSum = 0, metallicSum = 0, roughnessSum = 0, weightSum = 0;
+// The root nodes: the default scene's (the first scene's without one), or, in a file
+// without scenes, every node that is no node's child.
+std::vector<int> sceneRoots(const std::filesystem::path& path, const tinygltf::Model& model) {
+  std::vector<int> roots;
+  if (!model.scenes.empty()) {
+    const size_t s = model.defaultScene >= 0 ? size_t(model.defaultScene) : 0;
+    if (s >= model.scenes.size()) fail(path, "default scene does not exist");
+    roots = model.scenes[s].nodes;
+  } else {
+    std::vector<uint8_t> isChild(model.nodes.size(), 0);
+    for (const tinygltf::Node& n : model.nodes) {
+      for (int c : n.children) {
+        if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = 1;
+      }
+    }
+    for (size_t i = 0; i < model.nodes.size(); ++i) {
+      if (!isChild[i]) roots.push_back(static_cast<int>(i));
+    }
+  }
+  return roots;
+}
 
-  auto addPrimitive = [&](const tinygltf::Primitive& prim, const glm::dmat4& world,
-                          const std::string& what) {
+// Flattens the node hierarchy into one mesh in world space and averages the primitives'
+// materials, each weighted by its triangle count (sums in visiting order).
+class SceneFlattener {
+ public:
+  SceneFlattener(const std::filesystem::path& path, const tinygltf::Model& model)
+      : path_(path), model_(model), reader_(path, model) {}
+
+  void visit(int n, const glm::dmat4& parent, int depth) {
+    const std::filesystem::path& path = path_;
+    const tinygltf::Model& model = model_;
+    if (n < 0 || size_t(n) >= model.nodes.size()) {
+      fail(path, "node " + std::to_string(n) + " does not exist");
+    }
+    if (depth > 64) fail(path, "node hierarchy deeper than 64 (a cycle?)");
+    const tinygltf::Node& node = model.nodes[size_t(n)];
+    const glm::dmat4 world = parent * nodeTransform(node);
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model.meshes.size()) {
+        fail(path, "nodes[" + std::to_string(n) + "].mesh does not exist");
+      }
+      const tinygltf::Mesh& mesh = model.meshes[size_t(node.mesh)];
+      for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        addPrimitive(
+            mesh.primitives[p], world,
+            "meshes[" + std::to_string(node.mesh) + "].primitives[" + std::to_string(p) + "]");
+      }
+    }
+    for (int child : node.children) visit(child, world, depth + 1);
+  }
+
+  GltfModel finish() {
+    if (out_.mesh.indices.empty()) fail(path_, "no triangles in the default scene");
+    out_.material.diffuse = diffuseSum_ / weightSum_;
+    out_.material.specular = specularSum_ / weightSum_;
+    out_.material.baseColour = baseSum_ / weightSum_;
+    out_.material.specularExponent = exponentSum_ / weightSum_;
+    out_.material.metallic = metallicSum_ / weightSum_;
+    out_.material.roughness = roughnessSum_ / weightSum_;
+    return std::move(out_);
+  }
+
+ private:
+  void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                    const std::string& what) {
+    const std::filesystem::path& path = path_;
     if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) return;
+    const uint32_t base = static_cast<uint32_t>(out_.mesh.positions.size());
+    const size_t vertexCount = appendPositions(prim, world, what);
+    const std::vector<uint32_t> idx = indices(prim, vertexCount, what);
+    if (idx.size() % 3 != 0) fail(path, what + ": index count is not a multiple of 3");
+    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0;
+    for (size_t t = 0; t < idx.size(); t += 3) {
+      out_.mesh.indices.push_back(base + idx[t]);
+      out_.mesh.indices.push_back(base + idx[t + (mirrored ? 2 : 1)]);
+      out_.mesh.indices.push_back(base + idx[t + (mirrored ? 1 : 2)]);
+    }
+    const ProductMaterial pm = material(prim, what);
+    const double w = double(idx.size() / 3);
+    diffuseSum_ += w * pm.diffuse;
+    specularSum_ += w * pm.specular;
+    baseSum_ += w * pm.baseColour;
+    exponentSum_ += w * pm.specularExponent;
+    metallicSum_ += w * pm.metallic;
+    roughnessSum_ += w * pm.roughness;
+    weightSum_ += w;
+  }
+
+  // The primitive's positions in world space, appended to the mesh; returns their count.
+  size_t appendPositions(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                         const std::string& what) {
+    const std::filesystem::path& path = path_;
     const auto pos = prim.attributes.find("POSITION");
     if (pos == prim.attributes.end()) fail(path, what + ": no POSITION attribute");
-    const Reader::View v = reader.view(pos->second, what + ".POSITION");
+    const Reader::View v = reader_.view(pos->second, what + ".POSITION");
     if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || v.components != 3) {
       fail(path, what + ".POSITION: expected float VEC3");
     }
-    const uint32_t base = static_cast<uint32_t>(out.mesh.positions.size());
     for (size_t i = 0; i < v.count; ++i) {
       const unsigned char* p = v.data + i * v.stride;
       const glm::dvec4 q =
@@ -155,11 +242,19 @@ GltfModel loadGltf(const std::filesystem::path& path) {
       if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
         fail(path, what + ".POSITION: non-finite position");
       }
-      out.mesh.positions.emplace_back(q.x, q.y, q.z);
+      out_.mesh.positions.emplace_back(q.x, q.y, q.z);
     }
+    return v.count;
+  }
+
+  // The primitive's triangle corners, relative to its first vertex: its index accessor,
+  // or 0, 1, 2, ... without one.
+  std::vector<uint32_t> indices(const tinygltf::Primitive& prim, size_t vertexCount,
+                                const std::string& what) const {
+    const std::filesystem::path& path = path_;
     std::vector<uint32_t> idx;
     if (prim.indices >= 0) {
-      const Reader::View iv = reader.view(prim.indices, what + ".indices");
+      const Reader::View iv = reader_.view(prim.indices, what + ".indices");
       if (iv.components != 1) fail(path, what + ".indices: expected SCALAR");
       for (size_t i = 0; i < iv.count; ++i) {
         const unsigned char* p = iv.data + i * iv.stride;
@@ -177,20 +272,20 @@ GltfModel loadGltf(const std::filesystem::path& path) {
           default:
             fail(path, what + ".indices: expected an unsigned integer type");
         }
-        if (k >= v.count) fail(path, what + ".indices: index out of range");
+        if (k >= vertexCount) fail(path, what + ".indices: index out of range");
         idx.push_back(k);
       }
     } else {
-      for (size_t i = 0; i < v.count; ++i) idx.push_back(static_cast<uint32_t>(i));
+      for (size_t i = 0; i < vertexCount; ++i) idx.push_back(static_cast<uint32_t>(i));
     }
-    if (idx.size() % 3 != 0) fail(path, what + ": index count is not a multiple of 3");
-    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0;
-    for (size_t t = 0; t < idx.size(); t += 3) {
-      out.mesh.indices.push_back(base + idx[t]);
-      out.mesh.indices.push_back(base + idx[t + (mirrored ? 2 : 1)]);
-      out.mesh.indices.push_back(base + idx[t + (mirrored ? 1 : 2)]);
-    }
-    // The primitive's material, weighted by its triangles.
+    return idx;
+  }
+
+  // The primitive's material (glTF metallic-roughness, base colour times the mean of its
+  // texture), mapped to Penumbra's; white, metallic 1 and roughness 1 without one.
+  ProductMaterial material(const tinygltf::Primitive& prim, const std::string& what) const {
+    const std::filesystem::path& path = path_;
+    const tinygltf::Model& model = model_;
     glm::dvec3 c(1.0);
     double metallic = 1, roughness = 1;
     if (prim.material >= 0) {
@@ -230,65 +325,24 @@ GltfModel loadGltf(const std::filesystem::path& path) {
     if (!std::isfinite(metallic) || !std::isfinite(roughness)) {
       fail(path, what + ": non-finite metallic/roughness");
     }
-    const ProductMaterial pm = mapMetallicRoughness(c, metallic, roughness);
-    const double w = double(idx.size() / 3);
-    diffuseSum += w * pm.diffuse;
-    specularSum += w * pm.specular;
-    baseSum += w * pm.baseColour;
-    exponentSum += w * pm.specularExponent;
-    metallicSum += w * pm.metallic;
-    roughnessSum += w * pm.roughness;
-    weightSum += w;
-  };
-
-  std::function<void(int, const glm::dmat4&, int)> visit = [&](int n, const glm::dmat4& parent,
-                                                               int depth) {
-    if (n < 0 || size_t(n) >= model.nodes.size()) {
-      fail(path, "node " + std::to_string(n) + " does not exist");
-    }
-    if (depth > 64) fail(path, "node hierarchy deeper than 64 (a cycle?)");
-    const tinygltf::Node& node = model.nodes[size_t(n)];
-    const glm::dmat4 world = parent * nodeTransform(node);
-    if (node.mesh >= 0) {
-      if (size_t(node.mesh) >= model.meshes.size()) {
-        fail(path, "nodes[" + std::to_string(n) + "].mesh does not exist");
-      }
-      const tinygltf::Mesh& mesh = model.meshes[size_t(node.mesh)];
-      for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-        addPrimitive(
-            mesh.primitives[p], world,
-            "meshes[" + std::to_string(node.mesh) + "].primitives[" + std::to_string(p) + "]");
-      }
-    }
-    for (int child : node.children) visit(child, world, depth + 1);
-  };
-
-  std::vector<int> roots;
-  if (!model.scenes.empty()) {
-    const size_t s = model.defaultScene >= 0 ? size_t(model.defaultScene) : 0;
-    if (s >= model.scenes.size()) fail(path, "default scene does not exist");
-    roots = model.scenes[s].nodes;
-  } else {
-    std::vector<uint8_t> isChild(model.nodes.size(), 0);
-    for (const tinygltf::Node& n : model.nodes) {
-      for (int c : n.children) {
-        if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = 1;
-      }
-    }
-    for (size_t i = 0; i < model.nodes.size(); ++i) {
-      if (!isChild[i]) roots.push_back(static_cast<int>(i));
-    }
+    return mapMetallicRoughness(c, metallic, roughness);
   }
-  for (int r : roots) visit(r, glm::dmat4(1.0), 0);
-  if (out.mesh.indices.empty()) fail(path, "no triangles in the default scene");
 
-  out.material.diffuse = diffuseSum / weightSum;
-  out.material.specular = specularSum / weightSum;
-  out.material.baseColour = baseSum / weightSum;
-  out.material.specularExponent = exponentSum / weightSum;
-  out.material.metallic = metallicSum / weightSum;
-  out.material.roughness = roughnessSum / weightSum;
-  return out;
+  const std::filesystem::path& path_;
+  const tinygltf::Model& model_;
+  const Reader reader_;
+  GltfModel out_;
+  glm::dvec3 diffuseSum_{0.0}, specularSum_{0.0}, baseSum_{0.0};
+  double exponentSum_ = 0, metallicSum_ = 0, roughnessSum_ = 0, weightSum_ = 0;
+};
+
+}  // namespace
+
+GltfModel loadGltf(const std::filesystem::path& path) {
+  const tinygltf::Model model = readModel(path);
+  SceneFlattener scene(path, model);
+  for (int r : sceneRoots(path, model)) scene.visit(r, glm::dmat4(1.0), 0);
+  return scene.finish();
 }
 
 }  // namespace penumbra::scene

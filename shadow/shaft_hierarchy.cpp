@@ -196,12 +196,11 @@ bool ShaftGeometry::mayIntersect(const Aabb& box) const {
   return shaftMayIntersect(bounds, planes.data(), planeCount, box);
 }
 
-ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceiverSets& sets,
-                               const RadianceTransfers& transfers, BuildOptions options) {
-  validate(mesh, sets, transfers, options);
+namespace {
 
-  // Patch boxes from the patches' own triangles (§6: node bounds are the bounds of the
-  // geometry, so shafts enclose every point of every patch).
+// Patch boxes from the patches' own triangles (§6: node bounds are the bounds of the
+// geometry, so shafts enclose every point of every patch).
+std::vector<Aabb> patchBoxes(const scene::PatchMesh& mesh, const SourceReceiverSets& sets) {
   std::vector<Aabb> patchBox(mesh.patches.size(), Aabb::emptyBox());
   for (size_t tri = 0; tri < mesh.triangleCount(); ++tri) {
     Aabb& box = patchBox[mesh.trianglePatch[tri]];
@@ -213,9 +212,110 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
   for (uint32_t p : sets.receivers) {
     if (patchBox[p].empty()) inputError("receiver patch without triangles");
   }
-  const auto centre = [&](uint32_t patch) { return patchBox[patch].centre(); };
+  return patchBox;
+}
 
-  // --- Source KD-tree (§6): longest axis of the patch centres, median split. ---
+}  // namespace
+
+// The shaft hierarchy as a temporary tree: recursion decides which children survive before
+// the parent is emitted, so it is flattened afterwards.
+struct ShaftHierarchy::ShaftTree {
+  struct TempShaft {
+    uint32_t source, receiver, firstChild, childCount;
+  };
+  std::vector<TempShaft> temp;
+  std::vector<uint32_t> tempChildren;
+  uint32_t root = kNoIndex;
+};
+
+// §6: a shaft is kept when its sources carry at least pruneFraction of L_i at one vertex
+// of its receiver node (luminances, both sides). With pruneFraction = 0 every shaft is
+// kept, even one with no transfer at all: culling is then purely geometric.
+class ShaftHierarchy::PruneTest {
+ public:
+  PruneTest(const scene::PatchMesh& mesh, const RadianceTransfers& transfers,
+            std::span<const uint32_t> receiverOrder, std::span<const uint32_t> sourcePosition,
+            std::span<const SourceNode> sourceNodes, std::span<const ReceiverNode> receiverNodes,
+            double pruneFraction)
+      : sourceNodes_(sourceNodes),
+        receiverNodes_(receiverNodes),
+        pruneFraction_(pruneFraction),
+        rows_(transfers, sourcePosition) {
+    // Receiver vertices of each receiver patch, in octree order, so a receiver node's
+    // vertices are one contiguous range (duplicates across patches are harmless for the
+    // "every vertex" test).
+    std::vector<uint32_t> receiverVertexOf(mesh.positions.size(), kNoIndex);
+    for (uint32_t i = 0; i < transfers.receiverVertices.size(); ++i) {
+      receiverVertexOf[transfers.receiverVertices[i]] = i;
+    }
+    std::vector<std::vector<uint32_t>> patchVertices(mesh.patches.size());
+    for (size_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+      auto& list = patchVertices[mesh.trianglePatch[tri]];
+      for (size_t k = 0; k < 3; ++k) {
+        const uint32_t v = receiverVertexOf[mesh.indices[3 * tri + k]];
+        if (v != kNoIndex && std::find(list.begin(), list.end(), v) == list.end())
+          list.push_back(v);
+      }
+    }
+    vertexStart_.assign(receiverOrder.size() + 1, 0);
+    for (size_t k = 0; k < receiverOrder.size(); ++k) {
+      const auto& list = patchVertices[receiverOrder[k]];
+      nodeVertices_.insert(nodeVertices_.end(), list.begin(), list.end());
+      vertexStart_[k + 1] = static_cast<uint32_t>(nodeVertices_.size());
+    }
+    threshold_.resize(transfers.receiverVertices.size());
+    for (size_t v = 0; v < threshold_.size(); ++v) {
+      threshold_[v] = pruneFraction * static_cast<double>(luminance(transfers.vertexRadiance[v]));
+    }
+  }
+
+  // Whether the shaft from source node s to receiver node r is significant.
+  bool operator()(uint32_t s, uint32_t r) const {
+    if (pruneFraction_ <= 0) return true;
+    const SourceNode& sn = sourceNodes_[s];
+    const ReceiverNode& rn = receiverNodes_[r];
+    for (uint32_t k = vertexStart_[rn.firstPatch]; k < vertexStart_[rn.firstPatch + rn.patchCount];
+         ++k) {
+      const uint32_t v = nodeVertices_[k];
+      if (rows_.rangeSum(v, sn.firstLeaf, sn.firstLeaf + sn.leafCount) >= threshold_[v])
+        return true;
+    }
+    return false;
+  }
+
+ private:
+  std::span<const SourceNode> sourceNodes_;
+  std::span<const ReceiverNode> receiverNodes_;
+  double pruneFraction_;
+  VertexTransferRows rows_;
+  std::vector<uint32_t> vertexStart_;
+  std::vector<uint32_t> nodeVertices_;
+  std::vector<double> threshold_;
+};
+
+ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceiverSets& sets,
+                               const RadianceTransfers& transfers, BuildOptions options) {
+  validate(mesh, sets, transfers, options);
+  const std::vector<Aabb> patchBox = patchBoxes(mesh, sets);
+  buildSourceTree(sets, transfers, patchBox);
+  const auto sourceCount = static_cast<uint32_t>(sets.sources.size());
+  std::vector<uint32_t> sourcePosition(sourceCount);
+  for (uint32_t p = 0; p < sourceCount; ++p) sourcePosition[sourceOrder_[p]] = p;
+  buildReceiverTree(sets, patchBox, options.maxReceiversPerLeaf);
+  const PruneTest significant(mesh, transfers, receiverOrder_, sourcePosition, sourceNodes_,
+                              receiverNodes_, options.pruneFraction);
+  flatten(buildShaftTree(significant, options.keepCoarseLeaves));
+  shafts_.shrink_to_fit();
+  planes_.shrink_to_fit();
+  sourceNodes_.shrink_to_fit();
+  receiverNodes_.shrink_to_fit();
+}
+
+// Source KD-tree (§6): longest axis of the patch centres, median split.
+void ShaftHierarchy::buildSourceTree(const SourceReceiverSets& sets,
+                                     const RadianceTransfers& transfers,
+                                     std::span<const Aabb> patchBox) {
+  const auto centre = [&](uint32_t patch) { return patchBox[patch].centre(); };
   const auto sourceCount = static_cast<uint32_t>(sets.sources.size());
   sourceOrder_.resize(sourceCount);
   for (uint32_t s = 0; s < sourceCount; ++s) sourceOrder_[s] = s;
@@ -262,11 +362,14 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
     return index;
   };
   if (sourceCount > 0) buildSource(buildSource, 0, sourceCount, kNoIndex);
-  std::vector<uint32_t> sourcePosition(sourceCount);
-  for (uint32_t p = 0; p < sourceCount; ++p) sourcePosition[sourceOrder_[p]] = p;
+}
 
-  // --- Receiver octree (§6): split at the middle of the patch centres' box while a node
-  // holds more than maxReceiversPerLeaf patches. ---
+// Receiver octree (§6): split at the middle of the patch centres' box while a node holds
+// more than maxReceiversPerLeaf patches.
+void ShaftHierarchy::buildReceiverTree(const SourceReceiverSets& sets,
+                                       std::span<const Aabb> patchBox,
+                                       uint32_t maxReceiversPerLeaf) {
+  const auto centre = [&](uint32_t patch) { return patchBox[patch].centre(); };
   receiverOrder_ = sets.receivers;
   const auto buildReceiver = [&](auto& self, uint32_t index) -> void {
     ReceiverNode node = receiverNodes_[index];
@@ -276,7 +379,7 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
       centres.extend(centre(receiverOrder_[k]));
     }
     receiverNodes_[index] = node;
-    if (node.patchCount <= options.maxReceiversPerLeaf) return;
+    if (node.patchCount <= maxReceiversPerLeaf) return;
     const glm::dvec3 mid = centres.centre();
     const auto octant = [&](uint32_t patch) {
       const glm::dvec3 c = centre(patch);
@@ -312,58 +415,16 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
     receiverNodes_.push_back(root);
     buildReceiver(buildReceiver, 0);
   }
+}
 
-  // Receiver vertices of each receiver patch, in octree order, so a receiver node's
-  // vertices are one contiguous range (duplicates across patches are harmless for the
-  // "every vertex" test).
-  std::vector<uint32_t> receiverVertexOf(mesh.positions.size(), kNoIndex);
-  for (uint32_t i = 0; i < transfers.receiverVertices.size(); ++i) {
-    receiverVertexOf[transfers.receiverVertices[i]] = i;
-  }
-  std::vector<std::vector<uint32_t>> patchVertices(mesh.patches.size());
-  for (size_t tri = 0; tri < mesh.triangleCount(); ++tri) {
-    auto& list = patchVertices[mesh.trianglePatch[tri]];
-    for (size_t k = 0; k < 3; ++k) {
-      const uint32_t v = receiverVertexOf[mesh.indices[3 * tri + k]];
-      if (v != kNoIndex && std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
-    }
-  }
-  std::vector<uint32_t> vertexStart(receiverOrder_.size() + 1, 0);
-  std::vector<uint32_t> nodeVertices;
-  for (size_t k = 0; k < receiverOrder_.size(); ++k) {
-    const auto& list = patchVertices[receiverOrder_[k]];
-    nodeVertices.insert(nodeVertices.end(), list.begin(), list.end());
-    vertexStart[k + 1] = static_cast<uint32_t>(nodeVertices.size());
-  }
-  std::vector<double> threshold(transfers.receiverVertices.size());
-  for (size_t v = 0; v < threshold.size(); ++v) {
-    threshold[v] =
-        options.pruneFraction * static_cast<double>(luminance(transfers.vertexRadiance[v]));
-  }
-  const VertexTransferRows rows(transfers, sourcePosition);
-
-  // §6: a shaft is kept when its sources carry at least pruneFraction of L_i at one vertex
-  // of its receiver node (luminances, both sides). With pruneFraction = 0 every shaft is
-  // kept, even one with no transfer at all: culling is then purely geometric.
-  const auto significant = [&](uint32_t s, uint32_t r) {
-    if (options.pruneFraction <= 0) return true;
-    const SourceNode& sn = sourceNodes_[s];
-    const ReceiverNode& rn = receiverNodes_[r];
-    for (uint32_t k = vertexStart[rn.firstPatch]; k < vertexStart[rn.firstPatch + rn.patchCount];
-         ++k) {
-      const uint32_t v = nodeVertices[k];
-      if (rows.rangeSum(v, sn.firstLeaf, sn.firstLeaf + sn.leafCount) >= threshold[v]) return true;
-    }
-    return false;
-  };
-
-  // --- Shaft hierarchy (§6), first as a temporary tree: recursion decides which children
-  // survive before the parent is emitted. ---
-  struct TempShaft {
-    uint32_t source, receiver, firstChild, childCount;
-  };
-  std::vector<TempShaft> temp;
-  std::vector<uint32_t> tempChildren;
+// Shaft hierarchy (§6), first as a temporary tree: recursion decides which children
+// survive before the parent is emitted.
+ShaftHierarchy::ShaftTree ShaftHierarchy::buildShaftTree(const PruneTest& significant,
+                                                         bool keepCoarseLeaves) {
+  ShaftTree tree;
+  auto& temp = tree.temp;
+  auto& tempChildren = tree.tempChildren;
+  using TempShaft = ShaftTree::TempShaft;
   const auto buildShaft = [&](auto& self, uint32_t s, uint32_t r) -> uint32_t {
     if (!significant(s, r)) return kNoIndex;
     const SourceNode& sn = sourceNodes_[s];
@@ -388,7 +449,7 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
       }
       if (kidCount == 0) {
         ++deadEndShaftCount_;
-        if (!options.keepCoarseLeaves) return kNoIndex;
+        if (!keepCoarseLeaves) return kNoIndex;
       }
     }
     const auto first = static_cast<uint32_t>(tempChildren.size());
@@ -396,10 +457,16 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
     temp.push_back(TempShaft{s, r, first, kidCount});
     return static_cast<uint32_t>(temp.size() - 1);
   };
-  const uint32_t tempRoot =
+  tree.root =
       sourceNodes_.empty() || receiverNodes_.empty() ? kNoIndex : buildShaft(buildShaft, 0, 0);
+  return tree;
+}
 
-  // Flatten breadth first so each shaft's children are contiguous; planes alongside.
+// Flatten breadth first so each shaft's children are contiguous; planes alongside.
+void ShaftHierarchy::flatten(const ShaftTree& tree) {
+  const uint32_t tempRoot = tree.root;
+  const auto& temp = tree.temp;
+  const auto& tempChildren = tree.tempChildren;
   if (tempRoot != kNoIndex) {
     std::vector<uint32_t> tempOf{tempRoot};
     std::vector<uint32_t> depth{1};
@@ -418,7 +485,7 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
     };
     emit(tempRoot);
     for (size_t i = 0; i < shafts_.size(); ++i) {
-      const TempShaft t = temp[tempOf[i]];
+      const ShaftTree::TempShaft t = temp[tempOf[i]];
       shafts_[i].firstChild = static_cast<uint32_t>(shafts_.size());
       shafts_[i].childCount = static_cast<uint8_t>(t.childCount);
       if (t.childCount == 0) ++leafShaftCount_;
@@ -433,10 +500,6 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
     // Depth-first with all children pushed at once: at most 7 siblings wait per level.
     stackBound_ = 8 * maxDepth;
   }
-  shafts_.shrink_to_fit();
-  planes_.shrink_to_fit();
-  sourceNodes_.shrink_to_fit();
-  receiverNodes_.shrink_to_fit();
 }
 
 void ShaftHierarchy::traverse(const Aabb& objectBox, uint32_t frame, TraversalResult& out) const {

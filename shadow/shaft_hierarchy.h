@@ -174,6 +174,18 @@ class ShaftHierarchy {
   size_t memoryBytes() const;
 
  private:
+  struct ShaftTree;  // the hierarchy before it is flattened (shaft_hierarchy.cpp)
+  class PruneTest;   // §6's significance test of a shaft (shaft_hierarchy.cpp)
+
+  // The construction stages, in order; each fills the members named.
+  void buildSourceTree(const SourceReceiverSets& sets, const RadianceTransfers& transfers,
+                       std::span<const scene::Aabb> patchBox);  // sourceNodes_, Order_, Leaf_
+  void buildReceiverTree(const SourceReceiverSets& sets, std::span<const scene::Aabb> patchBox,
+                         uint32_t maxReceiversPerLeaf);  // receiverNodes_, receiverOrder_
+  ShaftTree buildShaftTree(const PruneTest& significant,
+                           bool keepCoarseLeaves);  // deadEndShaftCount_
+  void flatten(const ShaftTree& tree);              // shafts_, planes_, leafShaftCount_, stack
+
   std::vector<SourceNode> sourceNodes_;
   std::vector<ReceiverNode> receiverNodes_;
   std::vector<Shaft> shafts_;

@@ -4,19 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <vector>
 
 #include "shadow/intensity_transfer.h"  // core::splitmix64
+#include "tests/shaft_test_room.h"
 
 namespace penumbra::shadow {
-namespace testing {
-// Defined in shaft_hierarchy_test.cpp (same test binary): the hand-built room.
-void buildTestRoom(int floorCells, int lightCols, int lightRows, bool wallAndWindow,
-                   scene::PatchMesh& mesh, SourceReceiverSets& sets, RadianceTransfers& t);
-}  // namespace testing
-
 namespace {
 
 using scene::Aabb;
@@ -207,17 +200,17 @@ TEST(SourceClusters, DeterministicWhateverTheInputOrder) {
   EXPECT_THROW(selectSourceClusters(h, std::vector<uint32_t>{9999}, 52, 4, a), std::out_of_range);
 }
 
-// Traversal + selection per frame, as the kiosk runs them. Reported, not asserted: the
-// target is <= 0.25 ms per frame on the board.
-TEST(SourceClusters, TimingTraverseAndSelect) {
+// Traversal + selection per frame, as the kiosk runs them (timed in bench/shadow_bench.cpp):
+// after the first frame the selection reuses its storage, and pruning only ever removes
+// sources (the unpruned hierarchy is the geometric floor of the source list). Coarse
+// leaves keep light that dropping them would lose.
+TEST(SourceClusters, SlidingObjectReusesStorageAndPruningOnlyRemovesSources) {
   const Fixture f = showroom();
-  const auto t0 = std::chrono::steady_clock::now();
   const ShaftHierarchy h = f.build(0.02);
-  const auto t1 = std::chrono::steady_clock::now();
-  TraversalResult traversal;
+  const ShaftHierarchy unpruned = f.build(0.0);
+  TraversalResult traversal, everything;
   ClusterSelection sel;
   // A 0.5 m object sliding across the floor, one position per frame.
-  const int frames = 2000;
   const auto boxAt = [](int k) {
     const double x = 0.5 + 3.0 * (k % 200) / 200.0;
     return Aabb{{x, 0.0, 1.5}, {x + 0.5, 0.5, 2.0}};
@@ -225,46 +218,20 @@ TEST(SourceClusters, TimingTraverseAndSelect) {
   h.traverse(boxAt(0), 0, traversal);
   selectSourceClusters(h, traversal.sources, 0, 16, sel);
   const auto* clusterData = sel.clusters.data();
-  size_t visited = 0, sources = 0, receivers = 0, clusters = 0;
-  const auto t2 = std::chrono::steady_clock::now();
-  for (int k = 1; k <= frames; ++k) {
+  size_t sources = 0;
+  for (int k = 1; k <= 200; ++k) {
     h.traverse(boxAt(k), static_cast<uint32_t>(k), traversal);
     selectSourceClusters(h, traversal.sources, static_cast<uint32_t>(k), 16, sel);
-    visited += traversal.shaftsVisited;
+    unpruned.traverse(boxAt(k), static_cast<uint32_t>(k), everything);
     sources += traversal.sources.size();
-    receivers += traversal.receivers.size();
-    clusters += sel.clusters.size();
+    EXPECT_GE(everything.sources.size(), traversal.sources.size()) << "frame " << k;
   }
-  const auto t3 = std::chrono::steady_clock::now();
   EXPECT_EQ(sel.clusters.data(), clusterData);  // no reallocation after warm-up
   EXPECT_GT(sources, 0u);
-  const double perFrameMs = std::chrono::duration<double, std::milli>(t3 - t2).count() / frames;
-  std::printf(
-      "[ timing ] %zu receivers x %zu sources: build %.1f ms, %zu shafts (%zu leaf, %zu dead "
-      "ends), %.1f KiB; per frame: %.4f ms traverse+select(n=16), %.0f shafts visited, %.1f "
-      "sources, %.0f receivers, %.1f clusters\n",
-      f.sets.receivers.size(), f.sets.sources.size(),
-      std::chrono::duration<double, std::milli>(t1 - t0).count(), h.shaftCount(),
-      h.leafShaftCount(), h.deadEndShaftCount(), static_cast<double>(h.memoryBytes()) / 1024.0,
-      perFrameMs, static_cast<double>(visited) / frames, static_cast<double>(sources) / frames,
-      static_cast<double>(receivers) / frames, static_cast<double>(clusters) / frames);
-  RecordProperty("ms_per_frame", std::to_string(perFrameMs));
 
   const ShaftHierarchy dropped(f.mesh, f.sets, f.transfers, {8, 0.02, false});
-  // Sources per frame with no pruning at all: the geometric floor of the source list.
-  const ShaftHierarchy unpruned = f.build(0.0);
-  size_t unprunedSources = 0;
-  for (int k = 1; k <= 200; ++k) {
-    unpruned.traverse(boxAt(k), static_cast<uint32_t>(k), traversal);
-    unprunedSources += traversal.sources.size();
-  }
-  std::printf("[ timing ] unpruned: %zu shafts, %.1f sources per frame\n", unpruned.shaftCount(),
-              static_cast<double>(unprunedSources) / 200.0);
-  std::printf(
-      "[ timing ] leaf shafts cover %.1f%% of the transfer luminance at 2%% (%.1f%% "
-      "without coarse leaves: %zu shafts, %.1f KiB)\n",
-      100.0 * coveredLight(f, h), 100.0 * coveredLight(f, dropped), dropped.shaftCount(),
-      static_cast<double>(dropped.memoryBytes()) / 1024.0);
+  EXPECT_LT(dropped.shaftCount(), h.shaftCount());
+  EXPECT_GE(coveredLight(f, h), coveredLight(f, dropped));
 }
 
 }  // namespace

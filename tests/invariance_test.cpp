@@ -9,6 +9,7 @@
 #include <iterator>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
@@ -21,10 +22,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The committed traces of data/traces. They are part of the repository, so an empty or
+// missing folder is a broken checkout, not a reason to check nothing: the caller asserts.
 std::vector<fs::path> bundledTraces() {
   std::vector<fs::path> out;
   const fs::path dir = fs::path(PENUMBRA_DATA_DIR) / "traces";
-  if (!fs::exists(dir)) return out;
+  if (!fs::is_directory(dir)) return out;
   for (const auto& e : fs::directory_iterator(dir)) {
     if (e.path().extension() == ".json") out.push_back(e.path());
   }
@@ -32,9 +35,14 @@ std::vector<fs::path> bundledTraces() {
   return out;
 }
 
+const char* const kNoTraces = "no frame traces in " PENUMBRA_DATA_DIR
+                              "/traces: the committed data/traces/*.json are "
+                              "missing (a partial checkout?); these tests would check nothing";
+
 std::map<std::string, std::string> goldenHashes() {
   std::map<std::string, std::string> out;
   std::ifstream in(fs::path(PENUMBRA_SOURCE_DIR) / "tests" / "golden_hashes.txt");
+  if (!in) throw std::runtime_error(PENUMBRA_SOURCE_DIR "/tests/golden_hashes.txt: cannot read");
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
@@ -101,7 +109,9 @@ TEST(Invariance, GeneratedSceneWithFixedPointAccumulation) {
 }
 
 TEST(Invariance, BundledTraces) {
-  for (const fs::path& path : bundledTraces()) {
+  const auto traces = bundledTraces();
+  ASSERT_FALSE(traces.empty()) << kNoTraces;
+  for (const fs::path& path : traces) {
     expectInvariant(raster::loadTrace(path), path.filename().string());
   }
 }
@@ -109,6 +119,8 @@ TEST(Invariance, BundledTraces) {
 TEST(Golden, BundledTracesMatchTheirHashes) {
   const auto golden = goldenHashes();
   const auto traces = bundledTraces();
+  ASSERT_FALSE(traces.empty()) << kNoTraces;
+  ASSERT_FALSE(golden.empty()) << "tests/golden_hashes.txt lists no hashes";
   for (const fs::path& path : traces) {
     const std::string name = path.filename().string();
     const auto it = golden.find(name);

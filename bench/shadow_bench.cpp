@@ -1,0 +1,70 @@
+// Per-frame shaft traversal and source-cluster selection (Gibson 2003 §6.1, §8) as the
+// kiosk runs them, and the hierarchy's build, on the hand-built room of the unit tests
+// (1,024 floor receivers x 60 ceiling sources). Target: <= 0.25 ms per frame on the board.
+//   build/ci/bin/penumbra_shadow_bench
+#include <benchmark/benchmark.h>
+
+#include "shadow/shaft_hierarchy.h"
+#include "shadow/source_clusters.h"
+#include "tests/shaft_test_room.h"
+
+namespace penumbra::shadow {
+namespace {
+
+struct Room {
+  scene::PatchMesh mesh;
+  SourceReceiverSets sets;
+  RadianceTransfers transfers;
+  Room() { testing::buildTestRoom(32, 10, 6, false, mesh, sets, transfers); }
+};
+
+// A 0.5 m object sliding across the floor, one position per frame.
+scene::Aabb boxAt(int64_t k) {
+  const double x = 0.5 + 3.0 * double(k % 200) / 200.0;
+  return scene::Aabb{{x, 0.0, 1.5}, {x + 0.5, 0.5, 2.0}};
+}
+
+void BM_ShaftHierarchyBuild(benchmark::State& state) {
+  const Room room;
+  const double prune = double(state.range(0)) / 100.0;
+  size_t shafts = 0, bytes = 0;
+  for (auto _ : state) {
+    const ShaftHierarchy h(room.mesh, room.sets, room.transfers, {8, prune});
+    shafts = h.shaftCount();
+    bytes = h.memoryBytes();
+  }
+  state.counters["shafts"] = double(shafts);
+  state.counters["KiB"] = double(bytes) / 1024.0;
+}
+BENCHMARK(BM_ShaftHierarchyBuild)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// One frame: traverse for the object's box, then select 16 clusters (state.range(0) = 2:
+// the 2% pruning the bundle ships, 0: none, the geometric floor of the source list).
+void BM_TraverseAndSelect(benchmark::State& state) {
+  const Room room;
+  const ShaftHierarchy h(room.mesh, room.sets, room.transfers, {8, double(state.range(0)) / 100.0});
+  TraversalResult traversal;
+  ClusterSelection sel;
+  h.traverse(boxAt(0), 0, traversal);
+  selectSourceClusters(h, traversal.sources, 0, 16, sel);
+  int64_t frame = 0;
+  double visited = 0, sources = 0, clusters = 0;
+  for (auto _ : state) {
+    ++frame;
+    h.traverse(boxAt(frame), static_cast<uint32_t>(frame), traversal);
+    selectSourceClusters(h, traversal.sources, static_cast<uint32_t>(frame), 16, sel);
+    visited += double(traversal.shaftsVisited);
+    sources += double(traversal.sources.size());
+    clusters += double(sel.clusters.size());
+  }
+  state.counters["shafts_visited"] =
+      benchmark::Counter(visited, benchmark::Counter::kAvgIterations);
+  state.counters["sources"] = benchmark::Counter(sources, benchmark::Counter::kAvgIterations);
+  state.counters["clusters"] = benchmark::Counter(clusters, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_TraverseAndSelect)->Arg(2)->Arg(0)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace penumbra::shadow
+
+BENCHMARK_MAIN();
