@@ -23,7 +23,22 @@ int64_t addSat(int64_t a, int64_t b) {
   return __builtin_add_overflow(a, b, &out) ? kInt64Max : out;
 }
 
+// Stateless: one instance serves every default Stopwatch.
+SteadyClock& steadyClock() {
+  static SteadyClock clock;
+  return clock;
+}
+
 }  // namespace
+
+Stopwatch::Stopwatch() : Stopwatch(steadyClock()) {}
+
+double Stopwatch::lap() {
+  const int64_t now = clock_.nowNanoseconds();
+  const int64_t elapsed = now - lastNs_;
+  lastNs_ = now;
+  return static_cast<double>(elapsed) / 1e6;
+}
 
 int64_t SteadyClock::nowNanoseconds() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
