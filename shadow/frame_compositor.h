@@ -120,7 +120,8 @@ class FrameCompositor {
   CompositorOptions options_;
   scene::PatchMesh mesh_;
   ShaftHierarchy hierarchy_;
-  // The stages, in the order compose() runs them.
+  // The stages: compose() runs placement to pass list, the transfers reading the feedback's
+  // shares; observe() records the next ones.
   ProductPlacement placement_;
   ProductShading shading_;
   BlockedLight blocked_;
