@@ -11,11 +11,11 @@
 
 #include "apps/render_flags.h"
 #include "firmware-sim/virtual_camera.h"
-#include "platform/bundle_guard.h"
-#include "platform/exposure_control.h"
+#include "kiosk/bundle_guard.h"
+#include "kiosk/exposure_control.h"
+#include "kiosk/kiosk_config.h"
+#include "kiosk/kiosk_loop.h"
 #include "platform/hardware.h"
-#include "platform/kiosk_config.h"
-#include "platform/kiosk_loop.h"
 #ifdef PENUMBRA_HAVE_GPIOD
 #include "platform/gpiod_io.h"
 #endif
@@ -36,9 +36,9 @@ namespace {
 // The camera, in the fallback order of docs/kiosk.md: libcamera → V4L2 webcam (OpenCV) →
 // the simulated camera if configured → none (the bundle's photograph, said on the HUD).
 // Each step that fails is logged with its reason.
-std::unique_ptr<platform::FrameSource> openCamera(const platform::KioskConfig& config,
-                                                  const shadow::SceneBundle& b,
-                                                  const std::function<void(std::string)>& warn) {
+std::unique_ptr<kiosk::FrameSource> openCamera(const kiosk::KioskConfig& config,
+                                               const shadow::SceneBundle& b,
+                                               const std::function<void(std::string)>& warn) {
   if (config.camera == "none") return nullptr;
   if (config.camera == "auto" || config.camera == "libcamera") {
 #ifdef PENUMBRA_HAVE_LIBCAMERA
@@ -79,8 +79,8 @@ std::unique_ptr<platform::FrameSource> openCamera(const platform::KioskConfig& c
 
 // `--bracket DIR`: the exposure ladder around the configured exposure, written for
 // `penumbra capture` (docs/capture.md). Needs a camera whose exposure can be fixed.
-int bracket(const platform::KioskConfig& config, const shadow::SceneBundle& b,
-            const std::filesystem::path& dir, uint32_t stops, platform::KioskLog& log) {
+int bracket(const kiosk::KioskConfig& config, const shadow::SceneBundle& b,
+            const std::filesystem::path& dir, uint32_t stops, kiosk::KioskLog& log) {
 #ifdef PENUMBRA_HAVE_LIBCAMERA
   platform::LibcameraOptions o;
   o.cameraId = config.cameraId;
@@ -95,14 +95,14 @@ int bracket(const platform::KioskConfig& config, const shadow::SceneBundle& b,
                                          "control: ") +
                              e.what());
   }
-  platform::SteadyTimebase time;
-  platform::BracketOptions bo;
-  bo.exposuresUs = platform::exposureLadder(config.cameraControls.exposureUs, stops);
+  kiosk::SteadyTimebase time;
+  kiosk::BracketOptions bo;
+  bo.exposuresUs = kiosk::exposureLadder(config.cameraControls.exposureUs, stops);
   bo.base = config.cameraControls;
   bo.width = b.view.width;
   bo.height = b.view.height;
-  const auto shots = platform::captureBracket(*camera, time, bo, log);
-  platform::writeBracket(shots, b.view.width, b.view.height, dir);
+  const auto shots = kiosk::captureBracket(*camera, time, bo, log);
+  kiosk::writeBracket(shots, b.view.width, b.view.height, dir);
   std::cout << "penumbra-kiosk: " << shots.size() << " exposures in " << dir.string()
             << " (exposures.json)\n";
   return 0;
@@ -132,29 +132,29 @@ int main(int argc, char** argv) {
   apps::addRenderFlags(&app, flags);
   CLI11_PARSE(app, argc, argv);
 
-  platform::KioskLog log(stderr);
+  kiosk::KioskLog log(stderr);
   try {
-    const platform::KioskConfig config = platform::loadKioskConfig(configPath);
-    platform::SteadyTimebase time;
-    platform::GuardedBundle guarded = platform::loadBundleKeepingLastGood(
-        config.bundle, config.lastGood, log, time.nowNanoseconds());
+    const kiosk::KioskConfig config = kiosk::loadKioskConfig(configPath);
+    kiosk::SteadyTimebase time;
+    kiosk::GuardedBundle guarded = kiosk::loadBundleKeepingLastGood(config.bundle, config.lastGood,
+                                                                    log, time.nowNanoseconds());
     // Product files replace the bundle's models before the carousel is built; refused ones
     // keep the bundle's model (docs/kiosk.md, faults).
-    platform::ProductFileWatcher productFiles(config.productFiles);
+    kiosk::ProductFileWatcher productFiles(config.productFiles);
     const auto startupChanges = productFiles.poll(guarded.bundle, log, time.nowNanoseconds());
     const shadow::SceneBundle& b = guarded.bundle;
     auto fallback = [&](const std::string& what) {
-      log.write(time.nowNanoseconds(), platform::LogLevel::kWarning, what);
+      log.write(time.nowNanoseconds(), kiosk::LogLevel::kWarning, what);
     };
 
     if (!bracketDir.empty()) return bracket(config, b, bracketDir, stops, log);
-    const std::unique_ptr<platform::FrameSource> camera = openCamera(config, b, fallback);
+    const std::unique_ptr<kiosk::FrameSource> camera = openCamera(config, b, fallback);
     if (camera)
-      log.write(time.nowNanoseconds(), platform::LogLevel::kInfo, "camera: " + camera->describe());
+      log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo, "camera: " + camera->describe());
 
-    platform::RecordingLed noLed;
-    platform::StatusLed* led = &noLed;
-    std::unique_ptr<platform::ButtonSource> buttons;
+    kiosk::RecordingLed noLed;
+    kiosk::StatusLed* led = &noLed;
+    std::unique_ptr<kiosk::ButtonSource> buttons;
 #ifdef PENUMBRA_HAVE_GPIOD
     std::unique_ptr<platform::GpiodLed> gpioLed;
     platform::GpioConfig gpio;
@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
     fallback("gpio: built without libgpiod; no buttons, no status LED");
 #endif
 
-    std::unique_ptr<platform::Display> display;
+    std::unique_ptr<kiosk::Display> display;
     if (config.display == "sdl") {
 #ifdef PENUMBRA_HAVE_SDL2
       try {
@@ -184,18 +184,18 @@ int main(int argc, char** argv) {
 #endif
     }
 
-    platform::Peripherals io;
+    kiosk::Peripherals io;
     io.camera = camera.get();
     io.buttons = buttons.get();
     io.led = led;
     io.display = display.get();
     io.time = &time;
     io.log = &log;
-    platform::KioskLoop loop(b, platform::KioskOptions{}, io, apps::toOptions(flags));
-    auto tell = [&](const std::vector<platform::ProductFileWatcher::Change>& changes) {
+    kiosk::KioskLoop loop(b, kiosk::KioskOptions{}, io, apps::toOptions(flags));
+    auto tell = [&](const std::vector<kiosk::ProductFileWatcher::Change>& changes) {
       for (const auto& c : changes) {
         const std::string& name = b.products[c.product].name;
-        loop.setFault(name, c.replaced ? std::string() : platform::productFileFault(name));
+        loop.setFault(name, c.replaced ? std::string() : kiosk::productFileFault(name));
         if (c.replaced) loop.productReplaced(c.product);
       }
     };
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
         tell(productFiles.poll(guarded.bundle, log, time.nowNanoseconds()));
         nextPollNs = time.nowNanoseconds() + 1'000'000'000;
       }
-      const platform::FrameReport r = loop.step();
+      const kiosk::FrameReport r = loop.step();
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;
     }

@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     int64_t firstStart = 0, lastEnd = 0;
     for (uint32_t f = 0; f < n; ++f) {
       const auto t0 = std::chrono::steady_clock::now();
-      const platform::FrameReport r = run.step();
+      const kiosk::FrameReport r = run.step();
       wallNs.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(
                            std::chrono::steady_clock::now() - t0)
                            .count());
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
       lastEnd = r.endNs;
       if (r.latencyNs >= 0) latency.push_back(r.latencyNs);
       passes.push_back(r.passes);
-      degraded += r.led != platform::LedState::kReady;
+      degraded += r.led != kiosk::LedState::kReady;
       stale += r.stale;
       attract += r.attract;
       const std::vector<uint8_t>& rgba = run.frame();

@@ -1,4 +1,5 @@
 #include "apps/reference_commands.h"
+#include "core/random.h"
 
 #ifdef PENUMBRA_HAVE_REFERENCE
 #include <chrono>
@@ -92,7 +93,7 @@ struct ReferenceCommand {
       // noise, so the RMS of their 8-bit difference over the shadow region (either
       // render's) divided by sqrt(2) estimates one render's noise.
       reference::ReferenceOptions other = options;
-      other.seed = shadow::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
+      other.seed = core::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
       const reference::DifferentialFrame second = reference::composeDifferential(
           reference::renderReference(scene, other, progressBar("noise    ")), b.background, b.tone);
       double sum = 0;

@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "apps/render_flags.h"
+#include "core/clock.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
 #include "scene/sha256.h"
-#include "shadow/clock.h"
 #include "shadow/frame_loop.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
@@ -249,7 +249,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
       ->capture_default_str();
   commands.push_back(
       {pre, [precompute, precomputeOptions] {
-         shadow::Stopwatch watch;
+         core::Stopwatch watch;
          const scene::SceneDescription scene = scene::loadSceneFile(precompute->first);
          std::vector<lighting::StageTiming> timings;
          const shadow::SceneBundle bundle = lighting::precomputeBundle(

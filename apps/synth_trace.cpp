@@ -33,7 +33,8 @@
 namespace {
 
 using glm::dvec3;
-using penumbra::raster::Rgb8;
+using penumbra::core::Rgb8;
+namespace core = penumbra::core;
 namespace raster = penumbra::raster;
 namespace scene = penumbra::scene;
 namespace shadow = penumbra::shadow;
@@ -136,8 +137,8 @@ struct ObjectMesh {
     return b;
   }
 
-  raster::Mesh toRaster() const {
-    raster::Mesh m;
+  core::Mesh toRaster() const {
+    core::Mesh m;
     for (const dvec3& p : positions) m.positions.push_back(scene::toVec3(p));
     m.indices = indices;
     return m;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/random.h"
 #include "shadow/intensity_transfer.h"
 #include "simd/u8_ops.h"
 
@@ -58,14 +59,14 @@ inline DriftResult measureFaintPassDrift(const shadow::ToneCurve& tone, int pass
   DriftResult r;
   std::vector<glm::dvec3> transfers(static_cast<size_t>(passes));
   std::vector<uint8_t> sets(static_cast<size_t>(passes));
-  std::vector<raster::Rgb8> s(static_cast<size_t>(passes));
+  std::vector<core::Rgb8> s(static_cast<size_t>(passes));
   long sumAbs = 0, sumSigned = 0;
   for (int v = 0; v < vertices; ++v) {
     const double radiance = double(v + 1) / double(vertices);
     double weightSum = 0;
     std::vector<double> w(static_cast<size_t>(passes));
     for (int j = 0; j < passes; ++j) {
-      const uint64_t h = shadow::splitmix64(seed * 1000003u + uint64_t(v) * 7919u + uint64_t(j));
+      const uint64_t h = core::splitmix64(seed * 1000003u + uint64_t(v) * 7919u + uint64_t(j));
       w[size_t(j)] = 0.5 + double(h >> 11) * 0x1.0p-53;
       weightSum += w[size_t(j)];
     }

@@ -24,7 +24,7 @@ using namespace penumbra;
 struct Policy {
   const char* name;
   std::function<void(const glm::dvec3&, std::span<const glm::dvec3>, std::span<const uint8_t>,
-                     double, std::span<raster::Rgb8>)>
+                     double, std::span<core::Rgb8>)>
       compute;
 };
 
@@ -63,15 +63,15 @@ int main(int argc, char** argv) {
         {"fig4_50_50",
          [&](const glm::dvec3& l, std::span<const glm::dvec3> x, std::span<const uint8_t> sets,
              double,
-             std::span<raster::Rgb8> out) { shadow::intensityTransfers(l, x, sets, b.tone, out); }},
+             std::span<core::Rgb8> out) { shadow::intensityTransfers(l, x, sets, b.tone, out); }},
         {"graded_q_0.5",
          [&](const glm::dvec3& l, std::span<const glm::dvec3> x, std::span<const uint8_t>, double,
-             std::span<raster::Rgb8> out) {
+             std::span<core::Rgb8> out) {
            shadow::intensityTransfersForOcclusion(l, x, 0.5, b.tone, out);
          }},
         {"graded_q_measured",
          [&](const glm::dvec3& l, std::span<const glm::dvec3> x, std::span<const uint8_t>,
-             double share, std::span<raster::Rgb8> out) {
+             double share, std::span<core::Rgb8> out) {
            shadow::intensityTransfersForOcclusion(l, x, share, b.tone, out);
          }},
     };
@@ -100,8 +100,8 @@ int main(int argc, char** argv) {
           sets[j] = uint8_t(shadow::sourceSet(1, b.sets.sources[sources[j].first]));
         }
         const glm::dvec3 total(t.vertexRadiance[i]);
-        const raster::Rgb8 c0 = b.tone.map(total);
-        std::vector<std::vector<raster::Rgb8>> s(policies.size(), std::vector<raster::Rgb8>(n));
+        const core::Rgb8 c0 = b.tone.map(total);
+        std::vector<std::vector<core::Rgb8>> s(policies.size(), std::vector<core::Rgb8>(n));
         for (size_t k = 0; k < policies.size(); ++k)
           policies[k].compute(total, x, sets, share, s[k]);
         std::vector<size_t> pick(n);
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
           std::shuffle(pick.begin(), pick.end(), rng);
           glm::dvec3 rest = total;
           for (size_t m = 0; m < occluded; ++m) rest -= glm::max(x[pick[m]], glm::dvec3(0.0));
-          const raster::Rgb8 truth = b.tone.map(rest);
+          const core::Rgb8 truth = b.tone.map(rest);
           for (size_t k = 0; k < policies.size(); ++k) {
             int r = c0.r, g = c0.g, bl = c0.b;
             for (size_t m = 0; m < occluded; ++m) {

@@ -6,10 +6,10 @@
 
 #include <vector>
 
+#include "core/job_pool.h"
 #include "lighting/embree_scene.h"
 #include "lighting/irradiance_volume.h"
 #include "lighting/patch_radiosity.h"
-#include "raster/job_pool.h"
 #include "shadow/environment_map.h"
 #include "shadow/irradiance_volume.h"
 
@@ -63,16 +63,16 @@ void BM_ShadeVertices(benchmark::State& state) {
   o.dims = {10, 5, 10};
   const shadow::IrradianceVolume vol = lighting::buildIrradianceVolume(mesh, rays, radiance, o);
   constexpr size_t kVertices = 100000;
-  std::vector<raster::Vec3> positions(kVertices);
+  std::vector<core::Vec3> positions(kVertices);
   std::vector<glm::vec3> normals(kVertices);
   for (size_t i = 0; i < kVertices; ++i) {
     const float a = float(i % 1000) / 1000.0f, b = float(i / 1000) / 100.0f;
     positions[i] = {2.0f + a, 0.2f + b, 2.0f + a * b};
     normals[i] = glm::vec3(a - 0.5f, 1.0f - b, b - a);
   }
-  std::vector<raster::Rgb8> colours(kVertices);
+  std::vector<core::Rgb8> colours(kVertices);
   const shadow::ToneLut tone(shadow::ToneCurve::gamma(1.2, 2.2));
-  raster::JobPool pool(static_cast<int>(state.range(0)));
+  core::JobPool pool(static_cast<int>(state.range(0)));
   constexpr size_t kBlock = 4096;
   const size_t blocks = (kVertices + kBlock - 1) / kBlock;
   for (auto _ : state) {

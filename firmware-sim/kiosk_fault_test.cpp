@@ -14,7 +14,7 @@
 
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
-#include "platform/bundle_guard.h"
+#include "kiosk/bundle_guard.h"
 #include "scene/sha256.h"
 #include "tests/scratch_dir.h"
 #ifdef PENUMBRA_HAVE_FOOTAGE
@@ -26,8 +26,8 @@ namespace penumbra::firmware_sim {
 namespace {
 
 namespace fs = std::filesystem;
-using platform::FrameReport;
-using platform::LedState;
+using kiosk::FrameReport;
+using kiosk::LedState;
 
 const fs::path kBundle = fs::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle";
 
@@ -187,7 +187,7 @@ TEST(KioskFaults, BouncingButtonActsOnce) {
   EXPECT_EQ(changes, 1);
   EXPECT_EQ(
       std::count_if(run.log().lines().begin(), run.log().lines().end(),
-                    [](const platform::LogLine& l) { return l.text.rfind("product: ", 0) == 0; }),
+                    [](const kiosk::LogLine& l) { return l.text.rfind("product: ", 0) == 0; }),
       1);
 }
 
@@ -241,11 +241,11 @@ TEST(KioskFaults, CorruptBundleWithoutLastGoodIsRefusedWithReason) {
   fs::create_directories(bad.parent_path());
   fs::copy_file(kBundle, bad, fs::copy_options::overwrite_existing);
   fs::resize_file(bad, fs::file_size(bad) / 2);
-  platform::KioskLog log;
+  kiosk::KioskLog log;
   try {
-    platform::loadBundleKeepingLastGood(bad, {}, log, 0);
+    kiosk::loadBundleKeepingLastGood(bad, {}, log, 0);
     FAIL() << "a truncated bundle was accepted";
-  } catch (const platform::NoUsableBundle& e) {
+  } catch (const kiosk::NoUsableBundle& e) {
     EXPECT_NE(std::string(e.what()).find("cut.bundle"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(log.contains("bundle: refused"));
@@ -323,7 +323,7 @@ TEST(KioskFootage, SimulatedCameraFilmsTheFootage) {
       session("footage", R"("camera": {"source": ")" + (shots / "room-*.png").string() + "\"}", 12);
   SimRun run(s, {});
   play(run, s.frames, kStale);
-  platform::CameraFrame f;
+  kiosk::CameraFrame f;
   for (uint64_t k = 0; k < 6; ++k) {
     run.camera()->render(k, f);
     const cv::Mat& expected = written[k % 3];

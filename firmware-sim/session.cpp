@@ -134,7 +134,7 @@ Session loadSession(const std::filesystem::path& path) {
 
   {
     Fields k = root.object("kiosk");
-    platform::KioskOptions& o = s.kiosk;
+    kiosk::KioskOptions& o = s.kiosk;
     const int64_t fps = k.integer("fps", 1, 240, 30);
     const int64_t qfps = k.integer("quality_fps", 1, 240, 15);
     o.fastFrameNs = 1'000'000'000 / fps;
@@ -241,7 +241,7 @@ Session loadSession(const std::filesystem::path& path) {
       ScriptedPress p;
       p.atNs = e.integer("at_ms", 0, kHour, 0, true) * kMs;
       const std::string name = e.string("button", "", true);
-      const auto b = platform::parseButton(name);
+      const auto b = kiosk::parseButton(name);
       if (!b) {
         e.fail("button", "unknown button '" + name +
                              "' (next, previous, left, right, forward, back, rotate, quality)");

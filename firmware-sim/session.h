@@ -11,10 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.h"
 #include "firmware-sim/virtual_camera.h"
 #include "firmware-sim/virtual_gpio.h"
-#include "platform/kiosk_loop.h"
-#include "shadow/clock.h"
+#include "kiosk/kiosk_loop.h"
+#include "shadow/frame_cost_model.h"
 
 namespace penumbra::firmware_sim {
 
@@ -43,7 +44,7 @@ struct Session {
   std::filesystem::path bundle;    // resolved against the session file's folder
   std::filesystem::path lastGood;  // empty: none
   uint32_t frames = 600;
-  platform::KioskOptions kiosk;
+  kiosk::KioskOptions kiosk;
   // The simulated board: cost of a frame in virtual time (shadow::CostModel).
   shadow::CostModel::Params cost;
   std::vector<shadow::CostModel::LoadStep> loadSteps;

@@ -1,6 +1,6 @@
 #include "firmware-sim/sim_run.h"
 
-#include "platform/product_files.h"
+#include "kiosk/product_files.h"
 #ifdef PENUMBRA_HAVE_FOOTAGE
 #include "firmware-sim/footage.h"
 #endif
@@ -21,7 +21,7 @@ void SimTimebase::sleepUntil(int64_t ns) {
   if (ns > now) clock_.advance(ns - now);
 }
 
-void SimTimebase::charge(const platform::FrameWork& w) {
+void SimTimebase::charge(const kiosk::FrameWork& w) {
   int64_t ns = model_.frameNs(w.startNs, w.passes, w.passPixels, w.shadowMapSize);
   for (const Overrun& o : overruns_) {
     if (o.frame == w.frame) ns += o.extraNs;
@@ -57,16 +57,16 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
     // The configured bundle is corrupt; the session's bundle plays the last good one.
     const std::filesystem::path bad = corruptedCopy(s.bundle);
     try {
-      bundle_ = std::make_unique<platform::GuardedBundle>(
-          platform::loadBundleKeepingLastGood(bad, s.bundle, log_, 0));
+      bundle_ = std::make_unique<kiosk::GuardedBundle>(
+          kiosk::loadBundleKeepingLastGood(bad, s.bundle, log_, 0));
     } catch (...) {
       std::filesystem::remove(bad);
       throw;
     }
     std::filesystem::remove(bad);
   } else {
-    bundle_ = std::make_unique<platform::GuardedBundle>(
-        platform::loadBundleKeepingLastGood(s.bundle, s.lastGood, log_, 0));
+    bundle_ = std::make_unique<kiosk::GuardedBundle>(
+        kiosk::loadBundleKeepingLastGood(s.bundle, s.lastGood, log_, 0));
   }
   if (!s.corruptProduct.empty()) {
     bool found = false;
@@ -97,12 +97,11 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
       pendingProductFiles_.push_back(f);
       continue;
     }
-    const std::string why =
-        platform::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, 0);
+    const std::string why = kiosk::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, 0);
     if (!why.empty()) refused.emplace_back(f.product, why);
   }
   const shadow::SceneBundle& b = bundle_->bundle;
-  platform::Peripherals io;
+  kiosk::Peripherals io;
   io.led = &led_;
   io.time = &time_;
   io.log = &log_;
@@ -125,29 +124,28 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
     camera_ = std::make_unique<VirtualCamera>(b.background, b.view.width, b.view.height, s.camera);
     io.camera = camera_.get();
   } else {
-    log_.write(0, platform::LogLevel::kWarning, "camera: none found (simulated: absent)");
+    log_.write(0, kiosk::LogLevel::kWarning, "camera: none found (simulated: absent)");
   }
   try {
     if (!s.gpioPresent) throw GpioUnavailable("/dev/gpiochip0: no such GPIO chip (simulated)");
     gpio_ = std::make_unique<VirtualGpio>(s.presses);
     io.buttons = gpio_.get();
   } catch (const GpioUnavailable& e) {
-    log_.write(0, platform::LogLevel::kWarning, std::string("gpio: ") + e.what());
+    log_.write(0, kiosk::LogLevel::kWarning, std::string("gpio: ") + e.what());
   }
-  loop_ = std::make_unique<platform::KioskLoop>(b, s.kiosk, io, options.render);
+  loop_ = std::make_unique<kiosk::KioskLoop>(b, s.kiosk, io, options.render);
   for (const auto& [product, why] : refused)
-    loop_->setFault(product, platform::productFileFault(product));
+    loop_->setFault(product, kiosk::productFileFault(product));
 }
 
-platform::FrameReport SimRun::step() {
+kiosk::FrameReport SimRun::step() {
   // Hot-swaps: the file lands between two frames; a refused one changes nothing on screen.
   const int64_t now = time_.nowNanoseconds();
   while (!pendingProductFiles_.empty() && pendingProductFiles_.front().atNs <= now) {
     const ScriptedProductFile f = pendingProductFiles_.front();
     pendingProductFiles_.erase(pendingProductFiles_.begin());
-    const std::string why =
-        platform::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, now);
-    loop_->setFault(f.product, why.empty() ? std::string() : platform::productFileFault(f.product));
+    const std::string why = kiosk::swapProductFile(bundle_->bundle, {f.product, f.file}, log_, now);
+    loop_->setFault(f.product, why.empty() ? std::string() : kiosk::productFileFault(f.product));
     if (why.empty()) {
       for (uint32_t i = 0; i < bundle_->bundle.products.size(); ++i) {
         if (bundle_->bundle.products[i].name == f.product) loop_->productReplaced(i);

@@ -10,22 +10,22 @@
 #include <vector>
 
 #include "firmware-sim/session.h"
-#include "platform/bundle_guard.h"
-#include "platform/kiosk_loop.h"
+#include "kiosk/bundle_guard.h"
+#include "kiosk/kiosk_loop.h"
 
 namespace penumbra::firmware_sim {
 
 // The virtual clock with the board's cost model: charge() advances it by the modelled cost
 // of the frame's work, sleepUntil() jumps to the deadline.
-class SimTimebase final : public platform::Timebase {
+class SimTimebase final : public kiosk::Timebase {
  public:
   SimTimebase(shadow::CostModel model, std::vector<Overrun> overruns);
   int64_t nowNanoseconds() override { return clock_.nowNanoseconds(); }
   void sleepUntil(int64_t ns) override;
-  void charge(const platform::FrameWork& work) override;
+  void charge(const kiosk::FrameWork& work) override;
 
  private:
-  shadow::VirtualClock clock_;
+  core::VirtualClock clock_;
   shadow::CostModel model_;
   std::vector<Overrun> overruns_;
 };
@@ -38,29 +38,29 @@ struct SimOptions {
 class SimRun {
  public:
   // Loads the bundle (with the session's start-up faults applied) and builds the loop.
-  // Throws SessionError / platform::NoUsableBundle with the reason.
+  // Throws SessionError / kiosk::NoUsableBundle with the reason.
   SimRun(const Session& session, const SimOptions& options);
   ~SimRun();
 
   // Applies the product files due by now (hot-swaps), then runs one frame.
-  platform::FrameReport step();
+  kiosk::FrameReport step();
   const std::vector<uint8_t>& frame() const { return loop_->shownFrame(); }
   uint32_t width() const { return loop_->width(); }
   uint32_t height() const { return loop_->height(); }
-  const platform::KioskLog& log() const { return log_; }
-  platform::LedState led() const { return led_.state(); }
-  const platform::GuardedBundle& bundle() const { return *bundle_; }
+  const kiosk::KioskLog& log() const { return log_; }
+  kiosk::LedState led() const { return led_.state(); }
+  const kiosk::GuardedBundle& bundle() const { return *bundle_; }
   const VirtualCamera* camera() const { return camera_.get(); }
-  const platform::KioskLoop& loop() const { return *loop_; }
+  const kiosk::KioskLoop& loop() const { return *loop_; }
 
  private:
-  platform::KioskLog log_;
-  platform::RecordingLed led_;
+  kiosk::KioskLog log_;
+  kiosk::RecordingLed led_;
   SimTimebase time_;
-  std::unique_ptr<platform::GuardedBundle> bundle_;
+  std::unique_ptr<kiosk::GuardedBundle> bundle_;
   std::unique_ptr<VirtualCamera> camera_;
   std::unique_ptr<VirtualGpio> gpio_;
-  std::unique_ptr<platform::KioskLoop> loop_;
+  std::unique_ptr<kiosk::KioskLoop> loop_;
   std::vector<ScriptedProductFile> pendingProductFiles_;  // hot-swaps still to come
 };
 

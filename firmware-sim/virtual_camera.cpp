@@ -5,9 +5,9 @@
 
 namespace penumbra::firmware_sim {
 
-using platform::CameraFrame;
-using platform::GrabStatus;
-using platform::PixelFormat;
+using kiosk::CameraFrame;
+using kiosk::GrabStatus;
+using kiosk::PixelFormat;
 
 const char* cameraFaultName(CameraFaultKind kind) {
   switch (kind) {

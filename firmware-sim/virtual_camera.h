@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "platform/frame_source.h"
+#include "kiosk/frame_source.h"
 
 namespace penumbra::firmware_sim {
 
@@ -37,7 +37,7 @@ struct CameraScript {
   std::vector<CameraFault> faults;
 };
 
-class VirtualCamera final : public platform::FrameSource {
+class VirtualCamera final : public kiosk::FrameSource {
  public:
   // `still`: RGBA8 width × height, the scene the camera sees.
   VirtualCamera(std::vector<uint8_t> still, uint32_t width, uint32_t height, CameraScript script);
@@ -46,13 +46,13 @@ class VirtualCamera final : public platform::FrameSource {
   VirtualCamera(std::vector<std::vector<uint8_t>> frames, uint32_t width, uint32_t height,
                 CameraScript script);
 
-  platform::GrabStatus grab(int64_t nowNs, platform::CameraFrame& out) override;
+  kiosk::GrabStatus grab(int64_t nowNs, kiosk::CameraFrame& out) override;
   bool reopen(int64_t nowNs) override;
   std::string describe() const override;
 
   // The image of camera frame k as the kiosk receives it (before any format fault): for
   // tests that compare what is shown with what was filmed.
-  void render(uint64_t k, platform::CameraFrame& out) const;
+  void render(uint64_t k, kiosk::CameraFrame& out) const;
   int64_t arrivalNs(uint64_t k) const;  // -1: dropped
 
  private:

@@ -23,10 +23,10 @@ VirtualGpio::VirtualGpio(const std::vector<ScriptedPress>& presses) : presses_(p
   }
   std::stable_sort(
       edges_.begin(), edges_.end(),
-      [](const platform::RawEdge& a, const platform::RawEdge& b) { return a.timeNs < b.timeNs; });
+      [](const kiosk::RawEdge& a, const kiosk::RawEdge& b) { return a.timeNs < b.timeNs; });
 }
 
-void VirtualGpio::poll(int64_t nowNs, std::vector<platform::RawEdge>& out) {
+void VirtualGpio::poll(int64_t nowNs, std::vector<kiosk::RawEdge>& out) {
   while (next_ < edges_.size() && edges_[next_].timeNs <= nowNs) out.push_back(edges_[next_++]);
 }
 

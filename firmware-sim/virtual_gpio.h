@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "platform/buttons.h"
+#include "kiosk/buttons.h"
 
 namespace penumbra::firmware_sim {
 
 struct ScriptedPress {
   int64_t atNs = 0;
-  platform::Button button = platform::Button::kNext;
+  kiosk::Button button = kiosk::Button::kNext;
   int64_t holdNs = 80'000'000;   // a long hold is a stuck button
   uint32_t bounces = 0;          // extra open/close pairs at press and at release
   int64_t bounceNs = 1'000'000;  // between bounce edges
@@ -26,16 +26,16 @@ class GpioUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-class VirtualGpio final : public platform::ButtonSource {
+class VirtualGpio final : public kiosk::ButtonSource {
  public:
   // Throws std::invalid_argument if a press's bounces run past its own hold time.
   explicit VirtualGpio(const std::vector<ScriptedPress>& presses);
-  void poll(int64_t nowNs, std::vector<platform::RawEdge>& out) override;
+  void poll(int64_t nowNs, std::vector<kiosk::RawEdge>& out) override;
   std::string describe() const override;
-  const std::vector<platform::RawEdge>& timeline() const { return edges_; }
+  const std::vector<kiosk::RawEdge>& timeline() const { return edges_; }
 
  private:
-  std::vector<platform::RawEdge> edges_;  // time order
+  std::vector<kiosk::RawEdge> edges_;  // time order
   size_t next_ = 0;
   size_t presses_ = 0;
 };

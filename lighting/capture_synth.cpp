@@ -1,4 +1,5 @@
 #include "lighting/capture_synth.h"
+#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -150,7 +151,7 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
         // dithers the 8-bit quantisation as a real sensor does, so flat patches still spread
         // over neighbouring codes and the response solve sees every code.
         const uint64_t key = (uint64_t(e) << 40) ^ (uint64_t(i) << 2) ^ uint64_t(c);
-        const double noise = double(shadow::splitmix64(key) >> 11) * 0x1.0p-53 - 0.5;
+        const double noise = double(core::splitmix64(key) >> 11) * 0x1.0p-53 - 0.5;
         const double x = std::min(1.0, o.gains[c] * pixelRadiance[i][c] * o.seconds[e]);
         const double code =
             std::clamp(255 * std::pow(x, 1 / o.gamma) + o.noiseCodes * noise, 0.0, 255.0);

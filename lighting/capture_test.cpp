@@ -270,7 +270,7 @@ TEST(Capture, ChessboardOffCentreCameraClosedLoop) {
   EXPECT_LT(s.intrinsicsErrorPx, 0.2);
 
   // Room points through the bundle's (float) view-projection vs the true camera.
-  const raster::Mat4& m = r.bundle.view.cameraViewProj;
+  const core::Mat4& m = r.bundle.view.cameraViewProj;
   double worst = 0, worstCentred = 0;
   scene::Camera centred = scene::toCamera(s.intrinsics, s.pose, 0.05, 15);
   const glm::dmat4 centredVp = centred.viewProj();

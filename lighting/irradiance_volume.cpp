@@ -1,4 +1,5 @@
 #include "lighting/irradiance_volume.h"
+#include "core/random.h"
 
 #include <cmath>
 #include <numbers>
@@ -10,12 +11,6 @@
 
 namespace penumbra::lighting {
 namespace {
-
-constexpr uint64_t kGolden = 0x9E3779B97F4A7C15ull;
-
-double unitInterval(uint64_t bits) {
-  return static_cast<double>(bits >> 11) * 0x1.0p-53;
-}
 
 // Adds radiance (*) weight (*) (A_l / pi) Y_k(dir) to the coefficients, in k order.
 void accumulate(std::array<double, shadow::kShFloats>& c, const glm::dvec3& dir,
@@ -36,7 +31,7 @@ glm::dvec3 stratifiedSphereDirection(int n, uint64_t key, int sample) {
   // row turned by a hashed offset (counter-based: key and row). Equal spacing integrates
   // the azimuthal factors of bands 0-2 exactly, the midpoints integrate z^2 to O(1/n^2),
   // and the per-row turn keeps rows from lining up with the room's edges.
-  const double turn = unitInterval(shadow::splitmix64(key + kGolden * uint64_t(a)));
+  const double turn = core::unitInterval(core::splitmix64(key + core::kGolden * uint64_t(a)));
   const double z = 1.0 - 2.0 * (a + 0.5) / n;  // equal solid angle per row
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
   double s, c;
@@ -105,7 +100,7 @@ shadow::IrradianceVolume buildIrradianceVolume(const scene::PatchMesh& mesh,
                        double(vol.origin.z + float(k) * vol.spacing.z));
     std::array<double, shadow::kShFloats> c{};
     int bad = 0;
-    const uint64_t key = shadow::splitmix64(options.seed ^ (uint64_t(v) * kGolden));
+    const uint64_t key = core::splitmix64(options.seed ^ (uint64_t(v) * core::kGolden));
     for (int s = 0; s < samples; ++s) {
       const glm::dvec3 d = stratifiedSphereDirection(n, key, s);
       const std::optional<Hit> hit = rays.intersect(x, d);

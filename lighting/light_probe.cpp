@@ -1,4 +1,5 @@
 #include "lighting/light_probe.h"
+#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,11 +15,6 @@ namespace penumbra::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr uint64_t kGolden = 0x9E3779B97F4A7C15ull;
-
-double unitInterval(uint64_t bits) {
-  return static_cast<double>(bits >> 11) * 0x1.0p-53;
-}
 
 double lum(const glm::dvec3& c) {
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
@@ -163,15 +159,16 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
   parallelItems(n, options.threads, [&](size_t p) {
     const std::array<glm::dvec3, 4> poly = patchPolygon(mesh, static_cast<uint32_t>(p));
     const glm::dvec3& normal = mesh.patches[p].normal;
-    const uint64_t key = shadow::splitmix64(options.seed ^ (uint64_t(p) * kGolden));
+    const uint64_t key = core::splitmix64(options.seed ^ (uint64_t(p) * core::kGolden));
     glm::dvec3 sum(0.0);
     int hits = 0;
     for (int a = 0; a < side; ++a) {
       for (int b = 0; b < side; ++b) {
-        const uint64_t h = shadow::splitmix64(key + kGolden * uint64_t(a * side + b));
+        const uint64_t h = core::splitmix64(key + core::kGolden * uint64_t(a * side + b));
         const double span = 1 - 2 * options.inset;
-        const double su = options.inset + span * (a + unitInterval(h)) / side;
-        const double sv = options.inset + span * (b + unitInterval(shadow::splitmix64(h))) / side;
+        const double su = options.inset + span * (a + core::unitInterval(h)) / side;
+        const double sv =
+            options.inset + span * (b + core::unitInterval(core::splitmix64(h))) / side;
         const glm::dvec3 point = poly[0] + su * (poly[1] - poly[0]) + sv * (poly[3] - poly[0]);
         const glm::dvec3 dir = point - probe.position;
         if (!(glm::dot(dir, normal) < 0)) continue;  // the probe is behind this patch

@@ -15,8 +15,8 @@
 namespace penumbra::lighting {
 namespace {
 
-raster::Mesh toRaster(const scene::TriangleMesh& m) {
-  raster::Mesh out;
+core::Mesh toRaster(const scene::TriangleMesh& m) {
+  core::Mesh out;
   for (const glm::dvec3& p : m.positions) out.positions.push_back(scene::toVec3(p));
   out.indices = m.indices;
   return out;
@@ -29,7 +29,7 @@ raster::Mesh toRaster(const scene::TriangleMesh& m) {
 std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
   raster::ShadedMesh room;
   room.mesh = b.view.staticMesh;
-  room.colours.assign(room.mesh.positions.size(), raster::Rgb8{0, 0, 0});
+  room.colours.assign(room.mesh.positions.size(), core::Rgb8{0, 0, 0});
   const shadow::RadianceTransfers& t = b.transfers;
   for (size_t i = 0; i < t.receiverVertices.size(); ++i) {
     room.colours[t.receiverVertices[i]] = b.tone.map(glm::dvec3(t.vertexRadiance[i]));

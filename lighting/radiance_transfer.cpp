@@ -1,4 +1,5 @@
 #include "lighting/radiance_transfer.h"
+#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,15 +13,8 @@
 namespace penumbra::lighting {
 namespace {
 
-constexpr uint64_t kGolden = 0x9E3779B97F4A7C15ull;
-
 double lum(const glm::dvec3& c) {
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-}
-
-// A uniform double in [0, 1) from the top 53 bits: exact, no libm.
-double unitInterval(uint64_t bits) {
-  return static_cast<double>(bits >> 11) * 0x1.0p-53;
 }
 
 // Per-vertex surface properties, averaged over the vertex's distinct patches. Vertices
@@ -112,7 +106,7 @@ std::array<glm::dvec3, 4> patchPolygon(const scene::PatchMesh& mesh, uint32_t pa
 uint64_t visibilitySampleKey(uint64_t seed, uint32_t vertex, uint32_t patch) {
   // Two chained SplitMix64 steps: a different (vertex, patch) pair lands on an unrelated
   // stream even when the ids differ in one bit.
-  return shadow::splitmix64(shadow::splitmix64(seed ^ (uint64_t{vertex} * kGolden)) ^ patch);
+  return core::splitmix64(core::splitmix64(seed ^ (uint64_t{vertex} * core::kGolden)) ^ patch);
 }
 
 double pointToPatchVisibility(const EmbreeScene& rays, const glm::dvec3& x, const glm::dvec3& n,
@@ -125,8 +119,8 @@ double pointToPatchVisibility(const EmbreeScene& rays, const glm::dvec3& x, cons
   uint64_t counter = 0;
   for (int b = 0; b < samplesPerSide; ++b) {
     for (int a = 0; a < samplesPerSide; ++a) {
-      const double js = unitInterval(shadow::splitmix64(key + kGolden * counter++));
-      const double jt = unitInterval(shadow::splitmix64(key + kGolden * counter++));
+      const double js = core::unitInterval(core::splitmix64(key + core::kGolden * counter++));
+      const double jt = core::unitInterval(core::splitmix64(key + core::kGolden * counter++));
       const glm::dvec3 p = polygon[0] + ((a + js) / k) * u + ((b + jt) / k) * v;
       // Samples behind the tangent plane are outside the clipped polygon the form factor
       // integrated over; a ray to them would only test the receiver's own surface.

@@ -41,17 +41,17 @@ MappedFrameBuffer::MappedFrameBuffer(MappedFrameBuffer&& other) noexcept
   other.planes_.clear();
 }
 
-bool packFrame(const std::vector<std::span<const uint8_t>>& planes, PixelFormat format,
-               uint32_t width, uint32_t height, uint32_t stride, CameraFrame& out,
+bool packFrame(const std::vector<std::span<const uint8_t>>& planes, kiosk::PixelFormat format,
+               uint32_t width, uint32_t height, uint32_t stride, kiosk::CameraFrame& out,
                std::string& why) {
   std::vector<size_t> need;
-  if (format == PixelFormat::kXrgb8888) {
+  if (format == kiosk::PixelFormat::kXrgb8888) {
     if (stride < width * 4) {
       why = "XRGB8888 stride " + std::to_string(stride) + " < 4 x width " + std::to_string(width);
       return false;
     }
     need = {size_t{stride} * height};
-  } else if (format == PixelFormat::kYuv420) {
+  } else if (format == kiosk::PixelFormat::kYuv420) {
     if (width % 2 || height % 2 || stride < width) {
       why = "YUV420 needs an even size and stride >= width (got " + std::to_string(width) + "x" +
             std::to_string(height) + ", stride " + std::to_string(stride) + ")";
@@ -60,18 +60,18 @@ bool packFrame(const std::vector<std::span<const uint8_t>>& planes, PixelFormat 
     const size_t chroma = size_t{stride / 2} * (height / 2);
     need = {size_t{stride} * height, chroma, chroma};
   } else {
-    why = std::string("cannot pack ") + pixelFormatName(format) + " frames";
+    why = std::string("cannot pack ") + kiosk::pixelFormatName(format) + " frames";
     return false;
   }
   if (planes.size() != need.size()) {
-    why = std::string(pixelFormatName(format)) + ": " + std::to_string(planes.size()) +
+    why = std::string(kiosk::pixelFormatName(format)) + ": " + std::to_string(planes.size()) +
           " planes, expected " + std::to_string(need.size());
     return false;
   }
   size_t total = 0;
   for (size_t i = 0; i < need.size(); ++i) {
     if (planes[i].size() < need[i]) {
-      why = std::string(pixelFormatName(format)) + " plane " + std::to_string(i) + ": " +
+      why = std::string(kiosk::pixelFormatName(format)) + " plane " + std::to_string(i) + ": " +
             std::to_string(planes[i].size()) + " bytes, " + std::to_string(need[i]) + " needed";
       return false;
     }

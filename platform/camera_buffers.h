@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "platform/frame_source.h"
+#include "kiosk/frame_source.h"
 
 namespace penumbra::platform {
 
@@ -49,8 +49,8 @@ class MappedFrameBuffer {
 // U and V (stride/2 × height/2 each); width and height even. Returns false and sets `why` for
 // a format it does not pack, the wrong plane count or a plane too short. `out.sequence` and
 // the timestamps are the caller's.
-bool packFrame(const std::vector<std::span<const uint8_t>>& planes, PixelFormat format,
-               uint32_t width, uint32_t height, uint32_t stride, CameraFrame& out,
+bool packFrame(const std::vector<std::span<const uint8_t>>& planes, kiosk::PixelFormat format,
+               uint32_t width, uint32_t height, uint32_t stride, kiosk::CameraFrame& out,
                std::string& why);
 
 }  // namespace penumbra::platform

@@ -37,9 +37,10 @@ TEST(CameraBuffers, Xrgb8888PlaneWithPaddedStride) {
   }
   MemFd mem(bytes);
   MappedFrameBuffer mapped({{mem.fd(), 0, bytes.size()}});
-  CameraFrame frame;
+  kiosk::CameraFrame frame;
   std::string why;
-  ASSERT_TRUE(packFrame(mapped.planes(), PixelFormat::kXrgb8888, w, h, stride, frame, why)) << why;
+  ASSERT_TRUE(packFrame(mapped.planes(), kiosk::PixelFormat::kXrgb8888, w, h, stride, frame, why))
+      << why;
   std::vector<uint8_t> rgba;
   ASSERT_TRUE(toRgba(frame, w, h, rgba, why)) << why;
   for (uint32_t y = 0; y < h; ++y) {
@@ -52,7 +53,8 @@ TEST(CameraBuffers, Xrgb8888PlaneWithPaddedStride) {
     }
   }
   // A plane shorter than stride × height is refused, naming the sizes.
-  ASSERT_FALSE(packFrame(mapped.planes(), PixelFormat::kXrgb8888, w, h + 1, stride, frame, why));
+  ASSERT_FALSE(
+      packFrame(mapped.planes(), kiosk::PixelFormat::kXrgb8888, w, h + 1, stride, frame, why));
   EXPECT_NE(why.find("plane 0: 128 bytes, 160 needed"), std::string::npos) << why;
 }
 
@@ -77,9 +79,10 @@ TEST(CameraBuffers, Yuv420PlanesSharingOneFdConvertWithTheJpegMatrix) {
   MemFd mem(bytes);
   MappedFrameBuffer mapped(
       {{mem.fd(), 0, ySize}, {mem.fd(), ySize, cSize}, {mem.fd(), ySize + cSize, cSize}});
-  CameraFrame frame;
+  kiosk::CameraFrame frame;
   std::string why;
-  ASSERT_TRUE(packFrame(mapped.planes(), PixelFormat::kYuv420, w, h, stride, frame, why)) << why;
+  ASSERT_TRUE(packFrame(mapped.planes(), kiosk::PixelFormat::kYuv420, w, h, stride, frame, why))
+      << why;
   std::vector<uint8_t> rgba;
   ASSERT_TRUE(toRgba(frame, w, h, rgba, why)) << why;
   auto px = [&](uint32_t x, uint32_t y) {
@@ -91,11 +94,12 @@ TEST(CameraBuffers, Yuv420PlanesSharingOneFdConvertWithTheJpegMatrix) {
   EXPECT_EQ(px(3, 1), (std::vector<int>{254, 0, 0, 255}));
   EXPECT_EQ(px(2, 2), (std::vector<int>{0, 0, 254, 255}));
   // Odd sizes and missing planes are refused.
-  EXPECT_FALSE(packFrame(mapped.planes(), PixelFormat::kYuv420, 3, 4, stride, frame, why));
+  EXPECT_FALSE(packFrame(mapped.planes(), kiosk::PixelFormat::kYuv420, 3, 4, stride, frame, why));
   EXPECT_NE(why.find("even size"), std::string::npos) << why;
-  EXPECT_FALSE(packFrame({mapped.planes()[0]}, PixelFormat::kYuv420, w, h, stride, frame, why));
+  EXPECT_FALSE(
+      packFrame({mapped.planes()[0]}, kiosk::PixelFormat::kYuv420, w, h, stride, frame, why));
   EXPECT_NE(why.find("1 planes, expected 3"), std::string::npos) << why;
-  EXPECT_FALSE(packFrame(mapped.planes(), PixelFormat::kYuyv, w, h, stride, frame, why));
+  EXPECT_FALSE(packFrame(mapped.planes(), kiosk::PixelFormat::kYuyv, w, h, stride, frame, why));
 }
 
 TEST(CameraBuffers, UnmappableFdFailsCleanly) {

@@ -4,7 +4,7 @@
 
 namespace penumbra::platform {
 
-bool FrameSlot::put(CameraFrame& frame) {
+bool FrameSlot::put(kiosk::CameraFrame& frame) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (closed_) return false;
@@ -16,7 +16,7 @@ bool FrameSlot::put(CameraFrame& frame) {
   return true;
 }
 
-bool FrameSlot::take(CameraFrame& out) {
+bool FrameSlot::take(kiosk::CameraFrame& out) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!full_) return false;
   std::swap(frame_, out);
@@ -24,7 +24,7 @@ bool FrameSlot::take(CameraFrame& out) {
   return true;
 }
 
-bool FrameSlot::waitAndTake(CameraFrame& out, std::chrono::nanoseconds timeout) {
+bool FrameSlot::waitAndTake(kiosk::CameraFrame& out, std::chrono::nanoseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   ready_.wait_for(lock, timeout, [&] { return full_ || closed_; });
   if (!full_) return false;

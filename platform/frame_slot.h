@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <mutex>
 
-#include "platform/frame_source.h"
+#include "kiosk/frame_source.h"
 
 namespace penumbra::platform {
 
@@ -22,13 +22,13 @@ class FrameSlot {
  public:
   // Producer: moves `frame` into the slot; `frame` comes back holding a recycled buffer (of
   // unspecified content). Returns false, and leaves `frame` alone, once the slot is closed.
-  bool put(CameraFrame& frame);
+  bool put(kiosk::CameraFrame& frame);
 
   // Consumer: the newest frame not taken yet, swapped into `out` (whose old buffer the slot
   // keeps for the producer). False when nothing new is waiting.
-  bool take(CameraFrame& out);
+  bool take(kiosk::CameraFrame& out);
   // As take(), waiting up to `timeout` for a frame; false on timeout or when closed.
-  bool waitAndTake(CameraFrame& out, std::chrono::nanoseconds timeout);
+  bool waitAndTake(kiosk::CameraFrame& out, std::chrono::nanoseconds timeout);
 
   // The producer is gone (camera stopped or unplugged): wakes a waiting consumer; put()
   // refuses frames until reopen(). A frame already waiting can still be taken.
@@ -42,7 +42,7 @@ class FrameSlot {
  private:
   mutable std::mutex mutex_;
   std::condition_variable ready_;
-  CameraFrame frame_;
+  kiosk::CameraFrame frame_;
   bool full_ = false;
   bool closed_ = false;
   uint64_t overwritten_ = 0;

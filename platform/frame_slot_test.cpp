@@ -13,8 +13,8 @@ namespace {
 using namespace std::chrono_literals;
 
 // Every byte of frame k is k mod 251: a frame torn between two puts would mix values.
-void fill(CameraFrame& f, uint64_t k) {
-  f.width = 64, f.height = 8, f.stride = 256, f.format = PixelFormat::kXrgb8888;
+void fill(kiosk::CameraFrame& f, uint64_t k) {
+  f.width = 64, f.height = 8, f.stride = 256, f.format = kiosk::PixelFormat::kXrgb8888;
   f.sequence = k;
   f.data.resize(256 * 8);
   std::fill(f.data.begin(), f.data.end(), static_cast<uint8_t>(k % 251));
@@ -24,7 +24,7 @@ TEST(FrameSlot, ProducerThreadHandsOverNewestFramesWhole) {
   constexpr uint64_t kFrames = 3000;
   FrameSlot slot;
   std::thread producer([&] {
-    CameraFrame f;
+    kiosk::CameraFrame f;
     for (uint64_t k = 1; k <= kFrames; ++k) {
       fill(f, k);
       ASSERT_TRUE(slot.put(f));
@@ -32,7 +32,7 @@ TEST(FrameSlot, ProducerThreadHandsOverNewestFramesWhole) {
     }
     slot.close();
   });
-  CameraFrame got;
+  kiosk::CameraFrame got;
   uint64_t last = 0, taken = 0;
   while (last < kFrames) {
     if (!slot.waitAndTake(got, 200ms)) {
@@ -55,7 +55,7 @@ TEST(FrameSlot, ProducerThreadHandsOverNewestFramesWhole) {
 
 TEST(FrameSlot, KeepsOnlyTheNewestAndRecyclesBuffers) {
   FrameSlot slot;
-  CameraFrame a, b, out;
+  kiosk::CameraFrame a, b, out;
   fill(a, 1);
   fill(b, 2);
   ASSERT_TRUE(slot.put(a));
@@ -70,7 +70,7 @@ TEST(FrameSlot, KeepsOnlyTheNewestAndRecyclesBuffers) {
 
 TEST(FrameSlot, CloseWakesTheConsumerAndRefusesFrames) {
   FrameSlot slot;
-  CameraFrame f, out;
+  kiosk::CameraFrame f, out;
   std::thread closer([&] {
     std::this_thread::sleep_for(20ms);
     slot.close();

@@ -28,14 +28,14 @@ int64_t monotonicNs() {
 struct GpiodButtons::Impl {
   GpioConfig config;
   gpiod::chip chip;
-  std::array<gpiod::line, kButtonCount> lines;
+  std::array<gpiod::line, kiosk::kButtonCount> lines;
   int64_t lastEdgeNs = INT64_MIN;
 };
 
 GpiodButtons::GpiodButtons(const GpioConfig& config) : impl_(std::make_unique<Impl>()) {
   impl_->config = config;
   impl_->chip = openChip(config.chip);
-  for (size_t i = 0; i < kButtonCount; ++i) {
+  for (size_t i = 0; i < kiosk::kButtonCount; ++i) {
     const uint32_t offset = config.lines[i];
     try {
       impl_->lines[i] = impl_->chip.get_line(offset);
@@ -44,7 +44,7 @@ GpiodButtons::GpiodButtons(const GpioConfig& config) : impl_(std::make_unique<Im
            gpiod::line_request::FLAG_ACTIVE_LOW | gpiod::line_request::FLAG_BIAS_PULL_UP});
     } catch (const std::exception& e) {
       throw HardwareUnavailable("gpio: " + config.chip + " line " + std::to_string(offset) + " (" +
-                                buttonName(static_cast<Button>(i)) +
+                                kiosk::buttonName(static_cast<kiosk::Button>(i)) +
                                 "): cannot request it: " + e.what());
     }
   }
@@ -52,11 +52,11 @@ GpiodButtons::GpiodButtons(const GpioConfig& config) : impl_(std::make_unique<Im
 
 GpiodButtons::~GpiodButtons() = default;
 
-void GpiodButtons::poll(int64_t nowNs, std::vector<RawEdge>& out) {
+void GpiodButtons::poll(int64_t nowNs, std::vector<kiosk::RawEdge>& out) {
   // Kernel event timestamps are CLOCK_MONOTONIC (Linux ≥ 5.7); map them onto the kiosk
   // clock by their age, so the debouncer sees the real bounce intervals.
   const int64_t mono = monotonicNs();
-  for (size_t i = 0; i < kButtonCount; ++i) {
+  for (size_t i = 0; i < kiosk::kButtonCount; ++i) {
     gpiod::line& line = impl_->lines[i];
     while (line.event_wait(std::chrono::nanoseconds(0))) {
       const gpiod::line_event ev = line.event_read();
@@ -64,14 +64,15 @@ void GpiodButtons::poll(int64_t nowNs, std::vector<RawEdge>& out) {
       int64_t t = nowNs - (age > 0 ? age : 0);
       if (t < impl_->lastEdgeNs) t = impl_->lastEdgeNs;  // keep time order across lines
       impl_->lastEdgeNs = t;
-      out.push_back({static_cast<Button>(i), ev.event_type == gpiod::line_event::RISING_EDGE, t});
+      out.push_back(
+          {static_cast<kiosk::Button>(i), ev.event_type == gpiod::line_event::RISING_EDGE, t});
     }
   }
 }
 
 std::string GpiodButtons::describe() const {
   return "libgpiod " + impl_->config.chip + " (" + impl_->chip.label() + "), " +
-         std::to_string(kButtonCount) + " lines, pull-up, active low";
+         std::to_string(kiosk::kButtonCount) + " lines, pull-up, active low";
 }
 
 struct GpiodLed::Impl {
@@ -94,9 +95,9 @@ GpiodLed::GpiodLed(const GpioConfig& config) : impl_(std::make_unique<Impl>()) {
 
 GpiodLed::~GpiodLed() = default;
 
-void GpiodLed::set(LedState state) {
-  bool on = state == LedState::kReady;
-  if (state == LedState::kDegraded) on = (monotonicNs() / 250'000'000) % 2 == 0;
+void GpiodLed::set(kiosk::LedState state) {
+  bool on = state == kiosk::LedState::kReady;
+  if (state == kiosk::LedState::kDegraded) on = (monotonicNs() / 250'000'000) % 2 == 0;
   if (on != impl_->on) {
     impl_->line.set_value(on ? 1 : 0);
     impl_->on = on;

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "platform/buttons.h"
+#include "kiosk/buttons.h"
+#include "kiosk/status.h"
 #include "platform/hardware.h"
-#include "platform/status.h"
 
 namespace penumbra::platform {
 
@@ -20,17 +20,17 @@ struct GpioConfig {
   std::string chip = "/dev/gpiochip0";
   // Line offsets in Button order (next, previous, left, right, forward, back, rotate,
   // quality); the defaults are docs/kiosk.md's wiring table (BCM numbers).
-  std::array<uint32_t, kButtonCount> lines{5, 6, 13, 19, 26, 16, 20, 21};
+  std::array<uint32_t, kiosk::kButtonCount> lines{5, 6, 13, 19, 26, 16, 20, 21};
   int32_t ledLine = 12;  // -1: no LED
 };
 
-class GpiodButtons final : public ButtonSource {
+class GpiodButtons final : public kiosk::ButtonSource {
  public:
   // Throws HardwareUnavailable naming the chip (and the line) when the chip cannot be opened
   // or a line cannot be requested (missing, busy, no permission).
   explicit GpiodButtons(const GpioConfig& config);
   ~GpiodButtons() override;
-  void poll(int64_t nowNs, std::vector<RawEdge>& out) override;
+  void poll(int64_t nowNs, std::vector<kiosk::RawEdge>& out) override;
   std::string describe() const override;
 
  private:
@@ -39,11 +39,11 @@ class GpiodButtons final : public ButtonSource {
 };
 
 // ready: on; degraded: blinking at 2 Hz (toggled by set(), from the kiosk clock); error: off.
-class GpiodLed final : public StatusLed {
+class GpiodLed final : public kiosk::StatusLed {
  public:
   explicit GpiodLed(const GpioConfig& config);  // throws HardwareUnavailable
   ~GpiodLed() override;
-  void set(LedState state) override;
+  void set(kiosk::LedState state) override;
 
  private:
   struct Impl;

@@ -31,7 +31,7 @@ std::string noCameraMessage() {
 }
 
 // The fixed controls (AE and AWB off: the bundle's T() holds for this exposure only).
-void setFixedControls(lc::ControlList& list, const CameraControls& c) {
+void setFixedControls(lc::ControlList& list, const kiosk::CameraControls& c) {
   list.set(lc::controls::AeEnable, false);
   list.set(lc::controls::AwbEnable, false);
   list.set(lc::controls::ExposureTime, c.exposureUs);
@@ -53,7 +53,7 @@ struct LibcameraCamera::Impl {
   std::shared_ptr<lc::Camera> camera;
   std::unique_ptr<lc::CameraConfiguration> config;
   lc::Stream* stream = nullptr;
-  PixelFormat format = PixelFormat::kXrgb8888;
+  kiosk::PixelFormat format = kiosk::PixelFormat::kXrgb8888;
   uint32_t stride = 0;
   std::unique_ptr<lc::FrameBufferAllocator> allocator;
   std::map<const lc::FrameBuffer*, MappedFrameBuffer> mapped;
@@ -69,10 +69,10 @@ struct LibcameraCamera::Impl {
   uint64_t sequenceBase = 0;
 
   std::mutex controlsMutex;  // applyControls (kiosk thread) vs requeue (libcamera thread)
-  CameraControls controls;
+  kiosk::CameraControls controls;
 
   // Producer side, touched only on libcamera's thread.
-  CameraFrame scratch;
+  kiosk::CameraFrame scratch;
 
   void open();
   void close();
@@ -130,7 +130,8 @@ void LibcameraCamera::Impl::configure() {
     throw HardwareUnavailable("libcamera: " + id + " cannot deliver the calibrated " +
                               want.toString() + " (nearest " + sc.size.toString() + ")");
   }
-  format = sc.pixelFormat == lc::formats::XRGB8888 ? PixelFormat::kXrgb8888 : PixelFormat::kYuv420;
+  format = sc.pixelFormat == lc::formats::XRGB8888 ? kiosk::PixelFormat::kXrgb8888
+                                                   : kiosk::PixelFormat::kYuv420;
   stride = sc.stride;
   if (camera->configure(config.get()) != 0) {
     throw HardwareUnavailable("libcamera: " + id + ": configure " + sc.toString() + " failed");
@@ -141,7 +142,7 @@ void LibcameraCamera::Impl::configure() {
   if (allocator->allocate(stream) < 0) {
     throw HardwareUnavailable("libcamera: " + id + ": cannot allocate frame buffers");
   }
-  CameraControls c;
+  kiosk::CameraControls c;
   {
     std::lock_guard<std::mutex> lock(controlsMutex);
     c = controls;
@@ -255,11 +256,11 @@ LibcameraCamera::~LibcameraCamera() {
   impl_->manager->stop();
 }
 
-GrabStatus LibcameraCamera::grab(int64_t nowNs, CameraFrame& out) {
-  if (impl_->disconnected || !impl_->camera) return GrabStatus::kDisconnected;
-  if (!impl_->slot.take(out)) return GrabStatus::kNoFrame;
+kiosk::GrabStatus LibcameraCamera::grab(int64_t nowNs, kiosk::CameraFrame& out) {
+  if (impl_->disconnected || !impl_->camera) return kiosk::GrabStatus::kDisconnected;
+  if (!impl_->slot.take(out)) return kiosk::GrabStatus::kNoFrame;
   out.captureNs += nowNs - monotonicNs();  // sensor time → the kiosk's clock
-  return GrabStatus::kFrame;
+  return kiosk::GrabStatus::kFrame;
 }
 
 bool LibcameraCamera::reopen(int64_t nowNs) {
@@ -276,13 +277,14 @@ bool LibcameraCamera::reopen(int64_t nowNs) {
 std::string LibcameraCamera::describe() const {
   std::string d = "libcamera " + (impl_->camera ? impl_->camera->id() : std::string("(closed)")) +
                   ", " + std::to_string(impl_->options.width) + "x" +
-                  std::to_string(impl_->options.height) + " " + pixelFormatName(impl_->format) +
-                  ", exposure " + std::to_string(impl_->options.controls.exposureUs) + " us";
+                  std::to_string(impl_->options.height) + " " +
+                  kiosk::pixelFormatName(impl_->format) + ", exposure " +
+                  std::to_string(impl_->options.controls.exposureUs) + " us";
   for (const std::string& u : impl_->unsupported) d += "; no " + u + " control (not fixed)";
   return d;
 }
 
-void LibcameraCamera::applyControls(const CameraControls& controls) {
+void LibcameraCamera::applyControls(const kiosk::CameraControls& controls) {
   if (const std::string why = checkControls(controls); !why.empty()) {
     throw std::invalid_argument("camera controls: " + why);
   }

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "platform/exposure_control.h"
+#include "kiosk/exposure_control.h"
 #include "platform/hardware.h"
 
 namespace penumbra::platform {
@@ -24,11 +24,11 @@ namespace penumbra::platform {
 struct LibcameraOptions {
   std::string cameraId;  // empty: the first camera libcamera lists
   uint32_t width = 640, height = 480;
-  CameraControls controls;
+  kiosk::CameraControls controls;
   uint32_t buffers = 4;  // requests in flight
 };
 
-class LibcameraCamera final : public ControllableCamera {
+class LibcameraCamera final : public kiosk::ControllableCamera {
  public:
   // Throws HardwareUnavailable: the manager does not start, no camera is listed ("libcamera:
   // no camera found ..."), the named camera is not listed, it is busy, or it cannot deliver
@@ -36,10 +36,10 @@ class LibcameraCamera final : public ControllableCamera {
   explicit LibcameraCamera(LibcameraOptions options);
   ~LibcameraCamera() override;
 
-  GrabStatus grab(int64_t nowNs, CameraFrame& out) override;
+  kiosk::GrabStatus grab(int64_t nowNs, kiosk::CameraFrame& out) override;
   bool reopen(int64_t nowNs) override;
   std::string describe() const override;
-  void applyControls(const CameraControls& controls) override;
+  void applyControls(const kiosk::CameraControls& controls) override;
 
   // Frames the kiosk never took (the slot held a newer one), and requests that failed.
   uint64_t framesOverwritten() const;

@@ -38,25 +38,25 @@ bool OpenCvCamera::open() {
   return true;
 }
 
-GrabStatus OpenCvCamera::grab(int64_t nowNs, CameraFrame& out) {
+kiosk::GrabStatus OpenCvCamera::grab(int64_t nowNs, kiosk::CameraFrame& out) {
   // read() waits for the next frame: at most one camera period.
   if (!impl_->cap.isOpened() || !impl_->cap.read(impl_->frame) || impl_->frame.empty()) {
     impl_->cap.release();
-    return GrabStatus::kDisconnected;
+    return kiosk::GrabStatus::kDisconnected;
   }
   const cv::Mat& f = impl_->frame;
-  if (f.type() != CV_8UC3) return GrabStatus::kNoFrame;
+  if (f.type() != CV_8UC3) return kiosk::GrabStatus::kNoFrame;
   out.width = static_cast<uint32_t>(f.cols);
   out.height = static_cast<uint32_t>(f.rows);
   out.stride = out.width * 3;
-  out.format = PixelFormat::kBgr8;
+  out.format = kiosk::PixelFormat::kBgr8;
   out.sequence = ++impl_->sequence;
   out.captureNs = nowNs;  // V4L2 timestamps are not exposed reliably through VideoCapture
   out.data.resize(size_t{out.stride} * out.height);
   for (int y = 0; y < f.rows; ++y) {
     std::copy_n(f.ptr<uint8_t>(y), out.stride, out.data.data() + size_t{out.stride} * size_t(y));
   }
-  return GrabStatus::kFrame;
+  return kiosk::GrabStatus::kFrame;
 }
 
 bool OpenCvCamera::reopen(int64_t nowNs) {

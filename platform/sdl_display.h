@@ -7,12 +7,12 @@
 #include <memory>
 #include <string>
 
+#include "kiosk/status.h"
 #include "platform/hardware.h"
-#include "platform/status.h"
 
 namespace penumbra::platform {
 
-class SdlDisplay final : public Display {
+class SdlDisplay final : public kiosk::Display {
  public:
   // Throws HardwareUnavailable with SDL's reason (no display, no driver).
   SdlDisplay(uint32_t width, uint32_t height, bool fullscreen);

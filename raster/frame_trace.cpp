@@ -21,17 +21,17 @@ using nlohmann::json;
   throw TraceError(where + ": " + field + ": " + what);
 }
 
-bool finite(const Vec3& v) {
+bool finite(const core::Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-void validateMatrix(const Mat4& m, const std::string& where, const std::string& field) {
+void validateMatrix(const core::Mat4& m, const std::string& where, const std::string& field) {
   for (float v : m.m) {
     if (!std::isfinite(v)) fail(where, field, "contains a non-finite number");
   }
 }
 
-void validateMesh(const Mesh& mesh, const std::string& where, const std::string& field) {
+void validateMesh(const core::Mesh& mesh, const std::string& where, const std::string& field) {
   if (mesh.indices.size() % 3 != 0) {
     fail(where, field + ".indices",
          "count " + std::to_string(mesh.indices.size()) + " is not a multiple of 3");
@@ -52,7 +52,7 @@ void validateMesh(const Mesh& mesh, const std::string& where, const std::string&
 
 // Receiver triangles of one pass with their S: each in range and listed once (spec §6: a
 // triangle listed twice would subtract twice), three colours per triangle.
-void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<Rgb8>& s,
+void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<core::Rgb8>& s,
                        size_t available, const std::string& where, const std::string& field,
                        const std::string& sField, const char* kind) {
   std::vector<bool> listed(available, false);
@@ -97,10 +97,10 @@ struct Reader {
     }
   }
 
-  Mat4 matrix(const json& j, const std::string& key, const std::string& path) const {
+  core::Mat4 matrix(const json& j, const std::string& key, const std::string& path) const {
     const json& v = need(j, key, path);
     if (!v.is_array() || v.size() != 16) fail(where, path + key, "needs 16 numbers");
-    Mat4 m;
+    core::Mat4 m;
     for (size_t i = 0; i < 16; ++i) {
       if (!v[i].is_number())
         fail(where, path + key, "element " + std::to_string(i) + " is not a number");
@@ -128,7 +128,7 @@ struct Reader {
   }
 
   void vec3s(const json& j, const std::string& key, const std::string& path,
-             std::vector<Vec3>& out) const {
+             std::vector<core::Vec3>& out) const {
     std::vector<float> flat;
     view(j, key, path, 3, flat);
     out.resize(flat.size() / 3);
@@ -137,7 +137,7 @@ struct Reader {
   }
 
   void rgbs(const json& j, const std::string& key, const std::string& path,
-            std::vector<Rgb8>& out) const {
+            std::vector<core::Rgb8>& out) const {
     std::vector<uint8_t> flat;
     view(j, key, path, 3, flat);
     out.resize(flat.size() / 3);
@@ -145,8 +145,8 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  Mesh mesh(const json& j, const std::string& path) const {
-    Mesh m;
+  core::Mesh mesh(const json& j, const std::string& path) const {
+    core::Mesh m;
     vec3s(j, "positions", path, m.positions);
     view(j, "indices", path, 1, m.indices);
     return m;
@@ -172,33 +172,27 @@ struct Writer {
     blob.insert(blob.end(), p, p + bytes);
     return v;
   }
-  json vec3s(const std::vector<Vec3>& v) {
-    static_assert(sizeof(Vec3) == 12);
+  json vec3s(const std::vector<core::Vec3>& v) {
+    static_assert(sizeof(core::Vec3) == 12);
     return view(reinterpret_cast<const float*>(v.data()), v.size(), 3);
   }
-  json rgbs(const std::vector<Rgb8>& v) {
-    static_assert(sizeof(Rgb8) == 3);
+  json rgbs(const std::vector<core::Rgb8>& v) {
+    static_assert(sizeof(core::Rgb8) == 3);
     return view(reinterpret_cast<const uint8_t*>(v.data()), v.size(), 3);
   }
-  json mesh(const Mesh& m) {
+  json mesh(const core::Mesh& m) {
     return {{"positions", vec3s(m.positions)},
             {"indices", view(m.indices.data(), m.indices.size(), 1)}};
   }
 };
 
-json matrixJson(const Mat4& m) {
+json matrixJson(const core::Mat4& m) {
   json a = json::array();
   for (float v : m.m) a.push_back(static_cast<double>(v));  // exact: every float is a double
   return a;
 }
 
 }  // namespace
-
-Mat4 Mat4::identity() {
-  Mat4 m;
-  m.m[0] = m.m[5] = m.m[10] = m.m[15] = 1.0f;
-  return m;
-}
 
 void validateTrace(const FrameTrace& trace, const std::string& where) {
   const StaticView& view = trace.view;
@@ -365,7 +359,7 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
     doc["objects"].push_back(oj);
   }
   doc["occluders"] = json::array();
-  for (const Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
+  for (const core::Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
   doc["accumulation"] = accumulationName(trace.frame.accumulation);
   doc["passes"] = json::array();
   for (const ShadowPass& p : trace.frame.passes) {

@@ -15,37 +15,15 @@
 #include <string>
 #include <vector>
 
+#include "core/colour.h"
+#include "core/geometry.h"
+
 namespace penumbra::raster {
-
-// Row-major 4x4: clip = M * (x, y, z, 1), element (r, c) at m[4*r + c].
-struct Mat4 {
-  std::array<float, 16> m{};
-  static Mat4 identity();
-  bool operator==(const Mat4&) const = default;
-};
-
-struct Vec3 {
-  float x = 0, y = 0, z = 0;
-  bool operator==(const Vec3&) const = default;
-};
-
-struct Rgb8 {
-  uint8_t r = 0, g = 0, b = 0;
-  bool operator==(const Rgb8&) const = default;
-};
-
-// Indexed triangles, three indices per triangle, either winding (no culling).
-struct Mesh {
-  std::vector<Vec3> positions;
-  std::vector<uint32_t> indices;
-  size_t triangleCount() const { return indices.size() / 3; }
-  bool operator==(const Mesh&) const = default;
-};
 
 // A synthetic object, already shaded: one 8-bit colour per vertex (tone-mapped).
 struct ShadedMesh {
-  Mesh mesh;
-  std::vector<Rgb8> colours;
+  core::Mesh mesh;
+  std::vector<core::Rgb8> colours;
   bool operator==(const ShadedMesh&) const = default;
 };
 
@@ -53,26 +31,26 @@ struct ShadedMesh {
 // seen from one source cluster, and the receiver triangles whose pixels lose
 // S * M (intensity transfer times occlusion mask) in 8 bits.
 struct ShadowPass {
-  Mat4 lightViewProj;            // world -> light clip space (perspective from the source)
+  core::Mat4 lightViewProj;      // world -> light clip space (perspective from the source)
   uint32_t shadowMapSize = 256;  // square, a multiple of 16, at most 4096
   float depthBias = 0.0f;        // in light window depth ([0, 1]) units
   bool pcf2x2 = false;           // fractional 2x2 mask instead of a binary one
   uint32_t occluder = 0;         // index into FrameContent::occluders
   std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
-  std::vector<Rgb8> receiverS;              // 3 per receiver triangle, in corner order
+  std::vector<core::Rgb8> receiverS;        // 3 per receiver triangle, in corner order
   // Self-shadowing (Gibson 2003 §7.2): triangles of the synthetic objects that receive this
   // pass too — indices into all objects' triangles counted in order — with S per corner,
   // and the bias for them (the proxy only approximates the object's own surface).
   std::vector<uint32_t> objectTriangles;
-  std::vector<Rgb8> objectS;
+  std::vector<core::Rgb8> objectS;
   float objectDepthBias = 0.0f;
   bool operator==(const ShadowPass&) const = default;
 };
 
 struct StaticView {
   uint32_t width = 0, height = 0;
-  Mat4 cameraViewProj;  // world -> camera clip space
-  Mesh staticMesh;      // the patch mesh of the real room, drawn into depth and id only
+  core::Mat4 cameraViewProj;  // world -> camera clip space
+  core::Mesh staticMesh;      // the patch mesh of the real room, drawn into depth and id only
   bool operator==(const StaticView&) const = default;
 };
 
@@ -91,8 +69,8 @@ Accumulation parseAccumulation(const std::string& name, const std::string& where
 struct FrameContent {
   std::vector<uint8_t> background;  // RGBA8, width*height*4, row 0 at the top
   std::vector<ShadedMesh> objects;
-  std::vector<Mesh> occluders;     // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
-  std::vector<ShadowPass> passes;  // applied in this order
+  std::vector<core::Mesh> occluders;  // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
+  std::vector<ShadowPass> passes;     // applied in this order
   Accumulation accumulation = Accumulation::kU8;
   bool operator==(const FrameContent&) const = default;
 };

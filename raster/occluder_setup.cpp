@@ -16,8 +16,8 @@ namespace penumbra::raster::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // Spec §2–3 per lane, as transformPoint, insideClipVolume and snap() compute them.
-bool SnapInside(const Mat4& m, const Vec3* points, size_t count, uint32_t size, int32_t* x,
-                int32_t* y, float* z) {
+bool SnapInside(const core::Mat4& m, const core::Vec3* points, size_t count, uint32_t size,
+                int32_t* x, int32_t* y, float* z) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const size_t lanes = hn::Lanes(df);
@@ -36,7 +36,7 @@ bool SnapInside(const Mat4& m, const Vec3* points, size_t count, uint32_t size, 
   for (size_t first = 0; first < count; first += lanes) {
     const size_t n = std::min(lanes, count - first);
     for (size_t k = 0; k < lanes; ++k) {  // tail lanes repeat the last point
-      const Vec3& p = points[first + std::min(k, n - 1)];
+      const core::Vec3& p = points[first + std::min(k, n - 1)];
       px[k] = p.x;
       py[k] = p.y;
       pz[k] = p.z;
@@ -192,8 +192,8 @@ HWY_AFTER_NAMESPACE();
 namespace penumbra::raster {
 namespace {
 
-bool snapInsideScalar(const Mat4& m, const Vec3* points, size_t count, uint32_t size, int32_t* x,
-                      int32_t* y, float* z) {
+bool snapInsideScalar(const core::Mat4& m, const core::Vec3* points, size_t count, uint32_t size,
+                      int32_t* x, int32_t* y, float* z) {
   for (size_t i = 0; i < count; ++i) {
     const ClipVertex c = transformPoint(m, points[i]);
     if (!insideClipVolume(c)) return false;

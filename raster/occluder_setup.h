@@ -24,8 +24,8 @@ struct OccluderKernels {
   // volume (insideClipVolume), writes each one's snapVertex to a size x size viewport as
   // x[i], y[i], z[i] and returns true; otherwise returns false, and x, y, z hold anything.
   // x, y and z must have room for count rounded up to a multiple of kOccluderBatch.
-  bool (*snapInside)(const Mat4& m, const Vec3* points, size_t count, uint32_t size, int32_t* x,
-                     int32_t* y, float* z);
+  bool (*snapInside)(const core::Mat4& m, const core::Vec3* points, size_t count, uint32_t size,
+                     int32_t* x, int32_t* y, float* z);
   // setupTriangle for each triangle k < count of vertices indices[3k], [3k + 1], [3k + 2]
   // among snapped vertices (x, y, z) whose corner weights are {65536, 0, 0} (snapInside's):
   // writes the triangles it accepts to out[0, n), in order, and returns n. `out` must have

@@ -25,9 +25,9 @@ uint32_t bitsOf(float f) {
 class OccluderSetupOnTarget : public ::testing::TestWithParam<simd::Isa> {};
 
 // A perspective light looking down -z at points around the origin, as a pass's light.
-Mat4 lightMatrix(std::mt19937& rng) {
+core::Mat4 lightMatrix(std::mt19937& rng) {
   std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
-  Mat4 m;
+  core::Mat4 m;
   const float f = 1.5f + jitter(rng), n = 0.5f, far = 20.0f;
   m.m = {f,
          jitter(rng) * 0.1f,
@@ -56,9 +56,9 @@ TEST_P(OccluderSetupOnTarget, SnapInsideMatchesScalar) {
   size_t compared = 0;
   for (size_t count : {0, 1, 7, 15, 16, 17, 33, 200}) {
     for (int round = 0; round < 20; ++round) {
-      const Mat4 m = lightMatrix(rng);
-      std::vector<Vec3> points(count);
-      for (Vec3& p : points) p = {coord(rng), coord(rng), coord(rng)};
+      const core::Mat4 m = lightMatrix(rng);
+      std::vector<core::Vec3> points(count);
+      for (core::Vec3& p : points) p = {coord(rng), coord(rng), coord(rng)};
       const uint32_t size = round % 2 ? 256 : 1024;
       const size_t padded = (count + kOccluderBatch - 1) / kOccluderBatch * kOccluderBatch;
       std::vector<int32_t> xr(padded), yr(padded), xs(padded), ys(padded);
@@ -84,14 +84,14 @@ TEST_P(OccluderSetupOnTarget, SnapInsideMatchesScalar) {
 TEST_P(OccluderSetupOnTarget, SnapInsideRefusesAnyOutsideVertex) {
   const OccluderKernels& k = occluderKernelsFor(GetParam());
   std::mt19937 rng(11);
-  const Mat4 m = lightMatrix(rng);
+  const core::Mat4 m = lightMatrix(rng);
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  const Vec3 outside[] = {{0, 0, 4.0f}, {0, 0, -40.0f}, {30, 0, 0},  {-30, 0, 0},
-                          {0, 30, 0},   {0, -30, 0},    {nan, 0, 0}, {0, 0, nan}};
+  const core::Vec3 outside[] = {{0, 0, 4.0f}, {0, 0, -40.0f}, {30, 0, 0},  {-30, 0, 0},
+                                {0, 30, 0},   {0, -30, 0},    {nan, 0, 0}, {0, 0, nan}};
   for (size_t count : {1, 16, 21}) {
-    for (const Vec3& bad : outside) {
+    for (const core::Vec3& bad : outside) {
       for (size_t at : {size_t{0}, count / 2, count - 1}) {
-        std::vector<Vec3> points(count, Vec3{0.1f, -0.2f, 0.3f});
+        std::vector<core::Vec3> points(count, core::Vec3{0.1f, -0.2f, 0.3f});
         points[at] = bad;
         std::vector<int32_t> x(32), y(32);
         std::vector<float> z(32);

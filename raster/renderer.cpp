@@ -8,8 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/job_pool.h"
 #include "raster/aligned_vector.h"
-#include "raster/job_pool.h"
 #include "raster/occluder_setup.h"
 #include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
@@ -30,7 +30,7 @@ constexpr size_t kRowAlign = 64;  // pixels; spec §8
 
 using Mat4d = std::array<double, 16>;
 
-Mat4d toDouble(const Mat4& m) {
+Mat4d toDouble(const core::Mat4& m) {
   Mat4d d;
   for (int i = 0; i < 16; ++i) d[i] = m.m[i];
   return d;
@@ -110,7 +110,7 @@ struct Renderer::Impl {
   RenderOptions options;
   const SpanKernels* kernels;
   const OccluderKernels* occluderKernels;
-  JobPool pool;
+  core::JobPool pool;
   size_t stride;     // pixels per internal row (spec §8)
   size_t planeSize;  // stride * height
   int32_t width, height, tilesX, tilesY;
@@ -153,7 +153,7 @@ struct Renderer::Impl {
   void compositeObjects(uint32_t tile, const FrameContent& frame, Worker& w);
   void runPass(const FrameContent& frame, size_t index, Worker& w);
   void probePass(const ShadowPass& pass, const Worker& w, size_t index);
-  std::span<const Vec3> probes;  // this frame's occlusion probes (may be empty)
+  std::span<const core::Vec3> probes;  // this frame's occlusion probes (may be empty)
   size_t objectProbesFrom = SIZE_MAX;
   std::vector<uint8_t>* probeMasks = nullptr;
   void finishTile(uint32_t tile, const FrameContent& frame, std::span<uint8_t> out);
@@ -218,7 +218,7 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
 }
 
 void Renderer::Impl::buildStaticCache() {
-  const Mesh& mesh = view.staticMesh;
+  const core::Mesh& mesh = view.staticMesh;
   std::vector<ClipVertex> clip(mesh.positions.size());
   for (size_t i = 0; i < clip.size(); ++i) {
     clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
@@ -273,7 +273,7 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
   std::vector<ClipVertex> clip;
   std::vector<std::array<SnappedVertex, 3>> fan;
   for (const ShadedMesh& object : frame.objects) {
-    const Mesh& mesh = object.mesh;
+    const core::Mesh& mesh = object.mesh;
     clip.resize(mesh.positions.size());
     for (size_t i = 0; i < clip.size(); ++i) {
       clip[i] = transformPoint(view.cameraViewProj, mesh.positions[i]);
@@ -284,8 +284,8 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
       objectFirstSub.push_back(static_cast<uint32_t>(objectTriangles.size()));
       fan.clear();
       clipAndSnapTriangle({clip[idx[0]], clip[idx[1]], clip[idx[2]]}, view.width, view.height, fan);
-      const Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
-                 c2 = object.colours[idx[2]];
+      const core::Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
+                       c2 = object.colours[idx[2]];
       for (const auto& tri : fan) {
         ObjectTriangle o;
         if (!setupTriangle(tri, view.width, view.height, o.t)) continue;
@@ -379,7 +379,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   }
   w.mapX0 = w.mapY0 = isize;
   w.mapX1 = w.mapY1 = 0;
-  const Mesh& occluder = frame.occluders[pass.occluder];
+  const core::Mesh& occluder = frame.occluders[pass.occluder];
   auto draw = [&](const SetupTriangle& t) {
     w.mapPixels +=
         kernels->depthTriangle(w.shadowMap.origin(), nullptr, size_t(w.shadowMap.stride()), t, 0);
@@ -466,7 +466,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     rowLo = height;
     rowHi = 0;
   };
-  auto planesOf = [](const SetupTriangle& st, Rgb8 s0, Rgb8 s1, Rgb8 s2) {
+  auto planesOf = [](const SetupTriangle& st, core::Rgb8 s0, core::Rgb8 s1, core::Rgb8 s2) {
     return SpanPlanes{
         st.depth,
         {attributePlane(st, {s0.r, s1.r, s2.r}), attributePlane(st, {s0.g, s1.g, s2.g}),
@@ -478,7 +478,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   // The room's receivers: runs cached with the static depth.
   for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
     const uint32_t t = pass.receiverTriangles[k];
-    const Rgb8* s = &pass.receiverS[3 * k];
+    const core::Rgb8* s = &pass.receiverS[3 * k];
     for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
       const SetupTriangle& st = staticSubs[sub];
       addRuns(st, &spans[spanStart[sub]], planesOf(st, s[0], s[1], s[2]), t);
@@ -490,7 +490,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   // pixels hold object ids, so they never meet the room's runs: the two sweeps are disjoint.
   for (size_t k = 0; k < pass.objectTriangles.size(); ++k) {
     const uint32_t g = pass.objectTriangles[k];
-    const Rgb8* s = &pass.objectS[3 * k];
+    const core::Rgb8* s = &pass.objectS[3 * k];
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
       const SetupTriangle& st = objectTriangles[sub].t;
       addRuns(st, &objectSpans[objectSpanStart[sub]], planesOf(st, s[0], s[1], s[2]),
@@ -589,7 +589,7 @@ const StaticView& Renderer::view() const {
 }
 
 void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut,
-                      std::span<const Vec3> probes, std::vector<uint8_t>& masks,
+                      std::span<const core::Vec3> probes, std::vector<uint8_t>& masks,
                       size_t objectProbesFrom) {
   masks.assign(probes.size() * frame.passes.size(), 0);
   impl_->probes = probes;

@@ -52,8 +52,9 @@ class Renderer {
   // of spec §7 at the point itself, from world space), else 0. Lets the caller estimate how
   // much light the product blocks where, for the next frame (docs/fig3.md). Probes from
   // index `objectProbesFrom` on lie on the objects themselves and use each pass's object bias.
-  void render(const FrameContent& frame, std::span<uint8_t> rgbaOut, std::span<const Vec3> probes,
-              std::vector<uint8_t>& masks, size_t objectProbesFrom = SIZE_MAX);
+  void render(const FrameContent& frame, std::span<uint8_t> rgbaOut,
+              std::span<const core::Vec3> probes, std::vector<uint8_t>& masks,
+              size_t objectProbesFrom = SIZE_MAX);
 
   const FrameStats& lastStats() const;
   const StaticView& view() const;

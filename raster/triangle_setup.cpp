@@ -92,7 +92,7 @@ SnappedVertex snapVertex(const ClipVertex& v, uint32_t width, uint32_t height,
   return s;
 }
 
-ClipVertex transformPoint(const Mat4& m, const Vec3& p) {
+ClipVertex transformPoint(const core::Mat4& m, const core::Vec3& p) {
   const auto& a = m.m;
   return {((a[0] * p.x + a[1] * p.y) + a[2] * p.z) + a[3],
           ((a[4] * p.x + a[5] * p.y) + a[6] * p.z) + a[7],

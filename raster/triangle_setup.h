@@ -36,7 +36,7 @@ struct SnappedVertex {
 };
 
 // Transform of a world-space point (spec §2).
-ClipVertex transformPoint(const Mat4& m, const Vec3& p);
+ClipVertex transformPoint(const core::Mat4& m, const core::Vec3& p);
 
 // True when the point is inside all seven clip planes (spec §3): a triangle of three such
 // vertices is drawn unclipped.

@@ -9,11 +9,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/random.h"
 #include "lighting/embree_scene.h"
 #include "lighting/form_factor.h"
 #include "lighting/parallel_for.h"
 #include "lighting/radiance_transfer.h"
-#include "lighting/sampling.h"
 
 namespace penumbra::reference {
 namespace {
@@ -48,7 +48,7 @@ enum Active : int { kAbsent = 1, kPresent = 2, kBoth = 3 };
 struct Stream {
   uint64_t key;
   uint64_t counter = 0;
-  double next() { return lighting::unitSample(key, counter++); }
+  double next() { return core::unitSample(key, counter++); }
 };
 
 dvec3 faceNormal(const std::vector<dvec3>& positions, const std::vector<uint32_t>& indices,
@@ -73,7 +73,7 @@ class Tracer {
     }
     if (scene.object) {
       objectMesh_.indices = scene.object->mesh.indices;
-      for (const raster::Vec3& v : scene.object->mesh.positions) {
+      for (const core::Vec3& v : scene.object->mesh.positions) {
         if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
           throw std::invalid_argument("renderReference: object position is not finite");
         }
@@ -315,12 +315,11 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
   lighting::parallelItems(scene.height, options.threads, [&](size_t py) {
     for (uint32_t px = 0; px < scene.width; ++px) {
       const size_t pixel = py * scene.width + px;
-      const uint64_t pixelKey =
-          shadow::splitmix64(options.seed ^ (uint64_t{pixel} * lighting::kGolden));
+      const uint64_t pixelKey = core::splitmix64(options.seed ^ (uint64_t{pixel} * core::kGolden));
       dvec3 noObject(0.0), withObject(0.0), delta(0.0), objectSum(0.0);
       int objectSamples = 0;
       for (int s = 0; s < options.samplesPerPixel; ++s) {
-        Stream rng{shadow::splitmix64(pixelKey ^ uint64_t(s))};
+        Stream rng{core::splitmix64(pixelKey ^ uint64_t(s))};
         const double jx = rng.next(), jy = rng.next();
         dvec3 origin, dir;
         double tMax = 1.0;

@@ -46,7 +46,7 @@ namespace penumbra::reference {
 
 // The synthetic object, placed in world space (shadow::placeMesh), diffuse.
 struct ReferenceObject {
-  raster::Mesh mesh;
+  core::Mesh mesh;
   glm::dvec3 reflectance{0.5};
 };
 

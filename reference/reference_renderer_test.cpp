@@ -52,8 +52,8 @@ scene::PatchMesh floorAndLamp() {
 
 // An opaque sheet at height 1 over x in [-3, 0]: from a floor point (x0, 0, z) with
 // 0 <= x0 <= 0.5 it hides the lamp's part with x < -x0.
-raster::Mesh occluderSheet() {
-  raster::Mesh m;
+core::Mesh occluderSheet() {
+  core::Mesh m;
   m.positions = {{-3, 1, -3}, {0, 1, -3}, {0, 1, 3}, {-3, 1, 3}};
   m.indices = {0, 1, 2, 0, 2, 3};
   return m;
@@ -177,7 +177,7 @@ TEST(ReferenceRenderer, SameBytesForAnyThreadCount) {
 TEST(ReferenceRenderer, ProductFarAwayLeavesTheBackgroundByteExact) {
   ReferenceScene scene = shadowScene(32, 24);
   // The sheet moved 50 m under the floor: it blocks no shadow ray and no camera ray.
-  for (raster::Vec3& p : scene.object->mesh.positions) p.y -= 50;
+  for (core::Vec3& p : scene.object->mesh.positions) p.y -= 50;
   ReferenceOptions o;
   o.samplesPerPixel = 2;
   o.lightSamples = 8;

@@ -1,4 +1,5 @@
 #include "reference/synth_showroom.h"
+#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -54,8 +55,8 @@ void writeJson(const std::filesystem::path& path, const json& j) {
   if (!out) throw scene::ImageError(path.string() + ": cannot write");
 }
 
-raster::Mesh toRaster(const scene::TriangleMesh& m) {
-  raster::Mesh out;
+core::Mesh toRaster(const scene::TriangleMesh& m) {
+  core::Mesh out;
   for (const dvec3& p : m.positions) {
     out.positions.push_back(
         {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
@@ -197,7 +198,7 @@ void writeSynthShowroom(const scene::SceneDescription& scene, const SynthOptions
     return true;
   };
   ReferenceOptions probeOptions = options.render;
-  probeOptions.seed = shadow::splitmix64(options.render.seed ^ 0x50524F4245ull);  // "PROBE"
+  probeOptions.seed = core::splitmix64(options.render.seed ^ 0x50524F4245ull);  // "PROBE"
   const ReferenceImage probeImage = renderReference(probe, probeOptions, progress);
   lighting::writeExr(dir / "probe.exr", hdrImageOf(n, n, probeImage.noObject));
   writeJson(dir / "probe.json",

@@ -47,8 +47,8 @@ glm::dmat4 perspectiveFromTanHalf(double tanHalfFovY, double aspect, double zNea
   return m;
 }
 
-raster::Mat4 toRasterMat4(const glm::dmat4& m) {
-  raster::Mat4 out;
+core::Mat4 toRasterMat4(const glm::dmat4& m) {
+  core::Mat4 out;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) out.m[4 * r + c] = static_cast<float>(m[c][r]);
   }

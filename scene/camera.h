@@ -6,7 +6,7 @@
 
 #include <glm/glm.hpp>
 
-#include "raster/frame_trace.h"
+#include "core/geometry.h"
 
 namespace penumbra::scene {
 
@@ -22,7 +22,7 @@ glm::dmat4 perspective(double fovYRadians, double aspect, double zNear, double z
 glm::dmat4 perspectiveFromTanHalf(double tanHalfFovY, double aspect, double zNear, double zFar);
 
 // GLM stores columns (m[c][r]); the trace stores rows (element (r, c) at m[4r + c]).
-raster::Mat4 toRasterMat4(const glm::dmat4& m);
+core::Mat4 toRasterMat4(const glm::dmat4& m);
 
 struct Camera {
   glm::dvec3 eye{0.0}, target{0, 0, -1}, up{0, 1, 0};
@@ -36,7 +36,7 @@ struct Camera {
   glm::dmat4 view() const { return lookAt(eye, target, up); }
   glm::dmat4 projection() const;
   glm::dmat4 viewProj() const { return projection() * view(); }
-  raster::Mat4 rasterViewProj() const { return toRasterMat4(viewProj()); }
+  core::Mat4 rasterViewProj() const { return toRasterMat4(viewProj()); }
   // Unit world-space direction through window position (xw, yw) of a width x height
   // image (row 0 at the top; pixel centres at +0.5), consistent with viewProj().
   glm::dvec3 rayDirection(double xw, double yw, double width, double height) const;

@@ -239,12 +239,12 @@ PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
   return mesh;
 }
 
-raster::Vec3 toVec3(const glm::dvec3& p) {
-  return raster::Vec3{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+core::Vec3 toVec3(const glm::dvec3& p) {
+  return core::Vec3{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
 }
 
-raster::Mesh PatchMesh::toRasterMesh() const {
-  raster::Mesh out;
+core::Mesh PatchMesh::toRasterMesh() const {
+  core::Mesh out;
   out.positions.reserve(positions.size());
   for (const glm::dvec3& p : positions) out.positions.push_back(toVec3(p));
   out.indices = indices;

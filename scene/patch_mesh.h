@@ -19,7 +19,7 @@
 
 #include <glm/glm.hpp>
 
-#include "raster/frame_trace.h"
+#include "core/geometry.h"
 
 namespace penumbra::scene {
 
@@ -122,7 +122,7 @@ struct PatchMesh {
 
   size_t triangleCount() const { return indices.size() / 3; }
   // Positions rounded to float once, same indices: the trace's static mesh.
-  raster::Mesh toRasterMesh() const;
+  core::Mesh toRasterMesh() const;
 };
 
 // Splits every quad into a grid of patches about `targetPatchSize` metres on a side
@@ -141,6 +141,6 @@ double pointToPatchFormFactor(const glm::dvec3& x, const glm::dvec3& nx,
                               double patchArea);
 
 // Converts a double point to the trace's float vector (one rounding).
-raster::Vec3 toVec3(const glm::dvec3& p);
+core::Vec3 toVec3(const glm::dvec3& p);
 
 }  // namespace penumbra::scene

@@ -126,7 +126,7 @@ TEST(Camera, ProjectsTargetToCentreAndDepthRange) {
   EXPECT_NEAR(pn.z / pn.w, -1, 1e-9);
   EXPECT_NEAR(pf.z / pf.w, 1, 1e-9);
   // Row-major export: element (r, c) at m[4r + c].
-  const raster::Mat4 m = toRasterMat4(vp);
+  const core::Mat4 m = toRasterMat4(vp);
   EXPECT_EQ(m.m[3 * 4 + 2], static_cast<float>(vp[2][3]));
   EXPECT_EQ(m.m[0 * 4 + 3], static_cast<float>(vp[3][0]));
 }

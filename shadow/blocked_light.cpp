@@ -1,12 +1,12 @@
 #include "shadow/blocked_light.h"
 
-#include "shadow/clock.h"
+#include "core/clock.h"
 
 namespace penumbra::shadow {
 
 void BlockedLight::find(const ShaftHierarchy& hierarchy, const scene::Aabb& bounds, uint32_t frame,
                         size_t passes) {
-  Stopwatch watch;
+  core::Stopwatch watch;
   hierarchy.traverse(bounds, frame, traversal);
   msTraversal = watch.lap();
   selectSourceClusters(hierarchy, traversal.sources, frame, passes, selection);

@@ -83,7 +83,7 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
     const glm::dvec3 total(tr.vertexRadiance[rv]);
     const std::span<const glm::dvec3> transfers(receiverTransfers_.data() + slot * clusters,
                                                 clusters);
-    const std::span<raster::Rgb8> s(receiverS_.data() + slot * clusters, clusters);
+    const std::span<core::Rgb8> s(receiverS_.data() + slot * clusters, clusters);
     const float share = feedback.receiverShare(rv);
     if (options_.gradedTransfers && share >= 0.0f) {
       intensityTransfersForOcclusions(total, transfers,
@@ -117,7 +117,7 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   }
   for (size_t v = 0; v < productVertices_; ++v) {
     const std::span<const glm::dvec3> transfers(productTransfers_.data() + v * clusters, clusters);
-    const std::span<raster::Rgb8> s(productS_.data() + v * clusters, clusters);
+    const std::span<core::Rgb8> s(productS_.data() + v * clusters, clusters);
     const float share = feedback.productShare(v);
     if (options_.gradedTransfers && share >= 0.0f) {
       intensityTransfersForOcclusions(product.radiance[v], transfers,

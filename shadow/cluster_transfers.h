@@ -34,7 +34,7 @@ struct ClusterTransferOptions {
 // The product as the transfers see it: its placed vertices, their unshadowed radiance and
 // each source's unshadowed transfer to them (ProductShading).
 struct ProductLight {
-  std::span<const raster::Vec3> positions;
+  std::span<const core::Vec3> positions;
   std::span<const glm::dvec3> radiance;         // per vertex
   std::span<const glm::dvec3> sourceTransfers;  // [source * vertices + v]
 };
@@ -43,8 +43,8 @@ struct ProductLight {
 struct VertexS {
   std::span<const uint32_t> receiverVertexOf;  // mesh vertex -> receiver vertex, or kNoIndex
   std::span<const uint32_t> vertexSlot;        // receiver vertex -> slot (this frame's only)
-  std::span<const raster::Rgb8> receiverS;     // [slot * clusters + k]
-  std::span<const raster::Rgb8> productS;      // [v * clusters + k]; empty: no self-shadowing
+  std::span<const core::Rgb8> receiverS;       // [slot * clusters + k]
+  std::span<const core::Rgb8> productS;        // [v * clusters + k]; empty: no self-shadowing
   size_t clusters = 0;
 };
 
@@ -73,7 +73,7 @@ class ClusterTransfers {
   std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
   VertexS s() const { return {receiverVertexOf_, vertexSlot_, receiverS_, productS_, clusters_}; }
   // Receiver vertices' world positions by slot, then the product's vertices.
-  std::span<const raster::Vec3> probes() const { return probes_; }
+  std::span<const core::Vec3> probes() const { return probes_; }
   // Receiver and product vertices whose S used a measured share this frame.
   uint32_t gradedVertices() const { return gradedVertices_; }
 
@@ -95,10 +95,10 @@ class ClusterTransfers {
   std::vector<uint32_t> frameVertices_;
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
   std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]
-  std::vector<raster::Rgb8> receiverS_;        // [slot * clusters + k]
+  std::vector<core::Rgb8> receiverS_;          // [slot * clusters + k]
   std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
-  std::vector<raster::Rgb8> productS_;         // [v * clusters + k]
-  std::vector<raster::Vec3> probes_;
+  std::vector<core::Rgb8> productS_;           // [v * clusters + k]
+  std::vector<core::Vec3> probes_;
 };
 
 }  // namespace penumbra::shadow

@@ -47,7 +47,7 @@ struct Strip {
   SceneBundle bundle;
   scene::PatchMesh mesh;
   ClusterSelection selection;
-  std::vector<raster::Vec3> productPositions;
+  std::vector<core::Vec3> productPositions;
   std::vector<glm::dvec3> productRadiance, productSourceTransfers;
 };
 
@@ -87,7 +87,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   const VertexS vs = transfers.s();
   for (size_t slot = 0; slot < 5; ++slot) {
     const uint32_t rv = transfers.frameVertices()[slot];
-    std::vector<raster::Rgb8> want(2);
+    std::vector<core::Rgb8> want(2);
     intensityTransfers(glm::dvec3(s.bundle.transfers.vertexRadiance[rv]),
                        std::span(expected).subspan(2 * slot, 2), sets, s.bundle.tone, want);
     EXPECT_EQ(vs.vertexSlot[rv], slot);
@@ -105,7 +105,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   const std::span<const glm::dvec3> pt = transfers.productTransfers();
   EXPECT_EQ(std::vector<glm::dvec3>(pt.begin(), pt.end()), product);
   for (size_t v = 0; v < 2; ++v) {
-    std::vector<raster::Rgb8> want(2);
+    std::vector<core::Rgb8> want(2);
     intensityTransfers(s.productRadiance[v], std::span(product).subspan(2 * v, 2), sets,
                        s.bundle.tone, want);
     EXPECT_EQ(vs.productS[2 * v], want[0]);
@@ -113,7 +113,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   }
 
   // Probes: the receiver vertices by slot, then the product's vertices.
-  const std::span<const raster::Vec3> probes = transfers.probes();
+  const std::span<const core::Vec3> probes = transfers.probes();
   ASSERT_EQ(probes.size(), 7u);
   EXPECT_EQ(probes[0], s.bundle.view.staticMesh.positions[1]);
   EXPECT_EQ(probes[4], s.bundle.view.staticMesh.positions[3]);
@@ -137,7 +137,7 @@ TEST(ClusterTransfers, MeasuredSharesGradeTheNextFrame) {
   const std::vector<double> q{1.0, 1.0};
   for (size_t slot = 0; slot < 5; ++slot) {
     const uint32_t rv = transfers.frameVertices()[slot];
-    std::vector<raster::Rgb8> want(2);
+    std::vector<core::Rgb8> want(2);
     intensityTransfersForOcclusions(glm::dvec3(s.bundle.transfers.vertexRadiance[rv]),
                                     transfers.receiverTransfers().subspan(2 * slot, 2), q,
                                     s.bundle.tone, want);

@@ -89,7 +89,7 @@ glm::vec3 CubeEnvironmentMap::lookup(const glm::vec3& d, const ToneInverse& inve
   return {inverse(rgba[texel]), inverse(rgba[texel + 1]), inverse(rgba[texel + 2])};
 }
 
-raster::ShadedMesh roomForEnvironment(const raster::Mesh& mesh,
+raster::ShadedMesh roomForEnvironment(const core::Mesh& mesh,
                                       std::span<const uint32_t> trianglePatch,
                                       std::span<const glm::vec3> patchRadiance,
                                       const ToneCurve& tone) {
@@ -113,7 +113,7 @@ raster::ShadedMesh roomForEnvironment(const raster::Mesh& mesh,
   room.mesh = mesh;
   room.colours.resize(mesh.positions.size());
   for (size_t v = 0; v < sum.size(); ++v) {
-    room.colours[v] = count[v] ? tone.map(sum[v] / double(count[v])) : raster::Rgb8{};
+    room.colours[v] = count[v] ? tone.map(sum[v] / double(count[v])) : core::Rgb8{};
   }
   return room;
 }

@@ -55,7 +55,7 @@ struct CubeEnvironmentMap {
 
 // The room as the map draws it: `mesh` with per-vertex T(mean radiance of the vertex's
 // patches). `patchRadiance` has one entry per patch, `trianglePatch` one per triangle.
-raster::ShadedMesh roomForEnvironment(const raster::Mesh& mesh,
+raster::ShadedMesh roomForEnvironment(const core::Mesh& mesh,
                                       std::span<const uint32_t> trianglePatch,
                                       std::span<const glm::vec3> patchRadiance,
                                       const ToneCurve& tone);

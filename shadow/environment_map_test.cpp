@@ -1,4 +1,5 @@
 #include "shadow/environment_map.h"
+#include "core/random.h"
 
 #include <gtest/gtest.h>
 
@@ -118,7 +119,7 @@ TEST(EnvironmentMap, GoldenBytes) {
   std::vector<uint8_t> bytes = map.rgba;
   uint64_t state = 7;
   auto next = [&] {
-    state = splitmix64(state);
+    state = core::splitmix64(state);
     return float(int64_t(state >> 40) - (int64_t{1} << 23)) * 0x1.0p-23f;  // exact, [-1, 1)
   };
   const PhongLobe lobe(37.0f);

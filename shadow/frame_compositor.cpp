@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "shadow/clock.h"
+#include "core/clock.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -32,7 +32,7 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
 void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
                               raster::FrameContent& out, CompositeStats& stats) {
   stats = CompositeStats{};
-  Stopwatch watch;
+  core::Stopwatch watch;
   const PlacementChange change = placement_.place(pose);
   if (change == PlacementChange::kNewModel) {
     feedback_.productPlaced(placement_.mesh().positions.size());

@@ -96,7 +96,7 @@ class FrameCompositor {
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
   // as probes, then hand the masks to observe().
-  std::span<const raster::Vec3> probes() const { return transfers_.probes(); }
+  std::span<const core::Vec3> probes() const { return transfers_.probes(); }
   size_t objectProbesFrom() const { return transfers_.frameVertices().size(); }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded, and which sources they occluded

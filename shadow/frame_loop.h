@@ -12,8 +12,8 @@
 #include <span>
 #include <vector>
 
+#include "core/clock.h"
 #include "raster/renderer.h"
-#include "shadow/clock.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
@@ -64,7 +64,7 @@ class FrameLoop {
   uint32_t frameNumber = 0;          // of the last frame; 0 before the first
 
  private:
-  SteadyClock clock_;
+  core::SteadyClock clock_;
 };
 
 }  // namespace penumbra::shadow

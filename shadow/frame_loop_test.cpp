@@ -69,13 +69,13 @@ TEST(FrameLoop, AReplacedModelIsPlacedAfresh) {
   SceneBundle b = showroom();
   FrameLoop loop(b, 256, {});
   loop.step(b.startPose, 4);
-  const raster::Mesh before = loop.frame.objects[0].mesh;
-  for (raster::Vec3& p : b.products[b.startPose.product].mesh.positions) p.y *= 0.5f;
+  const core::Mesh before = loop.frame.objects[0].mesh;
+  for (core::Vec3& p : b.products[b.startPose.product].mesh.positions) p.y *= 0.5f;
   loop.step(b.startPose, 4);
   EXPECT_EQ(loop.frame.objects[0].mesh, before) << "not told: still the placed model";
   loop.productModelChanged(b.startPose.product);
   loop.step(b.startPose, 4);
-  raster::Mesh after;
+  core::Mesh after;
   placeMesh(b.products[b.startPose.product].mesh, b.startPose, after);
   EXPECT_EQ(loop.frame.objects[0].mesh, after);
   EXPECT_NE(after, before);

@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "shadow/clock.h"
+#include "core/clock.h"
+#include "shadow/frame_cost_model.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -40,7 +41,7 @@ Options kioskOptions() {
 struct Session {
   FrameRateController ctl;
   CostModel model;
-  VirtualClock clock;
+  core::VirtualClock clock;
   std::vector<Decision> decisions;
   std::vector<int64_t> startNs;
   std::vector<int64_t> frameNs;
@@ -122,7 +123,7 @@ void expectGoodSettle(const Session& s, size_t frame, uint32_t permille) {
 }
 
 TEST(Clock, VirtualClockMovesOnlyWhenAdvanced) {
-  VirtualClock c(5);
+  core::VirtualClock c(5);
   EXPECT_EQ(c.nowNanoseconds(), 5);
   EXPECT_EQ(c.nowNanoseconds(), 5);
   c.advance(0);
@@ -133,7 +134,7 @@ TEST(Clock, VirtualClockMovesOnlyWhenAdvanced) {
 }
 
 TEST(Clock, SteadyClockNeverRunsBackwards) {
-  SteadyClock c;
+  core::SteadyClock c;
   int64_t prev = c.nowNanoseconds();
   for (int i = 0; i < 1000; ++i) {
     const int64_t now = c.nowNanoseconds();
@@ -143,8 +144,8 @@ TEST(Clock, SteadyClockNeverRunsBackwards) {
 }
 
 TEST(Clock, StopwatchLapsAreMillisecondsSinceTheLastLap) {
-  VirtualClock c(5'000);
-  Stopwatch watch(c);
+  core::VirtualClock c(5'000);
+  core::Stopwatch watch(c);
   c.advance(2'500'000);
   EXPECT_EQ(watch.lap(), 2.5);
   c.advance(1'000);

@@ -1,4 +1,5 @@
 #include "shadow/intensity_transfer.h"
+#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -81,46 +82,39 @@ uint8_t ToneCurve::operator()(double radiance) const {
   return static_cast<uint8_t>(it - thresholds_.begin());
 }
 
-raster::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
-  return raster::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
-}
-
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
+core::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
+  return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
 }
 
 int sourceSet(uint64_t seed, uint64_t sourceId) {
   // State of a SplitMix64 stream seeded with `seed` after `sourceId` steps: each id draws
   // an independent, reproducible value.
-  const uint64_t id = splitmix64(seed + sourceId * 0x9E3779B97F4A7C15ull);
+  const uint64_t id = core::splitmix64(seed + sourceId * 0x9E3779B97F4A7C15ull);
   return (id & 1) == 0 ? 1 : 2;
 }
 
 void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
                         std::span<const uint8_t> sets, const ToneCurve& tone,
-                        std::span<raster::Rgb8> out) {
+                        std::span<core::Rgb8> out) {
   if (transfers.size() != sets.size() || transfers.size() != out.size()) {
     throw std::invalid_argument("intensityTransfers: transfers, sets and out differ in length");
   }
   // Gibson 2003 Fig. 4: V1 = V2 = L_i, C1 = C2 = T(L_i); each source subtracts its
   // transfer from its own set's running radiance and takes the drop in T as S_ij.
   std::array<glm::dvec3, 2> v = {totalRadiance, totalRadiance};
-  const raster::Rgb8 c0 = tone.map(totalRadiance);
-  std::array<raster::Rgb8, 2> c = {c0, c0};
+  const core::Rgb8 c0 = tone.map(totalRadiance);
+  std::array<core::Rgb8, 2> c = {c0, c0};
   for (size_t j = 0; j < transfers.size(); ++j) {
     if (sets[j] != 1 && sets[j] != 2) {
       throw std::invalid_argument("intensityTransfers: set must be 1 or 2");
     }
     const int k = sets[j] - 1;
     v[k] -= glm::max(transfers[j], glm::dvec3(0.0));
-    const raster::Rgb8 next = tone.map(v[k]);
+    const core::Rgb8 next = tone.map(v[k]);
     // T is monotone and V only decreases, so each difference is in [0, 255].
     out[j] =
-        raster::Rgb8{static_cast<uint8_t>(c[k].r - next.r), static_cast<uint8_t>(c[k].g - next.g),
-                     static_cast<uint8_t>(c[k].b - next.b)};
+        core::Rgb8{static_cast<uint8_t>(c[k].r - next.r), static_cast<uint8_t>(c[k].g - next.g),
+                   static_cast<uint8_t>(c[k].b - next.b)};
     c[k] = next;
   }
 }
@@ -130,16 +124,15 @@ namespace {
 // S_j = T(L_i - B_j) - T(L_i - B_j - L_ij), B_j = sum_{k<j} q_k L_ik, with q_k = shareOf(k).
 template <class ShareOf>
 void gradedTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
-                     ShareOf shareOf, const ToneCurve& tone, std::span<raster::Rgb8> out) {
+                     ShareOf shareOf, const ToneCurve& tone, std::span<core::Rgb8> out) {
   glm::dvec3 before(0.0);  // B_j, summed in source order
   for (size_t j = 0; j < transfers.size(); ++j) {
     const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
     const glm::dvec3 at = totalRadiance - before;
-    const raster::Rgb8 high = tone.map(at), low = tone.map(at - l);
+    const core::Rgb8 high = tone.map(at), low = tone.map(at - l);
     // T is monotone and at - l <= at, so each difference is in [0, 255].
-    out[j] =
-        raster::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
-                     static_cast<uint8_t>(high.b - low.b)};
+    out[j] = core::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
+                        static_cast<uint8_t>(high.b - low.b)};
     before += shareOf(j) * l;
   }
 }
@@ -148,7 +141,7 @@ void gradedTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3
 
 void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
                                     std::span<const glm::dvec3> transfers, double q,
-                                    const ToneCurve& tone, std::span<raster::Rgb8> out) {
+                                    const ToneCurve& tone, std::span<core::Rgb8> out) {
   if (transfers.size() != out.size()) {
     throw std::invalid_argument(
         "intensityTransfersForOcclusion: transfers and out differ in length");
@@ -163,7 +156,7 @@ void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
 void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
                                      std::span<const glm::dvec3> transfers,
                                      std::span<const double> q, const ToneCurve& tone,
-                                     std::span<raster::Rgb8> out) {
+                                     std::span<core::Rgb8> out) {
   if (transfers.size() != out.size() || q.size() != out.size()) {
     throw std::invalid_argument(
         "intensityTransfersForOcclusions: transfers, q and out differ in length");

@@ -45,7 +45,7 @@ class ToneCurve {
 
   // T(L) for one channel. NaN maps to 0.
   uint8_t operator()(double radiance) const;
-  raster::Rgb8 map(const glm::dvec3& radiance) const;
+  core::Rgb8 map(const glm::dvec3& radiance) const;
 
   // The smallest radiance with code >= k, k in 1..255 (+inf if never reached).
   double threshold(int code) const { return thresholds_[code - 1]; }
@@ -53,9 +53,6 @@ class ToneCurve {
  private:
   std::array<double, 255> thresholds_{};
 };
-
-// SplitMix64 output function (Steele, Lea & Flood 2014) of the state `x`.
-uint64_t splitmix64(uint64_t x);
 
 // Which of the two occlusion sets of Gibson 2003 §7.1.1 source patch `sourceId` belongs
 // to: 1 for an even pseudo-random id, 2 for an odd one. A counter-based hash of
@@ -70,7 +67,7 @@ int sourceSet(uint64_t seed, uint64_t sourceId);
 // std::invalid_argument on length mismatch or a set other than 1 or 2.
 void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
                         std::span<const uint8_t> sets, const ToneCurve& tone,
-                        std::span<raster::Rgb8> out);
+                        std::span<core::Rgb8> out);
 
 // Beyond Fig. 4, whose fixed 50/50 split is wrong when most sources are occluded (the
 // paper's Fig. 3; docs/fig3.md measures it): each source's drop is taken at the point the
@@ -83,7 +80,7 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
 // intensityTransfers() except the sets; throws std::invalid_argument unless 0 <= q <= 1.
 void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
                                     std::span<const glm::dvec3> transfers, double q,
-                                    const ToneCurve& tone, std::span<raster::Rgb8> out);
+                                    const ToneCurve& tone, std::span<core::Rgb8> out);
 
 // The same with one expected occluded share per source (cluster): B_j = sum_{k<j} q_k L_ik.
 // With q_k the share of cluster k's sources the previous frame saw occluded at this vertex
@@ -94,6 +91,6 @@ void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
 void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
                                      std::span<const glm::dvec3> transfers,
                                      std::span<const double> q, const ToneCurve& tone,
-                                     std::span<raster::Rgb8> out);
+                                     std::span<core::Rgb8> out);
 
 }  // namespace penumbra::shadow

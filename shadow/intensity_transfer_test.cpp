@@ -1,4 +1,5 @@
 #include "shadow/intensity_transfer.h"
+#include "core/random.h"
 
 #include <gtest/gtest.h>
 
@@ -50,7 +51,7 @@ TEST(SourceSet, DeterministicAndBalanced) {
   }
   EXPECT_NEAR(ones, 5000, 300);
   // Known values pin the hash: a change would silently re-shade every trace.
-  EXPECT_EQ(splitmix64(0), 0xE220A8397B1DCDAFull);
+  EXPECT_EQ(core::splitmix64(0), 0xE220A8397B1DCDAFull);
   int differ = 0;
   for (uint64_t id = 0; id < 64; ++id) differ += sourceSet(1, id) != sourceSet(2, id);
   EXPECT_GT(differ, 10);
@@ -60,19 +61,19 @@ TEST(IntensityTransfer, TelescopesWithinEachSet) {
   const ToneCurve tone = ToneCurve::gamma(3.0);
   uint64_t state = 7;
   for (int trial = 0; trial < 200; ++trial) {
-    const size_t n = 1 + splitmix64(state++) % 50;
+    const size_t n = 1 + core::splitmix64(state++) % 50;
     std::vector<dvec3> l(n);
     std::vector<uint8_t> sets(n);
-    dvec3 total(0.01 * static_cast<double>(splitmix64(state++) % 10));
+    dvec3 total(0.01 * static_cast<double>(core::splitmix64(state++) % 10));
     for (size_t j = 0; j < n; ++j) {
       for (int c = 0; c < 3; ++c)
-        l[j][c] = 0.02 * static_cast<double>(splitmix64(state++) % 1000) / 1000;
+        l[j][c] = 0.02 * static_cast<double>(core::splitmix64(state++) % 1000) / 1000;
       total += l[j];
       sets[j] = static_cast<uint8_t>(sourceSet(99, j));
     }
     std::sort(l.begin(), l.end(),
               [](const dvec3& a, const dvec3& b) { return a.x + a.y + a.z > b.x + b.y + b.z; });
-    std::vector<raster::Rgb8> s(n);
+    std::vector<core::Rgb8> s(n);
     intensityTransfers(total, l, sets, tone, s);
     for (int set = 1; set <= 2; ++set) {
       dvec3 v = total;  // sequential subtraction, exactly as Fig. 4 accumulates
@@ -84,7 +85,7 @@ TEST(IntensityTransfer, TelescopesWithinEachSet) {
         sum[1] += s[j].g;
         sum[2] += s[j].b;
       }
-      const raster::Rgb8 t0 = tone.map(total), t1 = tone.map(v);
+      const core::Rgb8 t0 = tone.map(total), t1 = tone.map(v);
       EXPECT_EQ(sum[0], t0.r - t1.r);
       EXPECT_EQ(sum[1], t0.g - t1.g);
       EXPECT_EQ(sum[2], t0.b - t1.b);
@@ -98,9 +99,9 @@ TEST(IntensityTransfer, SingleSetRemovesAllLight) {
   const std::vector<dvec3> l = {dvec3(0.3, 0.2, 0.1), dvec3(0.2, 0.2, 0.1), dvec3(0.1, 0.05, 0.0)};
   const dvec3 total = l[0] + l[1] + l[2];
   const std::vector<uint8_t> sets(3, 1);
-  std::vector<raster::Rgb8> s(3);
+  std::vector<core::Rgb8> s(3);
   intensityTransfers(total, l, sets, tone, s);
-  const raster::Rgb8 t = tone.map(total);
+  const core::Rgb8 t = tone.map(total);
   EXPECT_EQ(s[0].r + s[1].r + s[2].r, t.r);
   EXPECT_EQ(s[0].g + s[1].g + s[2].g, t.g);
   // The brightest source first takes the smallest step of the concave curve's top.
@@ -123,7 +124,7 @@ TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {
   const glm::dvec3 total(0.8, 0.7, 0.6);
   const std::vector<glm::dvec3> l = {
       {0.2, 0.1, 0.05}, {0.1, 0.1, 0.1}, {0.05, 0.2, 0.02}, {0.1, 0.05, 0.1}};
-  std::vector<raster::Rgb8> s(l.size());
+  std::vector<core::Rgb8> s(l.size());
   // q = 1: the drops telescope: all occluded gives exactly T(L - sum).
   intensityTransfersForOcclusion(total, l, 1.0, tone, s);
   glm::dvec3 rest = total;
@@ -157,7 +158,7 @@ TEST(IntensityTransfersForOcclusions, RepeatedPatternsAreExact) {
   const size_t n = l.size();
   glm::dvec3 all(0.0);
   for (const glm::dvec3& t : l) all += t;
-  std::vector<raster::Rgb8> s(n), single(n);
+  std::vector<core::Rgb8> s(n), single(n);
   std::vector<double> q(n);
   int scalarMisses = 0;
   for (uint32_t pattern = 0; pattern < (1u << n); ++pattern) {

@@ -146,9 +146,9 @@ uint8_t ToneLut::operator()(float radiance) const {
   return static_cast<uint8_t>(code);
 }
 
-void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster::Vec3> positions,
+void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneLut& tone, std::span<raster::Rgb8> colours,
+                          const ToneLut& tone, std::span<core::Rgb8> colours,
                           std::span<glm::vec3> radiance) {
   if (normals.size() != positions.size() || colours.size() != positions.size() ||
       (!radiance.empty() && radiance.size() != positions.size())) {
@@ -168,11 +168,11 @@ void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster
   }
 }
 
-std::vector<glm::vec3> vertexNormals(const raster::Mesh& m) {
+std::vector<glm::vec3> vertexNormals(const core::Mesh& m) {
   std::vector<glm::vec3> normals(m.positions.size(), glm::vec3(0.0f));
   for (size_t t = 0; t < m.triangleCount(); ++t) {
-    const raster::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
-                       &c = m.positions[m.indices[3 * t + 2]];
+    const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                     &c = m.positions[m.indices[3 * t + 2]];
     const glm::vec3 u(b.x - a.x, b.y - a.y, b.z - a.z), w(c.x - a.x, c.y - a.y, c.z - a.z);
     const glm::vec3 n(u.y * w.z - u.z * w.y, u.z * w.x - u.x * w.z, u.x * w.y - u.y * w.x);
     for (int k = 0; k < 3; ++k) {

@@ -87,7 +87,7 @@ class ToneLut {
  public:
   explicit ToneLut(const ToneCurve& curve);
   uint8_t operator()(float radiance) const;
-  raster::Rgb8 map(const glm::vec3& radiance) const {
+  core::Rgb8 map(const glm::vec3& radiance) const {
     return {(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
   }
 
@@ -100,12 +100,12 @@ class ToneLut {
 // Diffuse shading of a product's vertices (§5): radiance_v = reflectance (*) E(n_v) / pi,
 // then T() per channel. `normals` need not be unit length (zero → +y). `radiance` may be
 // empty (not written); otherwise all spans have positions.size() entries.
-void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const raster::Vec3> positions,
+void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneLut& tone, std::span<raster::Rgb8> colours,
+                          const ToneLut& tone, std::span<core::Rgb8> colours,
                           std::span<glm::vec3> radiance);
 
 // Area-weighted vertex normals of an indexed mesh (not normalized), summed in triangle order.
-std::vector<glm::vec3> vertexNormals(const raster::Mesh& mesh);
+std::vector<glm::vec3> vertexNormals(const core::Mesh& mesh);
 
 }  // namespace penumbra::shadow

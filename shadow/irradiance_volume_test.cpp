@@ -1,4 +1,5 @@
 #include "shadow/irradiance_volume.h"
+#include "core/random.h"
 
 #include <gtest/gtest.h>
 
@@ -98,14 +99,14 @@ TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   const IrradianceVolume vol = constantCube({0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f});
   const ToneCurve curve = ToneCurve::gamma(1.0, 1.0);  // linear: 255 L
   const ToneLut tone(curve);
-  std::vector<raster::Vec3> positions;
+  std::vector<core::Vec3> positions;
   std::vector<glm::vec3> normals;
   for (int i = 0; i < 100; ++i) {
     positions.push_back({float(i % 10) * 0.1f, float(i / 10) * 0.1f, 0.3f});
     normals.push_back(glm::vec3(float(i % 3) - 1.0f, 1.0f, float(i % 7) * 0.2f));
   }
   normals[5] = glm::vec3(0.0f);  // degenerate normal: +y
-  std::vector<raster::Rgb8> all(100), one(1);
+  std::vector<core::Rgb8> all(100), one(1);
   std::vector<glm::vec3> radiance(100);
   shadeVerticesDiffuse(vol, positions, normals, glm::vec3(1.0f, 0.5f, 0.0f), tone, all, radiance);
   EXPECT_NEAR(radiance[0].x, 0.5, 1e-5);
@@ -118,7 +119,7 @@ TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
                          glm::vec3(1.0f, 0.5f, 0.0f), tone, one, {});
     EXPECT_EQ(one[0], all[v]);
   }
-  std::vector<raster::Rgb8> wrong(3);
+  std::vector<core::Rgb8> wrong(3);
   EXPECT_THROW(shadeVerticesDiffuse(vol, positions, normals, glm::vec3(1.0f), tone, wrong, {}),
                std::invalid_argument);
 }
@@ -152,20 +153,20 @@ TEST(IrradianceVolumeShading, GoldenBytes) {
   vol.spacing = {0.5f, 0.6f, 0.45f};
   uint64_t state = 42;
   auto next = [&] {
-    state = splitmix64(state);
+    state = core::splitmix64(state);
     return float(int64_t(state >> 40) - (int64_t{1} << 23)) * 0x1.0p-22f;  // exact, in [-2, 2)
   };
   for (size_t i = 0; i < vol.vertexCount() * kShFloats; ++i) vol.coefficients.push_back(next());
   for (size_t i = 0; i < vol.vertexCount(); ++i) vol.valid.push_back(next() > -1.5f);
   for (float& f : vol.fallback) f = next();
-  std::vector<raster::Vec3> positions;
+  std::vector<core::Vec3> positions;
   std::vector<glm::vec3> normals;
   for (int i = 0; i < 2000; ++i) {
     positions.push_back({next() + 1.2f, next() + 1.0f, next() + 1.4f});
     normals.push_back({next(), next(), next()});
   }
   const ToneLut tone(ToneCurve::gamma(1.2, 2.2));
-  std::vector<raster::Rgb8> colours(positions.size());
+  std::vector<core::Rgb8> colours(positions.size());
   std::vector<glm::vec3> radiance(positions.size());
   shadeVerticesDiffuse(vol, positions, normals, glm::vec3(0.7f, 0.5f, 0.3f), tone, colours,
                        radiance);

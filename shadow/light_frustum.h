@@ -14,8 +14,8 @@
 namespace penumbra::shadow {
 
 struct LightFrustum {
-  glm::dmat4 viewProj{1.0};     // world -> light clip space, GL conventions, double
-  raster::Mat4 rasterViewProj;  // the same, rounded to float once (the trace's matrix)
+  glm::dmat4 viewProj{1.0};   // world -> light clip space, GL conventions, double
+  core::Mat4 rasterViewProj;  // the same, rounded to float once (the trace's matrix)
   glm::dvec3 sphereCentre{0.0};
   double sphereRadius = 0;
   double zNear = 0, zFar = 0;

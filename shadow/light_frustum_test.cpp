@@ -18,7 +18,7 @@ std::array<dvec3, 8> corners(const scene::Aabb& b) {
 }
 
 // The float matrix of the trace, applied as spec §2 does (binary32, left to right).
-std::array<float, 4> clipOf(const raster::Mat4& m, const dvec3& p) {
+std::array<float, 4> clipOf(const core::Mat4& m, const dvec3& p) {
   const float x = static_cast<float>(p.x), y = static_cast<float>(p.y), z = static_cast<float>(p.z);
   std::array<float, 4> out{};
   for (int r = 0; r < 4; ++r) {

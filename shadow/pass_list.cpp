@@ -10,9 +10,9 @@
 namespace penumbra::shadow {
 namespace {
 
-bool anyS(const std::array<raster::Rgb8, 3>& s) {
+bool anyS(const std::array<core::Rgb8, 3>& s) {
   bool any = false;
-  for (const raster::Rgb8& c : s) any = any || c.r != 0 || c.g != 0 || c.b != 0;
+  for (const core::Rgb8& c : s) any = any || c.r != 0 || c.g != 0 || c.b != 0;
   return any;
 }
 
@@ -22,7 +22,7 @@ PassList::PassList(const SceneBundle& bundle, const scene::PatchMesh& mesh, cons
     : bundle_(bundle), mesh_(mesh), farDistance_(2.0 * glm::length(room.size()) + 1.0) {}
 
 uint32_t PassList::build(const PassListOptions& options, const ClusterSelection& selection,
-                         std::span<const uint32_t> receiverPatches, const raster::Mesh& product,
+                         std::span<const uint32_t> receiverPatches, const core::Mesh& product,
                          const scene::Aabb& productBounds, const VertexS& s,
                          std::vector<raster::ShadowPass>& passes) {
   const size_t clusters = selection.clusters.size();
@@ -76,7 +76,7 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
                               mesh_.positions[v[2]])) {
         continue;
       }
-      std::array<raster::Rgb8, 3> corners{};
+      std::array<core::Rgb8, 3> corners{};
       for (int c = 0; c < 3; ++c) {
         const uint32_t rv = s.receiverVertexOf[v[c]];
         if (rv == kNoIndex) continue;
@@ -90,12 +90,12 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
 }
 
 // Self-shadowing (§7.2): the product's own triangles, when its vertices have S.
-void PassList::addProduct(const raster::Mesh& product, const VertexS& s, size_t k,
+void PassList::addProduct(const core::Mesh& product, const VertexS& s, size_t k,
                           raster::ShadowPass& pass) const {
   pass.objectTriangles.clear();
   pass.objectS.clear();
   for (size_t t = 0; !s.productS.empty() && t < product.triangleCount(); ++t) {
-    std::array<raster::Rgb8, 3> corners{};
+    std::array<core::Rgb8, 3> corners{};
     for (int c = 0; c < 3; ++c) {
       corners[size_t(c)] = s.productS[size_t(product.indices[3 * t + size_t(c)]) * s.clusters + k];
     }

@@ -41,7 +41,7 @@ class PassList {
   // (bounds `productBounds`), with the frame's S, into `passes` (reused). Returns the
   // number of clusters left without a pass.
   uint32_t build(const PassListOptions& options, const ClusterSelection& selection,
-                 std::span<const uint32_t> receiverPatches, const raster::Mesh& product,
+                 std::span<const uint32_t> receiverPatches, const core::Mesh& product,
                  const scene::Aabb& productBounds, const VertexS& s,
                  std::vector<raster::ShadowPass>& passes);
 
@@ -52,7 +52,7 @@ class PassList {
   void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
                     std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
                     raster::ShadowPass& pass) const;
-  void addProduct(const raster::Mesh& product, const VertexS& s, size_t k,
+  void addProduct(const core::Mesh& product, const VertexS& s, size_t k,
                   raster::ShadowPass& pass) const;
 
   const SceneBundle& bundle_;

@@ -50,10 +50,10 @@ struct Floor {
   SceneBundle bundle;
   scene::PatchMesh mesh;
   ClusterSelection selection;
-  raster::Mesh product;
+  core::Mesh product;
   scene::Aabb bounds;
   std::vector<uint32_t> receiverVertexOf, vertexSlot;
-  std::vector<raster::Rgb8> receiverS, productS;
+  std::vector<core::Rgb8> receiverS, productS;
 };
 
 const scene::Aabb kRoom{{-2, 0, -2}, {12, 3, 2}};
@@ -96,9 +96,9 @@ TEST(PassList, OnePassPerClusterWithSInCornerOrder) {
   }
   // Self-shadowing: cluster 0's S on the product's triangles; cluster 1 has none there.
   EXPECT_EQ(passes[0].objectTriangles, (std::vector<uint32_t>{0, 1, 2}));
-  const std::vector<raster::Rgb8> objectS{f.productS[0], f.productS[2], f.productS[4],
-                                          f.productS[0], f.productS[2], f.productS[6],
-                                          f.productS[2], f.productS[4], f.productS[6]};
+  const std::vector<core::Rgb8> objectS{f.productS[0], f.productS[2], f.productS[4],
+                                        f.productS[0], f.productS[2], f.productS[6],
+                                        f.productS[2], f.productS[4], f.productS[6]};
   EXPECT_EQ(passes[0].objectS, objectS);
   EXPECT_TRUE(passes[1].objectTriangles.empty());
   EXPECT_TRUE(passes[1].objectS.empty());
@@ -122,7 +122,7 @@ TEST(PassList, TrianglesWithoutSAndOutsideTheFrustumAreLeftOut) {
   list.build(all, f.selection, both, f.product, f.bounds, f.s(), passes);
   EXPECT_EQ(passes[0].receiverTriangles, (std::vector<uint32_t>{0, 2, 3}));
   ASSERT_EQ(passes[0].receiverS.size(), 9u);
-  EXPECT_EQ(passes[0].receiverS[8], raster::Rgb8{});
+  EXPECT_EQ(passes[0].receiverS[8], core::Rgb8{});
   EXPECT_EQ(passes[0].receiverS[7], f.receiverS[2 * f.vertexSlot[6]]);
 }
 

@@ -25,7 +25,7 @@ PlacementChange ProductPlacement::place(const ProductPose& pose) {
   placeMesh(model.mesh, pose, mesh_);
   placeMesh(model.proxy, pose, proxy_);
   bounds_ = scene::Aabb::emptyBox();
-  for (const raster::Vec3& p : mesh_.positions) bounds_.extend({p.x, p.y, p.z});
+  for (const core::Vec3& p : mesh_.positions) bounds_.extend({p.x, p.y, p.z});
   pose_ = pose;
   return change;
 }

@@ -34,14 +34,14 @@ class ProductPlacement {
   void modelChanged(uint32_t product);
 
   const ProductPose& pose() const { return pose_; }
-  const raster::Mesh& mesh() const { return mesh_; }     // world space
-  const raster::Mesh& proxy() const { return proxy_; }   // world space
+  const core::Mesh& mesh() const { return mesh_; }       // world space
+  const core::Mesh& proxy() const { return proxy_; }     // world space
   const scene::Aabb& bounds() const { return bounds_; }  // of mesh()
 
  private:
   const std::vector<ProductModel>& products_;
   ProductPose pose_{~0u, 0, 0, 0};
-  raster::Mesh mesh_, proxy_;
+  core::Mesh mesh_, proxy_;
   scene::Aabb bounds_;
 };
 

@@ -31,7 +31,7 @@ TEST(ProductPlacement, MeshAndProxyAreMovedByThePoseAndBounded) {
   ProductPlacement placement(products);
   const ProductPose pose{0, 2.0f, -1.0f, 90.0f, 0.5f};
   EXPECT_EQ(placement.place(pose), PlacementChange::kNewModel);
-  raster::Mesh mesh, proxy;
+  core::Mesh mesh, proxy;
   placeMesh(products[0].mesh, pose, mesh);
   placeMesh(products[0].proxy, pose, proxy);
   EXPECT_EQ(placement.mesh(), mesh);
@@ -44,7 +44,7 @@ TEST(ProductPlacement, MeshAndProxyAreMovedByThePoseAndBounded) {
   EXPECT_NEAR(b.max.y, 1.5, 1e-6);
   EXPECT_NEAR(b.min.z, -1.5, 1e-6);
   EXPECT_NEAR(b.max.z, -0.5, 1e-6);
-  for (const raster::Vec3& p : placement.mesh().positions) {
+  for (const core::Vec3& p : placement.mesh().positions) {
     EXPECT_TRUE(p.x >= b.min.x && p.x <= b.max.x && p.z >= b.min.z && p.z <= b.max.z);
   }
   EXPECT_EQ(placement.pose().product, 0u);
@@ -61,7 +61,7 @@ TEST(ProductPlacement, PlacesAgainOnlyWhenThePoseOrTheModelChanges) {
   placement.modelChanged(1);  // not the placed one
   EXPECT_EQ(placement.place(pose), PlacementChange::kNone);
   // The owner replaces the model; the placement sees it once told.
-  for (raster::Vec3& p : products[0].mesh.positions) p.y *= 2.0f;
+  for (core::Vec3& p : products[0].mesh.positions) p.y *= 2.0f;
   placement.modelChanged(0);
   EXPECT_EQ(placement.place(pose), PlacementChange::kNewModel);
   EXPECT_NEAR(placement.bounds().max.y, 2.0, 1e-6);

@@ -34,13 +34,12 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
   if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);
 }
 
-void ProductShading::shade(const raster::Mesh& placed, const scene::Aabb& bounds,
-                           uint32_t product) {
-  const raster::Mesh& m = placed;
+void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product) {
+  const core::Mesh& m = placed;
   std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
   for (size_t t = 0; t < m.triangleCount(); ++t) {
-    const raster::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
-                       &c = m.positions[m.indices[3 * t + 2]];
+    const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                     &c = m.positions[m.indices[3 * t + 2]];
     const glm::dvec3 n = glm::cross(glm::dvec3(b.x - a.x, b.y - a.y, b.z - a.z),
                                     glm::dvec3(c.x - a.x, c.y - a.y, c.z - a.z));
     for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted

@@ -37,10 +37,10 @@ class ProductShading {
                  const ProductShadingOptions& options);
 
   // Shades product `product` placed as `placed` (world space) with world bounds `bounds`.
-  void shade(const raster::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
+  void shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
 
   // Per vertex of the last shaded product: its colour, and its unshadowed radiance.
-  std::span<const raster::Rgb8> colours() const { return colours_; }
+  std::span<const core::Rgb8> colours() const { return colours_; }
   std::span<const glm::dvec3> radiance() const { return radiance_; }
   // [source * vertices + v]: the form-factor transfer from source `source` (index into
   // SourceReceiverSets::sources) to vertex v, unshadowed.
@@ -59,7 +59,7 @@ class ProductShading {
   float environmentFar_ = 0;            // far plane of the environment maps
   CubeEnvironmentMap environment_;
   std::vector<PhongLobe> lobes_;  // per product
-  std::vector<raster::Rgb8> colours_;
+  std::vector<core::Rgb8> colours_;
   std::vector<glm::dvec3> radiance_;
   std::vector<glm::vec3> volumeRadiance_;  // per vertex, from the irradiance volume
   std::vector<glm::dvec3> sourceTransfers_;

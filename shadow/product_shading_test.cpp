@@ -29,7 +29,7 @@ struct Room {
     ProductModel m;
     m.reflectance = {0.5f, 0.25f, 1.0f};
     bundle.products = {m};
-    bundle.view.cameraViewProj = raster::Mat4::identity();
+    bundle.view.cameraViewProj = core::Mat4::identity();
   }
   SceneBundle bundle;
   scene::PatchMesh mesh;
@@ -39,11 +39,11 @@ TEST(ProductShading, EmittersLightTheVerticesAndSourcesKeepTheirTransfers) {
   const Room room;
   ProductShading shading(room.bundle, room.mesh, scene::Aabb{{-2, 0, -2}, {2, 3, 2}}, {});
   // One triangle facing +y (cross product of length 1: the normal is exactly (0, 1, 0)).
-  raster::Mesh placed;
+  core::Mesh placed;
   placed.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}};
   placed.indices = {0, 1, 2};
   scene::Aabb bounds = scene::Aabb::emptyBox();
-  for (const raster::Vec3& p : placed.positions) bounds.extend({p.x, p.y, p.z});
+  for (const core::Vec3& p : placed.positions) bounds.extend({p.x, p.y, p.z});
   shading.shade(placed, bounds, 0);
 
   ASSERT_EQ(shading.colours().size(), 3u);
@@ -70,12 +70,12 @@ TEST(ProductShading, EmittersLightTheVerticesAndSourcesKeepTheirTransfers) {
 TEST(ProductShading, ShadingFollowsTheLastPlacement) {
   const Room room;
   ProductShading shading(room.bundle, room.mesh, scene::Aabb{{-2, 0, -2}, {2, 3, 2}}, {});
-  raster::Mesh placed;
+  core::Mesh placed;
   placed.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}};
   placed.indices = {0, 1, 2};
   shading.shade(placed, scene::Aabb{{0, 0, 0}, {1, 0, 1}}, 0);
   const glm::dvec3 near = shading.radiance()[0];
-  for (raster::Vec3& p : placed.positions) p.y -= 1.0f;  // a metre further from the lamps
+  for (core::Vec3& p : placed.positions) p.y -= 1.0f;  // a metre further from the lamps
   shading.shade(placed, scene::Aabb{{0, -1, 0}, {1, -1, 1}}, 0);
   EXPECT_LT(shading.radiance()[0].x, near.x);
   // Facing away from every lamp: no light, T(0).

@@ -11,20 +11,20 @@ namespace {
 using scene::BundleReader;
 using scene::BundleWriter;
 
-void addMesh(BundleWriter& w, const std::string& name, const raster::Mesh& mesh) {
-  w.add<raster::Vec3>(name + ".positions", mesh.positions);
+void addMesh(BundleWriter& w, const std::string& name, const core::Mesh& mesh) {
+  w.add<core::Vec3>(name + ".positions", mesh.positions);
   w.add<uint32_t>(name + ".indices", mesh.indices);
 }
 
-raster::Mesh readMesh(const BundleReader& r, const std::string& name) {
-  raster::Mesh m;
-  m.positions = r.get<raster::Vec3>(name + ".positions");
+core::Mesh readMesh(const BundleReader& r, const std::string& name) {
+  core::Mesh m;
+  m.positions = r.get<core::Vec3>(name + ".positions");
   m.indices = r.get<uint32_t>(name + ".indices");
   if (m.indices.size() % 3 != 0) r.fail(name + ".indices", "count is not a multiple of 3");
   for (uint32_t i : m.indices) {
     if (i >= m.positions.size()) r.fail(name + ".indices", "index out of range");
   }
-  for (const raster::Vec3& p : m.positions) {
+  for (const core::Vec3& p : m.positions) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
       r.fail(name + ".positions", "non-finite position");
     }
@@ -46,13 +46,13 @@ void addNames(BundleWriter& w, const std::vector<ProductModel>& products) {
 
 }  // namespace
 
-void placeMesh(const raster::Mesh& in, const ProductPose& pose, raster::Mesh& out) {
+void placeMesh(const core::Mesh& in, const ProductPose& pose, core::Mesh& out) {
   double s, c;
   scene::sinCosDegrees(pose.yawDegrees, s, c);  // not libm: same bits on every machine
   out.indices = in.indices;
   out.positions.resize(in.positions.size());
   for (size_t i = 0; i < in.positions.size(); ++i) {
-    const raster::Vec3& p = in.positions[i];
+    const core::Vec3& p = in.positions[i];
     out.positions[i] = {static_cast<float>(c * p.x + s * p.z + pose.x),
                         static_cast<float>(p.y + pose.lift),  // the floor is y = 0
                         static_cast<float>(-s * p.x + c * p.z + pose.z)};
@@ -61,7 +61,7 @@ void placeMesh(const raster::Mesh& in, const ProductPose& pose, raster::Mesh& ou
 
 scene::PatchMesh patchMeshOf(const SceneBundle& b) {
   scene::PatchMesh m;
-  for (const raster::Vec3& p : b.view.staticMesh.positions) m.positions.emplace_back(p.x, p.y, p.z);
+  for (const core::Vec3& p : b.view.staticMesh.positions) m.positions.emplace_back(p.x, p.y, p.z);
   m.indices = b.view.staticMesh.indices;
   m.trianglePatch = b.trianglePatch;
   m.normals.assign(m.positions.size(), glm::dvec3(0.0));
@@ -87,7 +87,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   BundleWriter w(kBundleVersion);
   w.addValue<uint32_t>("view.width", b.view.width);
   w.addValue<uint32_t>("view.height", b.view.height);
-  w.addValue<raster::Mat4>("view.camera", b.view.cameraViewProj);
+  w.addValue<core::Mat4>("view.camera", b.view.cameraViewProj);
   addMesh(w, "view.static_mesh", b.view.staticMesh);
   w.add<uint8_t>("background", b.background);
   w.add<uint32_t>("triangle_patch", b.trianglePatch);
@@ -131,7 +131,7 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
   SceneBundle b;
   b.view.width = r.getValue<uint32_t>("view.width");
   b.view.height = r.getValue<uint32_t>("view.height");
-  b.view.cameraViewProj = r.getValue<raster::Mat4>("view.camera");
+  b.view.cameraViewProj = r.getValue<core::Mat4>("view.camera");
   b.view.staticMesh = readMesh(r, "view.static_mesh");
   b.background = r.get<uint8_t>("background");
   b.trianglePatch = r.get<uint32_t>("triangle_patch");

@@ -36,8 +36,8 @@ struct PatchRecord {
 // Phong-like specular lobe (Gibson & Chalmers 2003 §5; strength 0 = purely diffuse).
 struct ProductModel {
   std::string name;
-  raster::Mesh mesh;
-  raster::Mesh proxy;
+  core::Mesh mesh;
+  core::Mesh proxy;
   glm::vec3 reflectance{0.6f};
   glm::vec3 specular{0.0f};       // specular reflectance per channel, in [0, 1]
   float specularExponent = 0.0f;  // Phong exponent of the lobe, >= 0
@@ -54,7 +54,7 @@ struct ProductPose {
 // sin/cos, scene/portable_trig.h), lifted, moved to (x, z), rounded to float. The one
 // placement shared by the per-frame compositor and the ray-traced reference, so both see
 // the product in the same place to the bit. The pose's product index is not used.
-void placeMesh(const raster::Mesh& in, const ProductPose& pose, raster::Mesh& out);
+void placeMesh(const core::Mesh& in, const ProductPose& pose, core::Mesh& out);
 
 struct SceneBundle {
   raster::StaticView view;              // image size, camera, the room's triangles

@@ -14,7 +14,7 @@ SceneBundle smallBundle() {
   SceneBundle b;
   b.view.width = 4;
   b.view.height = 2;
-  b.view.cameraViewProj = raster::Mat4::identity();
+  b.view.cameraViewProj = core::Mat4::identity();
   b.view.staticMesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
   b.view.staticMesh.indices = {0, 1, 2, 0, 2, 3};
   b.background.assign(4 * 2 * 4, 77);

@@ -1,4 +1,5 @@
 #include "shadow/shaft_hierarchy.h"
+#include "core/random.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "shadow/intensity_transfer.h"  // splitmix64, a seeded counter-based generator
+#include "shadow/intensity_transfer.h"  // core::splitmix64, a seeded counter-based generator
 
 namespace penumbra::shadow {
 
@@ -114,7 +115,7 @@ using testing::buildTestRoom;
 
 // Uniform double in [0, 1) from a counter.
 double uniform(uint64_t& counter) {
-  return static_cast<double>(splitmix64(counter++) >> 11) * 0x1.0p-53;
+  return static_cast<double>(core::splitmix64(counter++) >> 11) * 0x1.0p-53;
 }
 
 // Segment a-b (inclusive ends) against a closed box: slab clipping.

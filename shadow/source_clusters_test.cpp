@@ -1,4 +1,5 @@
 #include "shadow/source_clusters.h"
+#include "core/random.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "shadow/intensity_transfer.h"  // splitmix64
+#include "shadow/intensity_transfer.h"  // core::splitmix64
 
 namespace penumbra::shadow {
 namespace testing {
@@ -45,7 +46,7 @@ std::vector<uint32_t> sorted(std::vector<uint32_t> v) {
 std::vector<uint32_t> randomSubset(size_t count, uint64_t seed, double keep) {
   std::vector<uint32_t> out;
   for (uint32_t s = 0; s < count; ++s) {
-    if (static_cast<double>(splitmix64(seed * 1000003u + s) >> 11) * 0x1.0p-53 < keep) {
+    if (static_cast<double>(core::splitmix64(seed * 1000003u + s) >> 11) * 0x1.0p-53 < keep) {
       out.push_back(s);
     }
   }

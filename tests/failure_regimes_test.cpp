@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench/faint_pass_drift.h"
+#include "core/random.h"
 #include "shadow/intensity_transfer.h"
 #include "simd/u8_ops.h"
 
@@ -77,7 +78,7 @@ OcclusionError occlusionError(int sources, int occluded, double share, int trial
   const size_t n = size_t(sources);
   std::vector<glm::dvec3> transfers(n);
   std::vector<uint8_t> sets(n);
-  std::vector<raster::Rgb8> graded(n), fig4(n);
+  std::vector<core::Rgb8> graded(n), fig4(n);
   std::vector<size_t> order(n);
   long count = 0;
   for (int v = 1; v <= 32; ++v) {
@@ -85,7 +86,7 @@ OcclusionError occlusionError(int sources, int occluded, double share, int trial
     double weightSum = 0;
     std::vector<double> w(n);
     for (size_t j = 0; j < n; ++j) {
-      w[j] = 0.5 + double(shadow::splitmix64(uint64_t(v) * 7919u + j) >> 11) * 0x1.0p-53;
+      w[j] = 0.5 + double(core::splitmix64(uint64_t(v) * 7919u + j) >> 11) * 0x1.0p-53;
       weightSum += w[j];
     }
     // Fig. 4's order: decreasing transfer (§7.1.1 pre-process).
@@ -99,7 +100,7 @@ OcclusionError occlusionError(int sources, int occluded, double share, int trial
       std::iota(order.begin(), order.end(), size_t{0});
       std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
         const uint64_t s = uint64_t(v) * 1000003u + uint64_t(t) * 65537u;
-        return shadow::splitmix64(s + a) < shadow::splitmix64(s + b);
+        return core::splitmix64(s + a) < core::splitmix64(s + b);
       });
       std::vector<bool> blocked(n, false);
       double blockedLight = 0;

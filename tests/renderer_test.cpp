@@ -127,7 +127,7 @@ TEST(Renderer, RejectsBadOptions) {
   EXPECT_THROW(raster::Renderer(t.view, {simd::Isa::kScalar, 0, 32}), std::invalid_argument);
   EXPECT_THROW(raster::Renderer(t.view, {simd::Isa::kScalar, 1, 24}), std::invalid_argument);
   raster::StaticView singular = t.view;
-  singular.cameraViewProj = raster::Mat4{};
+  singular.cameraViewProj = core::Mat4{};
   EXPECT_THROW(raster::Renderer(singular, {}), raster::TraceError);
 }
 

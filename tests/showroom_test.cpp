@@ -93,8 +93,8 @@ TEST(Showroom, ProductInViewOutsideEveryShaftGetsNoPass) {
 // silent: the stats count them (`penumbra render` warns on stderr).
 TEST(Showroom, ProductLargerThanTheRoomReportsItsMissingShadow) {
   shadow::SceneBundle huge = showroom();
-  for (raster::Mesh* m : {&huge.products[0].mesh, &huge.products[0].proxy}) {
-    for (raster::Vec3& p : m->positions) p = {p.x * 12.0f, p.y * 12.0f, p.z * 12.0f};
+  for (core::Mesh* m : {&huge.products[0].mesh, &huge.products[0].proxy}) {
+    for (core::Vec3& p : m->positions) p = {p.x * 12.0f, p.y * 12.0f, p.z * 12.0f};
   }
   shadow::FrameCompositor compositor(huge, {});
   raster::FrameContent frame;
@@ -263,7 +263,7 @@ TEST(Showroom, GltfProductCarriesItsMaterial) {
   const raster::FrameContent with = compose(true), without = compose(false);
   size_t brighter = 0, darker = 0;
   for (size_t v = 0; v < with.objects[0].colours.size(); ++v) {
-    const raster::Rgb8 a = with.objects[0].colours[v], d = without.objects[0].colours[v];
+    const core::Rgb8 a = with.objects[0].colours[v], d = without.objects[0].colours[v];
     brighter += a.r + a.g + a.b > d.r + d.g + d.b;
     darker += a.r < d.r || a.g < d.g || a.b < d.b;
   }

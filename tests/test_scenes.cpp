@@ -15,14 +15,14 @@ uint64_t mix(uint64_t x) {
   return x ^ (x >> 31);
 }
 
-void addQuad(raster::Mesh& m, raster::Vec3 a, raster::Vec3 b, raster::Vec3 c, raster::Vec3 d) {
+void addQuad(core::Mesh& m, core::Vec3 a, core::Vec3 b, core::Vec3 c, core::Vec3 d) {
   const uint32_t base = static_cast<uint32_t>(m.positions.size());
   m.positions.insert(m.positions.end(), {a, b, c, d});
   m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
-raster::Mesh box(float cx, float cy, float cz, float h) {
-  raster::Mesh m;
+core::Mesh box(float cx, float cy, float cz, float h) {
+  core::Mesh m;
   const float x0 = cx - h, x1 = cx + h, y0 = cy - h, y1 = cy + h, z0 = cz - h, z1 = cz + h;
   addQuad(m, {x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1});
   addQuad(m, {x1, y0, z0}, {x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0});
@@ -48,7 +48,7 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
   t.view.cameraViewProj = camera.rasterViewProj();
 
   // Floor [-2, 2]^2 at y = 0 and a back wall at z = -2.
-  raster::Mesh& room = t.view.staticMesh;
+  core::Mesh& room = t.view.staticMesh;
   const int n = o.floorCells;
   const float step = 4.0f / static_cast<float>(n);
   for (int j = 0; j < n; ++j) {
@@ -78,7 +78,7 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
   }
 
   const float h = 0.3f;
-  raster::Mesh object = box(o.objectOffsetX, h, 0.0f, h);
+  core::Mesh object = box(o.objectOffsetX, h, 0.0f, h);
   if (o.objectVisible) {
     raster::ShadedMesh shaded{object, {}};
     for (size_t i = 0; i < object.positions.size(); ++i) {

@@ -21,11 +21,11 @@
 namespace penumbra::gl {
 namespace {
 
+using core::Mat4;
+using core::Mesh;
+using core::Rgb8;
+using core::Vec3;
 using raster::FrameTrace;
-using raster::Mat4;
-using raster::Mesh;
-using raster::Rgb8;
-using raster::Vec3;
 using D3 = std::array<double, 3>;
 
 D3 sub(const D3& a, const D3& b) {
@@ -43,8 +43,8 @@ D3 normalise(const D3& a) {
 }
 
 // GL-convention perspective * look-at, row-major (clip = M (x, y, z, 1)).
-Mat4 viewProj(const D3& eye, const D3& at, double fovyDeg, double aspect, double zNear,
-              double zFar) {
+core::Mat4 viewProj(const D3& eye, const D3& at, double fovyDeg, double aspect, double zNear,
+                    double zFar) {
   const D3 f = normalise(sub(at, eye));
   const D3 s = normalise(cross(f, {0, 1, 0}));
   const D3 u = cross(s, f);
@@ -69,7 +69,7 @@ Mat4 viewProj(const D3& eye, const D3& at, double fovyDeg, double aspect, double
                            0,
                            -1,
                            0};
-  Mat4 m;
+  core::Mat4 m;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) {
       double sum = 0;
@@ -81,8 +81,8 @@ Mat4 viewProj(const D3& eye, const D3& at, double fovyDeg, double aspect, double
 }
 
 // A grid of n x m quads spanning corner + i*du + j*dv, two triangles each.
-void addGrid(Mesh& mesh, const Vec3& corner, const Vec3& du, const Vec3& dv, uint32_t n,
-             uint32_t m) {
+void addGrid(core::Mesh& mesh, const core::Vec3& corner, const core::Vec3& du, const core::Vec3& dv,
+             uint32_t n, uint32_t m) {
   const auto base = static_cast<uint32_t>(mesh.positions.size());
   for (uint32_t j = 0; j <= m; ++j) {
     for (uint32_t i = 0; i <= n; ++i) {
@@ -99,8 +99,8 @@ void addGrid(Mesh& mesh, const Vec3& corner, const Vec3& du, const Vec3& dv, uin
   }
 }
 
-Mesh box(const Vec3& lo, const Vec3& hi) {
-  Mesh mesh;
+core::Mesh box(const core::Vec3& lo, const core::Vec3& hi) {
+  core::Mesh mesh;
   for (int k = 0; k < 8; ++k) {
     mesh.positions.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
   }
@@ -207,11 +207,11 @@ void expectAgreement(const ImageDiff& d) {
 
 TEST(GlReplay, WindowToTexelMatchesLightTransform) {
   // A world point through camera -> window, then P, lands where the light matrix puts it.
-  const Mat4 camera = viewProj({0.7, 3.2, 5.5}, {0, 0.4, 0}, 50, 256.0 / 192.0, 0.5, 30);
-  const Mat4 light = viewProj({2.5, 6.0, 2.0}, {0, 0, 0}, 100, 1.0, 0.5, 30);
-  const Mat4 p = windowToLightTexel(camera, 256, 192, light, 256);
+  const core::Mat4 camera = viewProj({0.7, 3.2, 5.5}, {0, 0.4, 0}, 50, 256.0 / 192.0, 0.5, 30);
+  const core::Mat4 light = viewProj({2.5, 6.0, 2.0}, {0, 0, 0}, 100, 1.0, 0.5, 30);
+  const core::Mat4 p = windowToLightTexel(camera, 256, 192, light, 256);
   const double pt[4] = {0.3, 0.2, -0.7, 1};
-  auto apply = [](const Mat4& m, const double* v, double* out) {
+  auto apply = [](const core::Mat4& m, const double* v, double* out) {
     for (size_t r = 0; r < 4; ++r) {
       out[r] = 0;
       for (size_t c = 0; c < 4; ++c) out[r] += double{m.m[4 * r + c]} * v[c];

@@ -14,7 +14,7 @@
 namespace penumbra::gl {
 namespace {
 
-using raster::Mat4;
+using core::Mat4;
 using Mat4d = std::array<double, 16>;
 
 // One vertex shader for every geometry draw (static depth, objects, receivers, shadow
@@ -90,7 +90,7 @@ out vec4 colour;
 void main() { colour = texelFetch(background, ivec2(gl_FragCoord.xy), 0); }
 )";
 
-Mat4d toDouble(const Mat4& m) {
+Mat4d toDouble(const core::Mat4& m) {
   Mat4d d{};
   for (size_t i = 0; i < 16; ++i) d[i] = m.m[i];
   return d;
@@ -142,15 +142,15 @@ Mat4d inverse(const Mat4d& m) {
   return inv;
 }
 
-void uploadMatrix(GLuint program, const char* name, const Mat4& m) {
+void uploadMatrix(GLuint program, const char* name, const core::Mat4& m) {
   // Our matrices are row-major; GL_TRUE transposes them into GL's column-major storage.
   glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_TRUE, m.m.data());
 }
 
 }  // namespace
 
-Mat4 windowToLightTexel(const Mat4& camera, uint32_t width, uint32_t height, const Mat4& light,
-                        uint32_t shadowMapSize) {
+core::Mat4 windowToLightTexel(const core::Mat4& camera, uint32_t width, uint32_t height,
+                              const core::Mat4& light, uint32_t shadowMapSize) {
   const double hw = width / 2.0, hh = height / 2.0, s = shadowMapSize / 2.0;
   const Mat4d windowToNdc = {1.0 / hw, 0,         0, -1,  //
                              0,        -1.0 / hh, 0, 1,   //
@@ -162,7 +162,7 @@ Mat4 windowToLightTexel(const Mat4& camera, uint32_t width, uint32_t height, con
                             0, 0,  0,   1};
   const Mat4d p = multiply(
       multiply(multiply(ndcToTexel, toDouble(light)), inverse(toDouble(camera))), windowToNdc);
-  Mat4 out;
+  core::Mat4 out;
   for (size_t i = 0; i < 16; ++i) out.m[i] = static_cast<float>(p[i]);
   return out;
 }
@@ -193,15 +193,14 @@ GlTraceReplay::GlTraceReplay(const raster::StaticView& view) : view_(view) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 
   // Static mesh: positions and indices stay in GL buffers across frames.
-  const raster::Mesh& mesh = view_.staticMesh;
+  const core::Mesh& mesh = view_.staticMesh;
   glGenVertexArrays(1, &staticVao_);
   glBindVertexArray(staticVao_);
   glGenBuffers(1, &staticPositions_);
   glBindBuffer(GL_ARRAY_BUFFER, staticPositions_);
-  glBufferData(GL_ARRAY_BUFFER,
-               static_cast<GLsizeiptr>(mesh.positions.size() * sizeof(raster::Vec3)),
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.positions.size() * sizeof(core::Vec3)),
                mesh.positions.data(), GL_STATIC_DRAW);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(raster::Vec3), nullptr);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(core::Vec3), nullptr);
   glEnableVertexAttribArray(0);
   glGenBuffers(1, &staticIndices_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, staticIndices_);
@@ -244,7 +243,7 @@ GlTraceReplay::~GlTraceReplay() {
   }
 }
 
-void GlTraceReplay::drawShadowMap(const raster::ShadowPass& pass, const raster::Mesh& occluder,
+void GlTraceReplay::drawShadowMap(const raster::ShadowPass& pass, const core::Mesh& occluder,
                                   ShadowTarget& target, int firstVertex) {
   const auto side = static_cast<GLsizei>(pass.shadowMapSize + 2);
   if (target.size != pass.shadowMapSize) {
@@ -293,12 +292,12 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   if (rgbaOut.size() != bytes || frame.background.size() != bytes) {
     throw std::invalid_argument("GlTraceReplay::render: buffer sizes do not match the view");
   }
-  const raster::Mesh& staticMesh = view_.staticMesh;
+  const core::Mesh& staticMesh = view_.staticMesh;
 
   // De-index this frame's geometry into one stream: objects, occluders, receivers.
   positions_.clear();
   attributes_.clear();
-  auto push = [&](const raster::Vec3& p, const raster::Rgb8& a) {
+  auto push = [&](const core::Vec3& p, const core::Rgb8& a) {
     positions_.insert(positions_.end(), {p.x, p.y, p.z});
     attributes_.insert(attributes_.end(), {a.r, a.g, a.b});
   };
@@ -309,9 +308,9 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
     for (uint32_t i : object.mesh.indices) push(object.mesh.positions[i], object.colours[i]);
     objectRanges.emplace_back(first, vertexCount() - first);
   }
-  for (const raster::Mesh& occluder : frame.occluders) {
+  for (const core::Mesh& occluder : frame.occluders) {
     const int first = vertexCount();
-    for (uint32_t i : occluder.indices) push(occluder.positions[i], raster::Rgb8{});
+    for (uint32_t i : occluder.indices) push(occluder.positions[i], core::Rgb8{});
     occluderRanges.emplace_back(first, vertexCount() - first);
   }
   for (const raster::ShadowPass& pass : frame.passes) {
@@ -397,8 +396,8 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
     const GLint bias = glGetUniformLocation(passProgram_, "depthBias");
     for (size_t p = 0; p < frame.passes.size(); ++p) {
       const raster::ShadowPass& pass = frame.passes[p];
-      const Mat4 toTexel = windowToLightTexel(view_.cameraViewProj, view_.width, view_.height,
-                                              pass.lightViewProj, pass.shadowMapSize);
+      const core::Mat4 toTexel = windowToLightTexel(view_.cameraViewProj, view_.width, view_.height,
+                                                    pass.lightViewProj, pass.shadowMapSize);
       glUniformMatrix4fv(windowToTexel, 1, GL_TRUE, toTexel.m.data());
       glUniform1f(invSide, 1.0f / static_cast<float>(pass.shadowMapSize + 2));
       glUniform1f(bias, pass.depthBias);

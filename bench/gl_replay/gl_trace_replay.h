@@ -25,8 +25,8 @@ namespace penumbra::gl {
 // Host-side composition of spec §7 in binary64, rounded to binary32 (row-major):
 // camera window (xw, yw y-down, zw) -> light texel (u, v row 0 at the top, depth).
 // Throws std::invalid_argument if the camera matrix is singular.
-raster::Mat4 windowToLightTexel(const raster::Mat4& camera, uint32_t width, uint32_t height,
-                                const raster::Mat4& light, uint32_t shadowMapSize);
+core::Mat4 windowToLightTexel(const core::Mat4& camera, uint32_t width, uint32_t height,
+                              const core::Mat4& light, uint32_t shadowMapSize);
 
 // One GL renderer for one StaticView. Needs a current GlContext on the calling thread for
 // its whole life. Throws GlError on any GL failure.
@@ -48,7 +48,7 @@ class GlTraceReplay {
     uint32_t size = 0;
     unsigned texture = 0, fbo = 0;
   };
-  void drawShadowMap(const raster::ShadowPass& pass, const raster::Mesh& occluder,
+  void drawShadowMap(const raster::ShadowPass& pass, const core::Mesh& occluder,
                      ShadowTarget& target, int firstVertex);
 
   raster::StaticView view_;

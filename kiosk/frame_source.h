@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 // Pixel layouts the backends deliver. Bytes in memory order.
 enum class PixelFormat : uint32_t {
@@ -57,4 +57,4 @@ class FrameSource {
 bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
             std::string& why);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

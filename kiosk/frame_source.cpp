@@ -1,6 +1,6 @@
-#include "platform/frame_source.h"
+#include "kiosk/frame_source.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 const char* pixelFormatName(PixelFormat format) {
   switch (format) {
@@ -113,4 +113,4 @@ bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vect
   return true;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,4 +1,4 @@
-#include "platform/kiosk_loop.h"
+#include "kiosk/kiosk_loop.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "scene/portable_trig.h"
 #include "shadow/frame_loop.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 void SteadyTimebase::sleepUntil(int64_t ns) {
   const int64_t now = nowNanoseconds();
@@ -18,7 +18,7 @@ void SteadyTimebase::sleepUntil(int64_t ns) {
 
 namespace {
 
-bool meshUsable(const raster::Mesh& m, std::string& why) {
+bool meshUsable(const core::Mesh& m, std::string& why) {
   if (m.positions.empty() || m.indices.empty() || m.indices.size() % 3 != 0) {
     why = "empty or not triangles";
     return false;
@@ -30,7 +30,7 @@ bool meshUsable(const raster::Mesh& m, std::string& why) {
       return false;
     }
   }
-  for (const raster::Vec3& p : m.positions) {
+  for (const core::Vec3& p : m.positions) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
       why = "a vertex is not a finite number";
       return false;
@@ -133,7 +133,7 @@ KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& opti
   const auto& pos = bundle.view.staticMesh.positions;
   s_->minX = s_->minZ = INFINITY;
   s_->maxX = s_->maxZ = -INFINITY;
-  for (const raster::Vec3& p : pos) {
+  for (const core::Vec3& p : pos) {
     s_->minX = std::min(s_->minX, p.x), s_->maxX = std::max(s_->maxX, p.x);
     s_->minZ = std::min(s_->minZ, p.z), s_->maxZ = std::max(s_->maxZ, p.z);
   }
@@ -465,4 +465,4 @@ void KioskLoop::setFault(const std::string& key, const std::string& hudText) {
   }
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,9 +1,9 @@
-#include "raster/job_pool.h"
+#include "core/job_pool.h"
 
 #include <algorithm>
 #include <chrono>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 namespace {
 
 void cpuRelax() {
@@ -97,4 +97,4 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, 
   job_ = nullptr;
 }
 
-}  // namespace penumbra::raster
+}  // namespace penumbra::core

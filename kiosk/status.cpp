@@ -1,6 +1,6 @@
-#include "platform/status.h"
+#include "kiosk/status.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 const char* ledStateName(LedState s) {
   switch (s) {
@@ -32,4 +32,4 @@ bool KioskLog::contains(const std::string& needle, int64_t untilNs) const {
   return false;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,11 +1,11 @@
-#include "platform/kiosk_config.h"
+#include "kiosk/kiosk_config.h"
 
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 namespace {
 
@@ -121,4 +121,4 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   return c;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 // One line per function. Four move buttons or a joystick's four switches map to
 // left/right/forward/back.
@@ -94,4 +94,4 @@ class Debouncer {
   std::array<Line, kButtonCount> lines_{};
 };
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

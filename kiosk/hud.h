@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 struct Rgb {
   uint8_t r, g, b;
@@ -37,4 +37,4 @@ struct HudInfo {
 // Top band: "30.0 FPS  24 PASSES  CHAIR  FAST"; bottom: the warnings.
 void drawHud(std::span<uint8_t> rgba, uint32_t width, uint32_t height, const HudInfo& info);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 
 class JobPool {
  public:
@@ -53,4 +53,4 @@ class JobPool {
   bool stop_ = false;  // under mutex_
 };
 
-}  // namespace penumbra::raster
+}  // namespace penumbra::core

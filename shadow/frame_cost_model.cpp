@@ -1,6 +1,5 @@
-#include "shadow/clock.h"
+#include "shadow/frame_cost_model.h"
 
-#include <chrono>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -23,39 +22,7 @@ int64_t addSat(int64_t a, int64_t b) {
   return __builtin_add_overflow(a, b, &out) ? kInt64Max : out;
 }
 
-// Stateless: one instance serves every default Stopwatch.
-SteadyClock& steadyClock() {
-  static SteadyClock clock;
-  return clock;
-}
-
 }  // namespace
-
-Stopwatch::Stopwatch() : Stopwatch(steadyClock()) {}
-
-double Stopwatch::lap() {
-  const int64_t now = clock_.nowNanoseconds();
-  const int64_t elapsed = now - lastNs_;
-  lastNs_ = now;
-  return static_cast<double>(elapsed) / 1e6;
-}
-
-int64_t SteadyClock::nowNanoseconds() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-VirtualClock::VirtualClock(int64_t startNs) : nowNs_(startNs) {}
-
-void VirtualClock::advance(int64_t ns) {
-  if (ns < 0) {
-    throw std::invalid_argument("VirtualClock::advance: ns must be >= 0 (got " +
-                                std::to_string(ns) + "); a clock never runs backwards");
-  }
-  if (nowNs_ > kInt64Max - ns) throw std::overflow_error("VirtualClock::advance: overflow");
-  nowNs_ += ns;
-}
 
 CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
     : params_(params), loadSteps_(std::move(loadSteps)) {

@@ -1,6 +1,6 @@
 // Product model files (platform/product_files.h) with the faulty models of
 // data/sessions/faulty-models/: each refused naming the file and the reason.
-#include "platform/product_files.h"
+#include "kiosk/product_files.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "tests/scratch_dir.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 namespace fs = std::filesystem;
@@ -66,7 +66,7 @@ TEST(ProductFiles, GoodModelIsPlacedOnTheFloorAndKeepsTheMaterial) {
   EXPECT_GT(m.mesh.triangleCount(), 10u);
   EXPECT_EQ(m.proxy, m.mesh);
   float minY = 1e9f, minX = 1e9f, maxX = -1e9f;
-  for (const raster::Vec3& p : m.mesh.positions) {
+  for (const core::Vec3& p : m.mesh.positions) {
     minY = std::min(minY, p.y), minX = std::min(minX, p.x), maxX = std::max(maxX, p.x);
   }
   EXPECT_EQ(minY, 0.0f);
@@ -100,7 +100,7 @@ TEST(ProductFiles, WatcherAppliesNewAndChangedFilesOnly) {
   auto changes = watcher.poll(b, log, 1);
   ASSERT_EQ(changes.size(), 1u);
   EXPECT_TRUE(changes[0].replaced);
-  const raster::Mesh chair = b.products[0].mesh;
+  const core::Mesh chair = b.products[0].mesh;
   EXPECT_TRUE(watcher.poll(b, log, 2).empty()) << "an unchanged file is not read again";
   // A corrupt copy lands over it: refused, the chair stays.
   fs::copy_file(kData / "sessions" / "faulty-models" / "nan-vertex.obj", file,
@@ -121,4 +121,4 @@ TEST(ProductFiles, WatcherAppliesNewAndChangedFilesOnly) {
 }
 
 }  // namespace
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "platform/exposure_control.h"
-#include "platform/product_files.h"
+#include "kiosk/exposure_control.h"
+#include "kiosk/product_files.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 class ConfigError : public std::runtime_error {
  public:
@@ -35,4 +35,4 @@ struct KioskConfig {
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,4 +1,4 @@
-#include "platform/exposure_control.h"
+#include "kiosk/exposure_control.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "scene/image_io.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 std::string checkControls(const CameraControls& c) {
   auto range = [](const char* name, double v, double lo, double hi) -> std::string {
@@ -104,4 +104,4 @@ std::vector<int32_t> exposureLadder(int32_t centreUs, uint32_t stops) {
   return out;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

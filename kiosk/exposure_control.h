@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "platform/frame_source.h"
-#include "platform/kiosk_loop.h"
-#include "platform/status.h"
+#include "kiosk/frame_source.h"
+#include "kiosk/kiosk_loop.h"
+#include "kiosk/status.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 struct CameraControls {
   int32_t exposureUs = 10'000;            // libcamera ExposureTime, microseconds
@@ -68,4 +68,4 @@ void writeBracket(const std::vector<BracketShot>& shots, uint32_t width, uint32_
 // 5 around 8000 µs: 2000, 4000, 8000, 16000, 32000.
 std::vector<int32_t> exposureLadder(int32_t centreUs, uint32_t stops);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -2,7 +2,7 @@
 // pipeline delay real sensors have: a control change takes effect `delay` frames after it
 // was requested. No camera exists on the build machines, so this is the camera's stand-in;
 // the libcamera backend implements the same ControllableCamera interface.
-#include "platform/exposure_control.h"
+#include "kiosk/exposure_control.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "shadow/clock.h"
+#include "core/clock.h"
 #include "tests/scratch_dir.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 class VirtualTimebase final : public Timebase {
@@ -24,7 +24,7 @@ class VirtualTimebase final : public Timebase {
   }
 
  private:
-  shadow::VirtualClock clock_;
+  core::VirtualClock clock_;
 };
 
 // A 30 fps sensor whose grey level is exposure / 100 µs (clipped), applying controls
@@ -157,4 +157,4 @@ TEST(ExposureBracket, LadderIsOneStopApartAroundTheCentre) {
 }
 
 }  // namespace
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

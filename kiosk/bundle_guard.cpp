@@ -1,10 +1,10 @@
-#include "platform/bundle_guard.h"
+#include "kiosk/bundle_guard.h"
 
 #include <system_error>
 
-#include "platform/kiosk_loop.h"
+#include "kiosk/kiosk_loop.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 // Loads and checks that at least one product can be shown; throws with the reason.
@@ -63,4 +63,4 @@ GuardedBundle loadBundleKeepingLastGood(const std::filesystem::path& configured,
   return out;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,9 +1,9 @@
-#include "platform/buttons.h"
+#include "kiosk/buttons.h"
 
 #include <algorithm>
 #include <stdexcept>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 constexpr std::array<const char*, kButtonCount> kNames = {
@@ -95,4 +95,4 @@ bool Debouncer::anyStuck() const {
   return false;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,10 +1,10 @@
-#include "platform/product_files.h"
+#include "kiosk/product_files.h"
 
 #include <cmath>
 
 #include "scene/mesh_io.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 shadow::ProductModel loadProductFile(const std::filesystem::path& file,
                                      const shadow::ProductModel& current) {
@@ -98,4 +98,4 @@ std::vector<ProductFileWatcher::Change> ProductFileWatcher::poll(shadow::SceneBu
   return changes;
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "platform/status.h"
+#include "kiosk/status.h"
 #include "shadow/scene_bundle.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 struct GuardedBundle {
   shadow::SceneBundle bundle;
@@ -32,4 +32,4 @@ GuardedBundle loadBundleKeepingLastGood(const std::filesystem::path& configured,
                                         const std::filesystem::path& lastGood, KioskLog& log,
                                         int64_t nowNs);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,4 +1,4 @@
-#include "raster/job_pool.h"
+#include "core/job_pool.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-namespace penumbra::raster {
+namespace penumbra::core {
 namespace {
 
 // Every index runs exactly once, on a valid worker, for any size and grain.
@@ -79,4 +79,4 @@ TEST(JobPool, DestructionJoinsIdleWorkers) {
 }
 
 }  // namespace
-}  // namespace penumbra::raster
+}  // namespace penumbra::core

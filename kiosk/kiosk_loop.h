@@ -22,17 +22,17 @@
 #include <string>
 #include <vector>
 
-#include "platform/buttons.h"
-#include "platform/frame_source.h"
-#include "platform/hud.h"
-#include "platform/status.h"
+#include "core/clock.h"
+#include "kiosk/buttons.h"
+#include "kiosk/frame_source.h"
+#include "kiosk/hud.h"
+#include "kiosk/status.h"
 #include "raster/renderer.h"
-#include "shadow/clock.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 // The rendering work of one frame, for a timebase that models its cost (the simulator).
 struct FrameWork {
@@ -45,7 +45,7 @@ struct FrameWork {
 
 // The kiosk's clock. On the board: the steady clock, and time passes by itself. In the
 // simulator: a virtual clock that charge() advances by a cost model.
-class Timebase : public shadow::Clock {
+class Timebase : public core::Clock {
  public:
   // Waits until `ns` (frame pacing: the kiosk does not run faster than its target rate).
   virtual void sleepUntil(int64_t ns) = 0;
@@ -59,7 +59,7 @@ class SteadyTimebase final : public Timebase {
   void sleepUntil(int64_t ns) override;
 
  private:
-  shadow::SteadyClock clock_;
+  core::SteadyClock clock_;
 };
 
 struct KioskOptions {
@@ -156,4 +156,4 @@ class KioskLoop {
 std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
                                        std::vector<std::string>& why);
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 // ready: camera frames flowing, buttons present, frame rate met. degraded: the kiosk runs
 // but something is wrong and the screen may show an old camera frame (it says so). error:
@@ -63,4 +63,4 @@ class KioskLog {
   std::vector<LogLine> lines_;
 };
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

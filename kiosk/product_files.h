@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "platform/status.h"
+#include "kiosk/status.h"
 #include "shadow/scene_bundle.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 
 class ProductFileError : public std::runtime_error {
  public:
@@ -76,4 +76,4 @@ class ProductFileWatcher {
   std::vector<Watched> files_;
 };
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,6 +1,6 @@
 // The board program's configuration (platform/kiosk_config.h): the camera keys and the
 // strictness that names the file and the key.
-#include "platform/kiosk_config.h"
+#include "kiosk/kiosk_config.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "tests/scratch_dir.h"
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 std::filesystem::path write(const std::string& text) {
@@ -76,4 +76,4 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
 }
 
 }  // namespace
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk

@@ -1,8 +1,8 @@
-#include "platform/hud.h"
+#include "kiosk/hud.h"
 
 #include <array>
 
-namespace penumbra::platform {
+namespace penumbra::kiosk {
 namespace {
 
 // 5×7 glyphs, one byte per row from the top, bit 4 the leftmost column.
@@ -134,4 +134,4 @@ void drawHud(std::span<uint8_t> rgba, uint32_t width, uint32_t height, const Hud
   }
 }
 
-}  // namespace penumbra::platform
+}  // namespace penumbra::kiosk
