@@ -1,7 +1,6 @@
 #include "apps/scene_commands.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -13,7 +12,7 @@
 #include "raster/renderer.h"
 #include "scene/image_io.h"
 #include "scene/sha256.h"
-#include "shadow/frame_compositor.h"
+#include "shadow/frame_loop.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
 #ifdef PENUMBRA_HAVE_LIGHTING
@@ -23,11 +22,6 @@
 
 namespace penumbra::apps {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -84,32 +78,19 @@ shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
   return pose;
 }
 
-// One product in the showroom, frame after frame (design §1, per frame): compose the frame,
-// render it with occlusion probes at the receiver vertices, feed the measured occlusion back
-// to the compositor for the next frame (docs/fig3.md).
+// One product in the showroom, frame after frame (design §1, per frame): the bundle, the
+// pose the flags ask for, and the per-frame loop (shadow/frame_loop.h).
 struct Session {
   explicit Session(const SceneFlags& flags)
       : bundle(shadow::loadBundle(flags.bundle)),
         pose(poseOf(flags, bundle)),
-        compositor(bundle, {}),
-        renderer(bundle.view, toOptions(flags.render)),
-        rgba(bundle.background.size()) {}
+        loop(bundle, shadow::CompositorOptions{}, toOptions(flags.render)) {}
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
-  void step(const shadow::ProductPose& p, size_t passes, uint32_t frameNumber) {
-    compositor.compose(p, passes, frameNumber, frame, stats);
-    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
-    compositor.observe(masks);
-  }
-
   const shadow::SceneBundle bundle;
   const shadow::ProductPose pose;
-  shadow::FrameCompositor compositor;
-  raster::Renderer renderer;
-  raster::FrameContent frame;
-  shadow::CompositeStats stats;
-  std::vector<uint8_t> rgba, masks;
+  shadow::FrameLoop loop;
 };
 
 // --- render ------------------------------------------------------------------------------
@@ -125,7 +106,8 @@ struct RenderCommand {
     Session session(scene);
     const shadow::SceneBundle& bundle = session.bundle;
     const shadow::ProductPose& pose = session.pose;
-    const shadow::CompositeStats& stats = session.stats;
+    shadow::FrameLoop& loop = session.loop;
+    const shadow::CompositeStats& stats = loop.stats;
     uint32_t n = static_cast<uint32_t>(passes);
     double msFrame = 0;
     if (fps > 0) {
@@ -138,30 +120,25 @@ struct RenderCommand {
       o.minPasses = 4;
       o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
       shadow::FrameRateController controller(o);
-      core::SteadyClock clock;
       for (uint32_t f = 1; f <= 40; ++f) {
         const shadow::FrameRateController::Decision d = controller.next();
         n = d.passes;
-        session.compositor.setShadowMapSize(d.shadowMapSize);
-        const int64_t t0 = clock.nowNanoseconds();
-        session.step(pose, n, f);
-        const int64_t dt = clock.nowNanoseconds() - t0;
-        controller.report(dt, n, session.renderer.lastStats().passPixels);
-        msFrame = double(dt) * 1e-6;
+        loop.step(pose, d);
+        controller.report(loop.frameNs, n, loop.renderer.lastStats().passPixels);
+        msFrame = double(loop.frameNs) * 1e-6;
       }
     } else {
       // Two frames of the still product: the first measures where it blocks the light, the
       // second takes its intensity transfers at those occluded shares (docs/fig3.md).
       for (uint32_t f = 1; f <= 2; ++f) {
-        const auto t0 = Clock::now();
-        session.step(pose, n, f);
-        msFrame = msSince(t0);
+        loop.step(pose, n);
+        msFrame = double(loop.frameNs) * 1e-6;
       }
     }
     std::printf("product %s at (%.3f, %.3f, %.3f) yaw %.1f\n",
                 bundle.products[pose.product].name.c_str(), double(pose.x), double(pose.lift),
                 double(pose.z), double(pose.yawDegrees));
-    const shadow::ShaftHierarchy& h = session.compositor.hierarchy();
+    const shadow::ShaftHierarchy& h = loop.compositor.hierarchy();
     std::printf("shaft_hierarchy shafts %zu leaf_shafts %zu memory_kb %.1f\n", h.shaftCount(),
                 h.leafShaftCount(), double(h.memoryBytes()) / 1024.0);
     std::printf(
@@ -178,10 +155,10 @@ struct RenderCommand {
     }
     std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
                 stats.msTraversal, stats.msClusters, stats.msTransfers,
-                session.renderer.lastStats().msTotal);
-    if (!trace.empty()) raster::saveTrace({bundle.view, session.frame}, trace);
-    if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, session.rgba);
-    if (hash) std::printf("sha256 %s\n", scene::sha256Hex(session.rgba).c_str());
+                loop.renderer.lastStats().msTotal);
+    if (!trace.empty()) raster::saveTrace({bundle.view, loop.frame}, trace);
+    if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, loop.rgba);
+    if (hash) std::printf("sha256 %s\n", scene::sha256Hex(loop.rgba).c_str());
     return 0;
   }
 };
@@ -196,8 +173,9 @@ struct ProfileCommand {
 
   int run() const {
     Session session(scene);
-    const shadow::CompositeStats& stats = session.stats;
-    const raster::Renderer& renderer = session.renderer;
+    shadow::FrameLoop& loop = session.loop;
+    const shadow::CompositeStats& stats = loop.stats;
+    const raster::Renderer& renderer = loop.renderer;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
@@ -205,17 +183,15 @@ struct ProfileCommand {
            "ms_finish\n";
     std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "total",
                 "travers", "cluster", "transfer", "shadows", "finish");
-    uint32_t frameNumber = 1;
     for (int asked : passes) {
       std::vector<double> total, trav, clus, xfer, obj, pass, fin;
       for (int f = 0; f < frames + 1; ++f) {
         // The product slides a little every frame, as on the kiosk, so nothing is cached.
         shadow::ProductPose p = session.pose;
         p.x += 0.01f * float(f % 7);
-        const auto t0 = Clock::now();
-        session.step(p, size_t(asked), frameNumber++);
+        loop.step(p, size_t(asked));
         if (f == 0) continue;  // warm-up
-        total.push_back(msSince(t0));
+        total.push_back(double(loop.frameNs) * 1e-6);
         trav.push_back(stats.msTraversal);
         clus.push_back(stats.msClusters);
         xfer.push_back(stats.msTransfers + stats.msObject);
@@ -273,7 +249,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
       ->capture_default_str();
   commands.push_back(
       {pre, [precompute, precomputeOptions] {
-         const auto t0 = Clock::now();
+         core::Stopwatch watch;
          const scene::SceneDescription scene = scene::loadSceneFile(precompute->first);
          std::vector<lighting::StageTiming> timings;
          const shadow::SceneBundle bundle = lighting::precomputeBundle(
@@ -288,7 +264,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
          std::printf("patches %zu sources %zu receivers %zu transfer_entries %zu\n",
                      bundle.patches.size(), bundle.sets.sources.size(),
                      bundle.sets.receivers.size(), bundle.transfers.entryVertex.size());
-         std::printf("total %.1f ms -> %s\n", msSince(t0), precompute->second.c_str());
+         std::printf("total %.1f ms -> %s\n", watch.lap(), precompute->second.c_str());
          return 0;
        }});
 #endif

@@ -1,7 +1,7 @@
 // Charts (a) and (b) data: ms/frame and error against the reference over blending passes ×
 // shadow-map size × source-set share (Gibson 2003 §4 source share, §7.2 map size, §8–9
 // passes; design §4), on the showroom, through the real per-frame pipeline
-// (shadow::FrameCompositor + raster::Renderer, as `penumbra render` / `profile`).
+// (shadow::FrameLoop, as `penumbra render` / `profile` and the kiosk).
 //
 // The reference is pluggable: --reference REF.png (e.g. the ray-traced ground truth, once it
 // lands); without it, a high-quality Penumbra render (the largest share in --shares, the most
@@ -12,7 +12,6 @@
 //   penumbra-accuracy-sweep data/showroom/showroom.json --csv sweep.csv
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -31,7 +30,6 @@
 namespace {
 
 using namespace penumbra;
-using Clock = std::chrono::steady_clock;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -145,11 +143,8 @@ int main(int argc, char** argv) {
             // The product slides a little every frame, as on the kiosk (and in `profile`).
             shadow::ProductPose p = pose;
             p.x += 0.01f * float(f % 7);
-            const auto t0 = Clock::now();
             r.step(p, size_t(n));
-            if (f > 0) {
-              ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-            }
+            if (f > 0) ms.push_back(double(r.frameNs) * 1e-6);
           }
           r.still(pose, size_t(n));
           const reference::ImageComparison c = reference::compareImages(

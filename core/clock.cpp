@@ -6,6 +6,24 @@
 #include <string>
 
 namespace penumbra::core {
+namespace {
+
+// Stateless: one instance serves every default Stopwatch.
+SteadyClock& steadyClock() {
+  static SteadyClock clock;
+  return clock;
+}
+
+}  // namespace
+
+Stopwatch::Stopwatch() : Stopwatch(steadyClock()) {}
+
+double Stopwatch::lap() {
+  const int64_t now = clock_.nowNanoseconds();
+  const int64_t elapsed = now - lastNs_;
+  lastNs_ = now;
+  return static_cast<double>(elapsed) / 1e6;
+}
 
 int64_t SteadyClock::nowNanoseconds() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(

@@ -21,6 +21,20 @@ class SteadyClock final : public Clock {
   int64_t nowNanoseconds() override;
 };
 
+// Wall time between laps, in milliseconds: the per-frame stage timings (CompositeStats,
+// FrameLoop). Reads the steady clock unless given another one (tests: a VirtualClock).
+class Stopwatch {
+ public:
+  Stopwatch();
+  explicit Stopwatch(Clock& clock) : clock_(clock), lastNs_(clock.nowNanoseconds()) {}
+  // Milliseconds since construction or since the previous lap.
+  double lap();
+
+ private:
+  Clock& clock_;
+  int64_t lastNs_;
+};
+
 // A clock that only moves when told to. The simulator advances it by its cost model
 // (shadow::CostModel).
 class VirtualClock final : public Clock {

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "scene/portable_trig.h"
+#include "shadow/frame_loop.h"
 
 namespace penumbra::kiosk {
 
@@ -71,15 +72,11 @@ std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
 
 struct KioskLoop::State {
   State(const shadow::SceneBundle& b, const KioskOptions& o, const raster::RenderOptions& r)
-      : debouncer(o.debounce), compositor(b, {}), renderer(b.view, r), background(b.background) {}
+      : debouncer(o.debounce), loop(b, shadow::CompositorOptions{}, r), background(b.background) {}
 
   Debouncer debouncer;
   std::unique_ptr<shadow::FrameRateController> controller;
-  shadow::FrameCompositor compositor;
-  raster::Renderer renderer;
-  raster::FrameContent frame;
-  shadow::CompositeStats stats;
-  std::vector<uint8_t> masks;
+  shadow::FrameLoop loop;  // compose, render, observe; its rgba is the frame shown
   std::vector<RawEdge> edges;
   std::vector<ButtonAction> actions;
   std::vector<Debouncer::StuckChange> stuck;
@@ -109,7 +106,6 @@ struct KioskLoop::State {
   bool frameNew = false;
 
   // Frame bookkeeping.
-  uint32_t frameNo = 0;
   std::vector<int64_t> recentStarts;  // the last frames' start times, for the HUD's fps
   LedState led = LedState::kError;
   bool overBudget = false;
@@ -132,7 +128,6 @@ KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& opti
     throw std::invalid_argument("KioskLoop: the bundle has no usable product");
   }
   s_ = std::make_unique<State>(bundle, options_, render);
-  rgba_.assign(bundle.background.size(), 0);
 
   // The floor's extent from the room's own triangles (the patch mesh spans the shell).
   const auto& pos = bundle.view.staticMesh.positions;
@@ -326,7 +321,6 @@ FrameReport KioskLoop::step() {
   State& s = *s_;
   const int64_t start = io_.time->nowNanoseconds();
   FrameReport r;
-  r.frame = ++s.frameNo;
   r.startNs = start;
 
   // 1. Buttons, and attract mode when nobody has pressed one for a while.
@@ -357,14 +351,11 @@ FrameReport KioskLoop::step() {
 
   // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
   const shadow::FrameRateController::Decision d = s.controller->next();
-  s.compositor.setShadowMapSize(d.shadowMapSize);
-  s.compositor.compose(pose, d.passes, s.frameNo, s.frame, s.stats);
-  s.frame.background = s.background;
-  s.renderer.render(s.frame, rgba_, s.compositor.probes(), s.masks,
-                    s.compositor.objectProbesFrom());
-  s.compositor.observe(s.masks);
-  const uint64_t passPixels = s.renderer.lastStats().passPixels;
-  io_.time->charge({s.frameNo, s.stats.passes, d.shadowMapSize, passPixels, start});
+  s.loop.step(pose, d, s.background);
+  r.frame = s.loop.frameNumber;
+  const uint32_t passes = s.loop.stats.passes;
+  const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
+  io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start});
   if (d.overBudget != s.overBudget) {
     s.overBudget = d.overBudget;
     if (d.overBudget) {
@@ -423,26 +414,26 @@ FrameReport KioskLoop::step() {
   if (options_.hud) {
     HudInfo h;
     h.fpsTenths = fpsTenths;
-    h.passes = s.stats.passes;
+    h.passes = passes;
     h.shadowMapSize = d.shadowMapSize;
     h.product = bundle_.products[pose.product].name;
     h.mode = s.attract ? "ATTRACT" : (s.quality ? "QUALITY" : "FAST");
     h.warnings = r.warnings;
-    drawHud(rgba_, bundle_.view.width, bundle_.view.height, h);
+    drawHud(s.loop.rgba, bundle_.view.width, bundle_.view.height, h);
   }
   if (io_.display != nullptr &&
-      !io_.display->show(rgba_.data(), bundle_.view.width, bundle_.view.height)) {
+      !io_.display->show(s.loop.rgba.data(), bundle_.view.width, bundle_.view.height)) {
     r.quit = true;
   }
 
   const int64_t end = io_.time->nowNanoseconds();
-  s.controller->report(end - start, s.stats.passes, passPixels);
+  s.controller->report(end - start, passes, passPixels);
   const int64_t period = s.quality ? options_.qualityFrameNs : options_.fastFrameNs;
   if (end < start + period) io_.time->sleepUntil(start + period);
 
   r.endNs = end;
   r.workNs = end - start;
-  r.passes = s.stats.passes;
+  r.passes = passes;
   r.passesAsked = d.passes;
   r.shadowMapSize = d.shadowMapSize;
   r.passPixels = passPixels;
@@ -458,8 +449,12 @@ FrameReport KioskLoop::step() {
   return r;
 }
 
+const std::vector<uint8_t>& KioskLoop::shownFrame() const {
+  return s_->loop.rgba;
+}
+
 void KioskLoop::productReplaced(uint32_t index) {
-  s_->compositor.productModelChanged(index);
+  s_->loop.productModelChanged(index);
 }
 
 void KioskLoop::setFault(const std::string& key, const std::string& hudText) {

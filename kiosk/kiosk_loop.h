@@ -121,7 +121,7 @@ class KioskLoop {
   FrameReport step();
 
   // The frame last shown (RGBA8, HUD included when enabled).
-  const std::vector<uint8_t>& shownFrame() const { return rgba_; }
+  const std::vector<uint8_t>& shownFrame() const;
   uint32_t width() const { return bundle_.view.width; }
   uint32_t height() const { return bundle_.view.height; }
   const std::vector<uint32_t>& carousel() const { return carousel_; }
@@ -148,7 +148,6 @@ class KioskLoop {
   KioskOptions options_;
   Peripherals io_;
   std::unique_ptr<State> s_;
-  std::vector<uint8_t> rgba_;
   std::vector<uint32_t> carousel_;
 };
 

@@ -1,8 +1,17 @@
-// The per-frame pipeline of Gibson 2003 (design §1, "Per frame"): place the product, find
-// the light it blocks (§6.1 shaft traversal), group the blocked sources into n clusters
-// (§8), turn their radiance transfers into 8-bit intensity transfers (§7.1.1, Fig. 4),
-// and describe the frame for the rasterizer (raster::FrameContent: background, shaded
-// product, occluder proxy, one pass per cluster, Fig. 2).
+// The per-frame pipeline of Gibson 2003 (design §1, "Per frame"), as a sequence of stages,
+// each in its own file pair:
+//   1. shadow/product_placement  the product moved to its pose; its bounds
+//   2. shadow/product_shading    its colours through T() (Gibson & Chalmers 2003 §5) and
+//                                each source's transfer to its vertices (§7.2)
+//   3. shadow/blocked_light      §6.1 shaft traversal with the product's box, §8 clusters
+//   4. shadow/cluster_transfers  each cluster's transfer to each receiver and product
+//                                vertex, 8-bit intensity transfers S (§7.1.1, Fig. 4)
+//   5. shadow/pass_list          one shadow pass per cluster (Fig. 2, §7)
+//   6. shadow/occlusion_feedback after rendering: the occluded shares the next frame's S
+//                                are taken at (docs/fig3.md)
+// FrameCompositor owns the stages and runs 1-5 in compose(), 6 in observe(); the result is
+// a raster::FrameContent (background, shaded product, occluder proxy, the passes).
+// shadow/frame_loop.h runs compose -> render -> observe, frame after frame.
 //
 // Cost per frame: traversal and selection (tens of microseconds), one sparse sum per
 // cluster over its sources' transfers to the frame's receiver vertices, Fig. 4 per
@@ -15,11 +24,14 @@
 
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
-#include "shadow/environment_map.h"
-#include "shadow/irradiance_volume.h"
+#include "shadow/blocked_light.h"
+#include "shadow/cluster_transfers.h"
+#include "shadow/occlusion_feedback.h"
+#include "shadow/pass_list.h"
+#include "shadow/product_placement.h"
+#include "shadow/product_shading.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/shaft_hierarchy.h"
-#include "shadow/source_clusters.h"
 
 namespace penumbra::shadow {
 
@@ -84,8 +96,8 @@ class FrameCompositor {
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
   // as probes, then hand the masks to observe().
-  std::span<const core::Vec3> probes() const { return probes_; }
-  size_t objectProbesFrom() const { return frameVertices_.size(); }
+  std::span<const core::Vec3> probes() const { return transfers_.probes(); }
+  size_t objectProbesFrom() const { return transfers_.frameVertices().size(); }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded, and which sources they occluded
   // there (masks as Renderer::render fills them).
@@ -102,57 +114,20 @@ class FrameCompositor {
   const raster::StaticView& view() const { return bundle_.view; }
 
  private:
-  void placeProduct(const ProductPose& pose);
-  void shadeProduct();
-  void seenShare(int8_t state, const glm::dvec3& transfer, size_t at);
-  std::span<const double> clusterShares(size_t first, size_t clusters, float fallback);
+  PassListOptions passListOptions() const;
 
   const SceneBundle& bundle_;
   CompositorOptions options_;
   scene::PatchMesh mesh_;
   ShaftHierarchy hierarchy_;
-  std::vector<uint32_t> receiverVertexOf_;  // mesh vertex -> receiver vertex, or kNoIndex
-  std::vector<uint32_t> sourceOfPatch_;     // patch -> source index, or kNoIndex
-  std::vector<uint32_t> emitters_;          // patches with emitted radiance
-
-  // Per-frame state, reused.
-  TraversalResult traversal_;
-  ClusterSelection selection_;
-  ProductPose placedPose_{~0u, 0, 0, 0};
-  core::Mesh placedMesh_, placedProxy_;
-  std::vector<core::Rgb8> productColours_;
-  std::vector<glm::dvec3> productRadiance_;  // per vertex: unshadowed radiance
-  std::vector<glm::vec3> volumeRadiance_;    // per vertex, from the irradiance volume
-  ToneLut toneLut_;
-  ToneInverse toneInverse_;
-  raster::ShadedMesh environmentRoom_;  // the room as environment maps draw it
-  glm::vec3 eye_{0.0f};                 // the kiosk camera's position (from its matrix)
-  CubeEnvironmentMap environment_;
-  std::vector<PhongLobe> lobes_;             // per product
-  std::vector<glm::dvec3> productTransfer_;  // [source * vertices + v]: from each source
-  std::vector<glm::dvec3> productCluster_;   // [v * clusters + k]
-  std::vector<core::Rgb8> productS_;         // [v * clusters + k]
-  scene::Aabb productBounds_;
-  std::vector<uint32_t> frameVertices_;  // receiver vertices touched this frame
-  std::vector<uint32_t> vertexSlot_;     // receiver vertex -> slot in frameVertices_
-  std::vector<uint32_t> vertexSlotFrame_;
-  std::vector<glm::dvec3> clusterTransfer_;  // [slot * clusters + k]
-  std::vector<core::Rgb8> clusterS_;         // [slot * clusters + k]
-  std::vector<glm::dvec3> transfersScratch_;
-  std::vector<uint8_t> setsScratch_;
-  std::vector<core::Rgb8> sScratch_;
-  std::vector<uint32_t> passCluster_;  // emitted pass -> cluster
-  std::vector<core::Vec3> probes_;     // per slot
-  std::vector<float> occlusion_;       // per receiver vertex: measured share, or < 0
-  // [receiver vertex * sources + source]: 1 occluded, 0 not, as the last observed frame saw
-  // it at that vertex; -1 not seen. The same for the product's vertices.
-  std::vector<int8_t> sourceOccluded_;
-  std::vector<int8_t> productSourceOccluded_;
-  // Per slot (or product vertex) and cluster: luminance of the transfer from sources seen
-  // by the last observation, and of the part seen occluded.
-  std::vector<double> clusterSeen_, clusterOccluded_;
-  std::vector<double> sharesScratch_;
-  std::vector<float> productOcclusion_;  // per product vertex: measured share, or < 0
+  // The stages: compose() runs placement to pass list, the transfers reading the feedback's
+  // shares; observe() records the next ones.
+  ProductPlacement placement_;
+  ProductShading shading_;
+  BlockedLight blocked_;
+  OcclusionFeedback feedback_;
+  ClusterTransfers transfers_;
+  PassList passList_;
 };
 
 }  // namespace penumbra::shadow

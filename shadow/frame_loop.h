@@ -1,19 +1,28 @@
-// The per-frame loop of `penumbra render` for tools that measure it (`penumbra accuracy`,
-// penumbra-accuracy-sweep): compose the frame, render it with the occlusion probes, and
-// feed the measured occlusion to the next frame's graded transfers (docs/fig3.md).
+// The per-frame loop (design §1, "Per frame"), the one every caller runs — `penumbra render`
+// and `profile`, `penumbra accuracy`, penumbra-accuracy-sweep, the kiosk and with it the
+// simulated board: compose the frame (FrameCompositor), render it with the occlusion probes
+// (raster::Renderer), and feed the measured occlusion to the next frame's graded transfers
+// (FrameCompositor::observe, docs/fig3.md). Frames are numbered 1, 2, ... (the §6.1 frame
+// tags); the frame-rate controller's decisions (Gibson 2003 §8) set the shadow-map size and
+// the pass count; the kiosk's camera frame can replace the bundle's photograph.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "core/clock.h"
 #include "raster/renderer.h"
 #include "shadow/frame_compositor.h"
+#include "shadow/frame_rate_controller.h"
 #include "shadow/scene_bundle.h"
 
 namespace penumbra::shadow {
 
-struct FrameLoop {
+class FrameLoop {
+ public:
+  // `bundle` must outlive the loop.
   FrameLoop(const SceneBundle& bundle, uint32_t shadowMapSize, const raster::RenderOptions& o)
       : FrameLoop(bundle, optionsFor(shadowMapSize), o) {}
   FrameLoop(const SceneBundle& bundle, const CompositorOptions& c, const raster::RenderOptions& o)
@@ -24,24 +33,38 @@ struct FrameLoop {
     c.shadowMapSize = shadowMapSize;
     return c;
   }
-  void step(const ProductPose& pose, size_t passes) {
-    compositor.compose(pose, passes, ++frameNumber, frame, stats);
-    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
-    compositor.observe(masks);
-  }
+
+  // Frame frameNumber + 1 of the product at `pose` with at most `passes` clusters, into
+  // `rgba`, over `background` (RGBA8 at the view's size, e.g. the kiosk's camera frame)
+  // or, when it is empty, over the bundle's photograph.
+  void step(const ProductPose& pose, size_t passes, std::span<const uint8_t> background = {});
+  // The same with the frame-rate controller's decision: its shadow-map size from this frame
+  // on, at most its number of passes.
+  void step(const ProductPose& pose, const FrameRateController::Decision& decision,
+            std::span<const uint8_t> background = {});
   // A still product: the second frame uses the first one's measured occlusion, as
   // `penumbra render` does.
   void still(const ProductPose& pose, size_t passes) {
     step(pose, passes);
     step(pose, passes);
   }
+  // The bundle's product `product` was given a new model (kiosk product files): placed and
+  // shaded afresh in the next frame.
+  void productModelChanged(uint32_t product) { compositor.productModelChanged(product); }
 
   FrameCompositor compositor;
   raster::Renderer renderer;
   raster::FrameContent frame;
+  // The last frame's stage timings: CompositeStats (placement and shading, traversal,
+  // clusters, transfers) and renderer.lastStats() (objects, passes, finish); frameNs: the
+  // whole step, compose to observe, on the steady clock.
   CompositeStats stats;
+  int64_t frameNs = 0;
   std::vector<uint8_t> rgba, masks;  // RGBA8 frame; occlusion masks of the probes
-  uint32_t frameNumber = 0;
+  uint32_t frameNumber = 0;          // of the last frame; 0 before the first
+
+ private:
+  core::SteadyClock clock_;
 };
 
 }  // namespace penumbra::shadow

@@ -143,6 +143,16 @@ TEST(Clock, SteadyClockNeverRunsBackwards) {
   }
 }
 
+TEST(Clock, StopwatchLapsAreMillisecondsSinceTheLastLap) {
+  core::VirtualClock c(5'000);
+  core::Stopwatch watch(c);
+  c.advance(2'500'000);
+  EXPECT_EQ(watch.lap(), 2.5);
+  c.advance(1'000);
+  EXPECT_EQ(watch.lap(), 0.001);
+  EXPECT_EQ(watch.lap(), 0.0);
+}
+
 TEST(Clock, CostModelIsTheDocumentedIntegerFormula) {
   const CostModel m({1'000, 200, 3, 7}, {{100, 1500}, {200, 500}});
   // 1000 + (2·(200·1000 + 3·64²) + 7·10) / 1000 = 1000 + 424,646 / 1000 = 1424.

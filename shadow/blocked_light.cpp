@@ -1,0 +1,16 @@
+#include "shadow/blocked_light.h"
+
+#include "core/clock.h"
+
+namespace penumbra::shadow {
+
+void BlockedLight::find(const ShaftHierarchy& hierarchy, const scene::Aabb& bounds, uint32_t frame,
+                        size_t passes) {
+  core::Stopwatch watch;
+  hierarchy.traverse(bounds, frame, traversal);
+  msTraversal = watch.lap();
+  selectSourceClusters(hierarchy, traversal.sources, frame, passes, selection);
+  msClusters = watch.lap();
+}
+
+}  // namespace penumbra::shadow

@@ -1,0 +1,104 @@
+// The frame's transfers (design §1, per frame step 6): each cluster's radiance transfer to
+// each receiver vertex the frame touches, and to each of the product's own vertices — the
+// sum of its blocked sources' L_ij, so all blocked energy is accounted for (Gibson 2003
+// §8) — turned into 8-bit intensity transfers S per vertex and cluster (§7.1.1, Fig. 4:
+// shadow/intensity_transfer.h). Where the occlusion feedback measured a share the last frame
+// (shadow/occlusion_feedback.h), S is taken at that share instead of Fig. 4's two sets.
+// Also the probes at which the renderer measures the next feedback: the receiver vertices,
+// then the product's vertices.
+// Cost: one sparse sum per cluster over its sources' transfer rows, one Fig. 4 per vertex.
+// Buffers are reused; no allocation unless the receiver set grows.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+#include "scene/patch_mesh.h"
+#include "shadow/occlusion_feedback.h"
+#include "shadow/scene_bundle.h"
+#include "shadow/source_clusters.h"
+
+namespace penumbra::shadow {
+
+struct ClusterTransferOptions {
+  uint64_t setSeed = 1;         // Fig. 4's set assignment (stable per source patch)
+  bool gradedTransfers = true;  // take S at the measured shares where there are some
+  bool selfShadowing = true;    // the product's own vertices too (§7.2)
+};
+
+// The product as the transfers see it: its placed vertices, their unshadowed radiance and
+// each source's unshadowed transfer to them (ProductShading).
+struct ProductLight {
+  std::span<const core::Vec3> positions;
+  std::span<const glm::dvec3> radiance;         // per vertex
+  std::span<const glm::dvec3> sourceTransfers;  // [source * vertices + v]
+};
+
+// The frame's S per vertex and cluster, as the pass list reads them.
+struct VertexS {
+  std::span<const uint32_t> receiverVertexOf;  // mesh vertex -> receiver vertex, or kNoIndex
+  std::span<const uint32_t> vertexSlot;        // receiver vertex -> slot (this frame's only)
+  std::span<const core::Rgb8> receiverS;       // [slot * clusters + k]
+  std::span<const core::Rgb8> productS;        // [v * clusters + k]; empty: no self-shadowing
+  size_t clusters = 0;
+};
+
+class ClusterTransfers {
+ public:
+  // `bundle` and `mesh` (the bundle's patch mesh, patchMeshOf) must outlive the stage.
+  ClusterTransfers(const SceneBundle& bundle, const scene::PatchMesh& mesh,
+                   const ClusterTransferOptions& options);
+
+  // Transfers and S of `selection`'s clusters to the vertices of `receiverPatches` (the
+  // traversal's receiver list) and to the product's vertices. `frame` must change from call
+  // to call. Sums the feedback's seen shares on the way (OcclusionFeedback::beginShares).
+  void compute(std::span<const uint32_t> receiverPatches, const ClusterSelection& selection,
+               uint32_t frame, const ProductLight& product, OcclusionFeedback& feedback);
+
+  size_t clusters() const { return clusters_; }
+  // The frame's receiver vertices (indices into RadianceTransfers::receiverVertices), one
+  // slot each, in the order the receiver patches reached them.
+  std::span<const uint32_t> frameVertices() const { return frameVertices_; }
+  std::span<const glm::dvec3> receiverTransfers() const {  // [slot * clusters + k]
+    return receiverTransfers_;
+  }
+  // The product's vertices that receive passes (0 without self-shadowing), and their
+  // transfers ([v * clusters + k]).
+  size_t productVertices() const { return productVertices_; }
+  std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
+  VertexS s() const { return {receiverVertexOf_, vertexSlot_, receiverS_, productS_, clusters_}; }
+  // Receiver vertices' world positions by slot, then the product's vertices.
+  std::span<const core::Vec3> probes() const { return probes_; }
+  // Receiver and product vertices whose S used a measured share this frame.
+  uint32_t gradedVertices() const { return gradedVertices_; }
+
+ private:
+  void gatherFrameVertices(std::span<const uint32_t> receiverPatches, uint32_t frame);
+  void computeReceivers(const ClusterSelection& selection, uint32_t frame,
+                        OcclusionFeedback& feedback);
+  void computeProduct(const ClusterSelection& selection, const ProductLight& product,
+                      OcclusionFeedback& feedback);
+
+  const SceneBundle& bundle_;
+  const scene::PatchMesh& mesh_;
+  ClusterTransferOptions options_;
+  std::vector<uint32_t> receiverVertexOf_;  // mesh vertex -> receiver vertex, or kNoIndex
+  std::vector<uint32_t> vertexSlot_;        // receiver vertex -> slot in frameVertices_
+  std::vector<uint32_t> vertexSlotFrame_;   // receiver vertex -> frame that gave its slot
+  size_t clusters_ = 0, productVertices_ = 0;
+  uint32_t gradedVertices_ = 0;
+  std::vector<uint32_t> frameVertices_;
+  std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
+  std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]
+  std::vector<core::Rgb8> receiverS_;          // [slot * clusters + k]
+  std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
+  std::vector<core::Rgb8> productS_;           // [v * clusters + k]
+  std::vector<core::Vec3> probes_;
+};
+
+}  // namespace penumbra::shadow

@@ -1,0 +1,85 @@
+// The per-frame loop on the bundled showroom: compose -> render -> observe with numbered
+// frames, the controller's decisions, a camera background and a replaced product model.
+#include "shadow/frame_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace penumbra::shadow {
+namespace {
+
+const SceneBundle& showroom() {
+  static const SceneBundle bundle =
+      loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle");
+  return bundle;
+}
+
+TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
+  const SceneBundle& b = showroom();
+  FrameLoop loop(b, 256, {});
+  FrameCompositor compositor(b, {});
+  raster::Renderer renderer(b.view, {});
+  raster::FrameContent frame;
+  CompositeStats stats;
+  std::vector<uint8_t> rgba(b.background.size()), masks;
+  for (uint32_t f = 1; f <= 3; ++f) {
+    ProductPose pose = b.startPose;
+    pose.x += 0.05f * float(f % 2);  // moves, then comes back: the feedback must carry over
+    loop.step(pose, 8);
+    compositor.compose(pose, 8, f, frame, stats);
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
+    compositor.observe(masks);
+    EXPECT_EQ(loop.frameNumber, f);
+    EXPECT_EQ(loop.rgba, rgba) << "frame " << f;
+    EXPECT_EQ(loop.masks, masks) << "frame " << f;
+    EXPECT_EQ(loop.stats.passes, stats.passes);
+    EXPECT_GT(loop.frameNs, 0);
+  }
+  EXPECT_GT(loop.stats.gradedVertices, 0u) << "the third frame uses measured shares";
+}
+
+TEST(FrameLoop, ControllerDecisionsSetTheMapSizeFromThatFrameOn) {
+  FrameLoop loop(showroom(), 256, {});
+  FrameRateController::Decision d;
+  d.passes = 3;
+  d.shadowMapSize = 128;
+  loop.step(showroom().startPose, d);
+  ASSERT_EQ(loop.frame.passes.size(), 3u);
+  for (const raster::ShadowPass& p : loop.frame.passes) EXPECT_EQ(p.shadowMapSize, 128u);
+  loop.step(showroom().startPose, 5);
+  ASSERT_EQ(loop.frame.passes.size(), 5u);
+  EXPECT_EQ(loop.frame.passes[4].shadowMapSize, 128u);
+}
+
+TEST(FrameLoop, ACameraFrameReplacesThePhotograph) {
+  const SceneBundle& b = showroom();
+  FrameLoop loop(b, 256, {});
+  const ProductPose away{0, 100.0f, 100.0f, 0.0f, 0.0f};  // nothing in view, no shadow
+  loop.step(away, 10);
+  EXPECT_EQ(loop.rgba, b.background);
+  const std::vector<uint8_t> camera(b.background.size(), 77);
+  loop.step(away, 10, camera);
+  EXPECT_EQ(loop.rgba, camera);
+  loop.step(away, 10);
+  EXPECT_EQ(loop.rgba, b.background);
+}
+
+TEST(FrameLoop, AReplacedModelIsPlacedAfresh) {
+  SceneBundle b = showroom();
+  FrameLoop loop(b, 256, {});
+  loop.step(b.startPose, 4);
+  const core::Mesh before = loop.frame.objects[0].mesh;
+  for (core::Vec3& p : b.products[b.startPose.product].mesh.positions) p.y *= 0.5f;
+  loop.step(b.startPose, 4);
+  EXPECT_EQ(loop.frame.objects[0].mesh, before) << "not told: still the placed model";
+  loop.productModelChanged(b.startPose.product);
+  loop.step(b.startPose, 4);
+  core::Mesh after;
+  placeMesh(b.products[b.startPose.product].mesh, b.startPose, after);
+  EXPECT_EQ(loop.frame.objects[0].mesh, after);
+  EXPECT_NE(after, before);
+}
+
+}  // namespace
+}  // namespace penumbra::shadow

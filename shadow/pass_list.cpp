@@ -1,0 +1,108 @@
+#include "shadow/pass_list.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <array>
+
+#include "shadow/light_frustum.h"
+#include "shadow/shaft_hierarchy.h"
+
+namespace penumbra::shadow {
+namespace {
+
+bool anyS(const std::array<core::Rgb8, 3>& s) {
+  bool any = false;
+  for (const core::Rgb8& c : s) any = any || c.r != 0 || c.g != 0 || c.b != 0;
+  return any;
+}
+
+}  // namespace
+
+PassList::PassList(const SceneBundle& bundle, const scene::PatchMesh& mesh, const scene::Aabb& room)
+    : bundle_(bundle), mesh_(mesh), farDistance_(2.0 * glm::length(room.size()) + 1.0) {}
+
+uint32_t PassList::build(const PassListOptions& options, const ClusterSelection& selection,
+                         std::span<const uint32_t> receiverPatches, const core::Mesh& product,
+                         const scene::Aabb& productBounds, const VertexS& s,
+                         std::vector<raster::ShadowPass>& passes) {
+  const size_t clusters = selection.clusters.size();
+  passes.resize(clusters);
+  passCluster_.clear();
+  uint32_t skipped = 0;
+  size_t used = 0;
+  for (size_t k = 0; k < clusters; ++k) {
+    const uint32_t patch = bundle_.sets.sources[selection.clusters[k].representative];
+    const auto frustum =
+        fitLightFrustum(glm::dvec3(bundle_.patches[patch].centre), productBounds, farDistance_);
+    if (!frustum) {
+      // The light sits inside the product's bounding sphere (e.g. a product larger than the
+      // room): no shadow map can hold the product, so this cluster casts no shadow.
+      ++skipped;
+      continue;
+    }
+    passCluster_.push_back(static_cast<uint32_t>(k));
+    raster::ShadowPass& pass = passes[used];
+    pass.lightViewProj = frustum->rasterViewProj;
+    pass.shadowMapSize = options.shadowMapSize;
+    pass.depthBias = options.depthBias;
+    pass.pcf2x2 = options.pcf2x2;
+    pass.occluder = 0;
+    addReceivers(options, frustum->viewProj, receiverPatches, s, k, pass);
+    pass.objectDepthBias = options.objectDepthBias;
+    addProduct(product, s, k, pass);
+    ++used;
+  }
+  passes.resize(used);
+  return skipped;
+}
+
+void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
+                            std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
+                            raster::ShadowPass& pass) const {
+  pass.receiverTriangles.clear();
+  pass.receiverS.clear();
+  // A receiver wholly outside one side of the light's frustum can get no shadow from this
+  // pass: its pixels fall outside the map (M = 0, spec §7). Tested against a frustum 5%
+  // wider, so float rounding in the pixel path cannot disagree; the product stays inside
+  // the map's inscribed circle, so the map's edge texels hold no occluder anyway.
+  const glm::dmat4 cull =
+      glm::scale(glm::dmat4(1.0), glm::dvec3(1.0 / 1.05, 1.0 / 1.05, 1.0)) * lightViewProj;
+  for (uint32_t p : receiverPatches) {
+    const uint32_t first = mesh_.patches[p].firstTriangle;
+    for (uint32_t t = first; t < first + 2; ++t) {
+      const uint32_t* v = &mesh_.indices[3 * size_t(t)];
+      if (options.cullReceivers &&
+          !triangleMayReceive(cull, mesh_.positions[v[0]], mesh_.positions[v[1]],
+                              mesh_.positions[v[2]])) {
+        continue;
+      }
+      std::array<core::Rgb8, 3> corners{};
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t rv = s.receiverVertexOf[v[c]];
+        if (rv == kNoIndex) continue;
+        corners[size_t(c)] = s.receiverS[size_t(s.vertexSlot[rv]) * s.clusters + k];
+      }
+      if (!anyS(corners)) continue;  // nothing to subtract on this triangle for this cluster
+      pass.receiverTriangles.push_back(t);
+      pass.receiverS.insert(pass.receiverS.end(), corners.begin(), corners.end());
+    }
+  }
+}
+
+// Self-shadowing (§7.2): the product's own triangles, when its vertices have S.
+void PassList::addProduct(const core::Mesh& product, const VertexS& s, size_t k,
+                          raster::ShadowPass& pass) const {
+  pass.objectTriangles.clear();
+  pass.objectS.clear();
+  for (size_t t = 0; !s.productS.empty() && t < product.triangleCount(); ++t) {
+    std::array<core::Rgb8, 3> corners{};
+    for (int c = 0; c < 3; ++c) {
+      corners[size_t(c)] = s.productS[size_t(product.indices[3 * t + size_t(c)]) * s.clusters + k];
+    }
+    if (!anyS(corners)) continue;
+    pass.objectTriangles.push_back(static_cast<uint32_t>(t));
+    pass.objectS.insert(pass.objectS.end(), corners.begin(), corners.end());
+  }
+}
+
+}  // namespace penumbra::shadow

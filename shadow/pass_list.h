@@ -1,0 +1,64 @@
+// The pass list (Gibson 2003 Fig. 2, §7): one shadow pass per source cluster, in the
+// clusters' order (decreasing transfer, §7.1.1). Each pass renders the product's proxy into
+// a shadow map from the light frustum fitted around the product from the cluster's
+// representative patch (shadow/light_frustum.h), then masks and subtracts S over the
+// receiver triangles that may be shadowed and have something to subtract, S in corner
+// order — and over the product's own triangles for self-shadowing (§7.2).
+// A cluster whose light lies inside the product's bounding sphere gets no pass (no shadow
+// map can hold the product): counted, so that callers can warn.
+// Cost: one frustum fit per cluster, one conservative frustum test per receiver triangle;
+// the passes' vectors are reused between frames.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "raster/frame_trace.h"
+#include "scene/patch_mesh.h"
+#include "shadow/cluster_transfers.h"
+#include "shadow/scene_bundle.h"
+#include "shadow/source_clusters.h"
+
+namespace penumbra::shadow {
+
+struct PassListOptions {
+  uint32_t shadowMapSize = 256;  // §7.2
+  float depthBias = 0.002f;      // light window-depth units
+  bool pcf2x2 = true;
+  bool cullReceivers = true;      // leave out receivers the frustum cannot shadow
+  float objectDepthBias = 0.01f;  // the product's own triangles (§7.2)
+};
+
+class PassList {
+ public:
+  // `bundle` (its patches and source set: the lights) and `mesh` (the bundle's patch mesh:
+  // the receiver triangles) must outlive the list; `room` bounds the room (the frusta's far
+  // plane).
+  PassList(const SceneBundle& bundle, const scene::PatchMesh& mesh, const scene::Aabb& room);
+
+  // The passes of `selection`'s clusters over `receiverPatches` and the placed `product`
+  // (bounds `productBounds`), with the frame's S, into `passes` (reused). Returns the
+  // number of clusters left without a pass.
+  uint32_t build(const PassListOptions& options, const ClusterSelection& selection,
+                 std::span<const uint32_t> receiverPatches, const core::Mesh& product,
+                 const scene::Aabb& productBounds, const VertexS& s,
+                 std::vector<raster::ShadowPass>& passes);
+
+  // Per pass of the last build: its cluster.
+  std::span<const uint32_t> passCluster() const { return passCluster_; }
+
+ private:
+  void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
+                    std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
+                    raster::ShadowPass& pass) const;
+  void addProduct(const core::Mesh& product, const VertexS& s, size_t k,
+                  raster::ShadowPass& pass) const;
+
+  const SceneBundle& bundle_;
+  const scene::PatchMesh& mesh_;
+  double farDistance_;
+  std::vector<uint32_t> passCluster_;
+};
+
+}  // namespace penumbra::shadow

@@ -1,0 +1,148 @@
+// The pass list: one pass per cluster in the clusters' order, S in corner order over the
+// receiver triangles that may be shadowed and have something to subtract, the product's
+// own triangles, and no pass for a cluster whose light lies inside the product's sphere.
+#include "shadow/pass_list.h"
+
+#include <gtest/gtest.h>
+
+#include "shadow/light_frustum.h"
+#include "shadow/shaft_hierarchy.h"
+
+namespace penumbra::shadow {
+namespace {
+
+// Two floor patches — one around the product, one 10 m away — and two lights: patch 2
+// three metres above the product, patch 3 inside the product's bounding sphere.
+struct Floor {
+  Floor() {
+    mesh.positions = {{-2, 0, -2}, {2, 0, -2}, {2, 0, 2},  {-2, 0, 2},
+                      {10, 0, 0},  {12, 0, 0}, {12, 0, 2}, {10, 0, 2}};
+    mesh.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    mesh.patches.resize(4);
+    mesh.patches[1].firstTriangle = 2;
+    bundle.patches.resize(4);
+    bundle.patches[2].centre = {0, 3, 0};
+    bundle.patches[3].centre = {0, 0.2f, 0};
+    bundle.sets.sources = {2, 3};
+    selection.clusters = {SourceCluster{0, 0, 0, 1, 0, 0}, SourceCluster{1, 1, 1, 1, 0, 0}};
+    selection.sources = {0, 1};
+    // The product: a tetrahedron in the box [-0.25, 0.25] x [0, 0.5] x [-0.25, 0.25].
+    product.positions = {{-0.25f, 0, -0.25f}, {0.25f, 0, -0.25f}, {0, 0, 0.25f}, {0, 0.5f, 0}};
+    product.indices = {0, 1, 2, 0, 1, 3, 1, 2, 3};
+    bounds = {{-0.25, 0, -0.25}, {0.25, 0.5, 0.25}};
+    // Mesh vertex v -> receiver vertex v, slot 7 - v. Vertex 7 receives nothing.
+    receiverVertexOf = {0, 1, 2, 3, 4, 5, 6, kNoIndex};
+    vertexSlot = {7, 6, 5, 4, 3, 2, 1};
+    receiverS.resize(8 * 2);
+    for (uint8_t slot = 0; slot < 8; ++slot) {
+      receiverS[2 * slot] = {uint8_t(10 + slot), 0, 0};
+      receiverS[2 * slot + 1] = {0, uint8_t(20 + slot), 0};
+    }
+    receiverS[2 * vertexSlot[0]] = {};  // triangle 1 (0, 2, 3): vertex 0 without S...
+    receiverS[2 * vertexSlot[2]] = {};
+    receiverS[2 * vertexSlot[3]] = {};  // ...and its other corners too: nothing to subtract
+    productS.resize(4 * 2);
+    for (uint8_t v = 0; v < 4; ++v) productS[2 * v] = {0, 0, uint8_t(30 + v)};
+    productS[2 * 3] = {};  // triangles 1 and 2 keep corner 0 or 1 or 2 lit
+  }
+  VertexS s() const { return {receiverVertexOf, vertexSlot, receiverS, productS, 2}; }
+
+  SceneBundle bundle;
+  scene::PatchMesh mesh;
+  ClusterSelection selection;
+  core::Mesh product;
+  scene::Aabb bounds;
+  std::vector<uint32_t> receiverVertexOf, vertexSlot;
+  std::vector<core::Rgb8> receiverS, productS;
+};
+
+const scene::Aabb kRoom{{-2, 0, -2}, {12, 3, 2}};
+
+TEST(PassList, OnePassPerClusterWithSInCornerOrder) {
+  Floor f;
+  f.receiverS[2 * f.vertexSlot[2]] = {1, 0, 0};  // triangle 1 has S again
+  PassList list(f.bundle, f.mesh, kRoom);
+  PassListOptions options;
+  options.shadowMapSize = 128;
+  options.depthBias = 0.005f;
+  options.pcf2x2 = false;
+  options.objectDepthBias = 0.02f;
+  f.bundle.patches[3].centre = {0, 3, 1};     // both lights outside the product
+  std::vector<raster::ShadowPass> passes(5);  // reused: whatever was there goes
+  const uint32_t skipped = list.build(options, f.selection, std::vector<uint32_t>{0}, f.product,
+                                      f.bounds, f.s(), passes);
+  EXPECT_EQ(skipped, 0u);
+  ASSERT_EQ(passes.size(), 2u);
+  EXPECT_EQ(std::vector<uint32_t>(list.passCluster().begin(), list.passCluster().end()),
+            (std::vector<uint32_t>{0, 1}));
+  const double far = 2.0 * glm::length(kRoom.size()) + 1.0;
+  for (size_t k = 0; k < 2; ++k) {
+    const raster::ShadowPass& pass = passes[k];
+    const uint32_t light = f.bundle.sets.sources[k];
+    EXPECT_EQ(
+        pass.lightViewProj,
+        fitLightFrustum(glm::dvec3(f.bundle.patches[light].centre), f.bounds, far)->rasterViewProj);
+    EXPECT_EQ(pass.shadowMapSize, 128u);
+    EXPECT_EQ(pass.depthBias, 0.005f);
+    EXPECT_FALSE(pass.pcf2x2);
+    EXPECT_EQ(pass.occluder, 0u);
+    EXPECT_EQ(pass.objectDepthBias, 0.02f);
+    ASSERT_EQ(pass.receiverTriangles, (std::vector<uint32_t>{0, 1}));
+    ASSERT_EQ(pass.receiverS.size(), 6u);
+    const uint32_t corners[6] = {0, 1, 2, 0, 2, 3};  // the triangles' vertices, in order
+    for (size_t c = 0; c < 6; ++c) {
+      EXPECT_EQ(pass.receiverS[c], f.receiverS[2 * f.vertexSlot[corners[c]] + k]) << c;
+    }
+  }
+  // Self-shadowing: cluster 0's S on the product's triangles; cluster 1 has none there.
+  EXPECT_EQ(passes[0].objectTriangles, (std::vector<uint32_t>{0, 1, 2}));
+  const std::vector<core::Rgb8> objectS{f.productS[0], f.productS[2], f.productS[4],
+                                        f.productS[0], f.productS[2], f.productS[6],
+                                        f.productS[2], f.productS[4], f.productS[6]};
+  EXPECT_EQ(passes[0].objectS, objectS);
+  EXPECT_TRUE(passes[1].objectTriangles.empty());
+  EXPECT_TRUE(passes[1].objectS.empty());
+}
+
+TEST(PassList, TrianglesWithoutSAndOutsideTheFrustumAreLeftOut) {
+  Floor f;
+  f.bundle.patches[3].centre = {0, 3, 1};
+  PassList list(f.bundle, f.mesh, kRoom);
+  std::vector<raster::ShadowPass> passes;
+  const std::vector<uint32_t> both{0, 1};
+  list.build({}, f.selection, both, f.product, f.bounds, f.s(), passes);
+  ASSERT_EQ(passes.size(), 2u);
+  // Triangle 1 has no S for cluster 0; the far patch (triangles 2, 3) is outside the
+  // light's frustum. Cluster 1 has S on triangle 1 (its corners' second entries).
+  EXPECT_EQ(passes[0].receiverTriangles, (std::vector<uint32_t>{0}));
+  EXPECT_EQ(passes[1].receiverTriangles, (std::vector<uint32_t>{0, 1}));
+  // Without culling, the far patch gets its S too (vertex 7 has none: zero at that corner).
+  PassListOptions all;
+  all.cullReceivers = false;
+  list.build(all, f.selection, both, f.product, f.bounds, f.s(), passes);
+  EXPECT_EQ(passes[0].receiverTriangles, (std::vector<uint32_t>{0, 2, 3}));
+  ASSERT_EQ(passes[0].receiverS.size(), 9u);
+  EXPECT_EQ(passes[0].receiverS[8], core::Rgb8{});
+  EXPECT_EQ(passes[0].receiverS[7], f.receiverS[2 * f.vertexSlot[6]]);
+}
+
+TEST(PassList, ALightInsideTheProductsSphereGetsNoPass) {
+  const Floor f;
+  PassList list(f.bundle, f.mesh, kRoom);
+  std::vector<raster::ShadowPass> passes;
+  const uint32_t skipped =
+      list.build({}, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes);
+  EXPECT_EQ(skipped, 1u);
+  ASSERT_EQ(passes.size(), 1u);
+  EXPECT_EQ(std::vector<uint32_t>(list.passCluster().begin(), list.passCluster().end()),
+            (std::vector<uint32_t>{0}));
+  // Without self-shadowing S, no product triangle receives.
+  Floor noSelf;
+  noSelf.productS.clear();
+  list.build({}, noSelf.selection, std::vector<uint32_t>{0}, noSelf.product, noSelf.bounds,
+             noSelf.s(), passes);
+  EXPECT_TRUE(passes[0].objectTriangles.empty());
+}
+
+}  // namespace
+}  // namespace penumbra::shadow

@@ -1,0 +1,99 @@
+#include "shadow/product_shading.h"
+
+#include "shadow/shaft_hierarchy.h"
+
+namespace penumbra::shadow {
+
+ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh& mesh,
+                               const scene::Aabb& room, const ProductShadingOptions& options)
+    : bundle_(bundle),
+      mesh_(mesh),
+      options_(options),
+      toneLut_(bundle.tone),
+      toneInverse_(bundle.tone),
+      environmentFar_(2.0f * static_cast<float>(glm::length(room.size())) + 1.0f) {
+  for (uint32_t p = 0; p < mesh_.patches.size(); ++p) {
+    if (mesh_.patches[p].emits()) emitters_.push_back(p);
+  }
+  sourceOfPatch_.assign(mesh_.patches.size(), kNoIndex);
+  for (size_t j = 0; j < bundle.sets.sources.size(); ++j) {
+    sourceOfPatch_[bundle.sets.sources[j]] = static_cast<uint32_t>(j);
+  }
+  for (const ProductModel& m : bundle.products) lobes_.emplace_back(m.specularExponent);
+  if (!bundle.patchRadiance.empty()) {
+    environmentRoom_ = roomForEnvironment(bundle.view.staticMesh, bundle.trianglePatch,
+                                          bundle.patchRadiance, bundle.tone);
+  }
+  // The camera centre: the point the view-projection sends to clip (0, 0, *, 0), i.e. the
+  // homogeneous point inverse(VP) (0, 0, 1, 0).
+  glm::dmat4 vp;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) vp[c][r] = bundle.view.cameraViewProj.m[size_t(4 * r + c)];
+  }
+  const glm::dvec4 e = glm::inverse(vp) * glm::dvec4(0, 0, 1, 0);
+  if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);
+}
+
+void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product) {
+  const core::Mesh& m = placed;
+  std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t < m.triangleCount(); ++t) {
+    const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                     &c = m.positions[m.indices[3 * t + 2]];
+    const glm::dvec3 n = glm::cross(glm::dvec3(b.x - a.x, b.y - a.y, b.z - a.z),
+                                    glm::dvec3(c.x - a.x, c.y - a.y, c.z - a.z));
+    for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted
+  }
+  const glm::dvec3 reflectance(bundle_.products[product].reflectance);
+  const size_t vertices = m.positions.size();
+  colours_.resize(vertices);
+  radiance_.resize(vertices);
+  sourceTransfers_.assign(bundle_.sets.sources.size() * vertices, glm::dvec3(0.0));
+  for (size_t v = 0; v < vertices; ++v) {
+    const double length = glm::length(normals[v]);
+    const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
+    const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+    // Each emitter's transfer once: it adds to the vertex's radiance, and a source's is kept
+    // as that source's L_ij for self-shadowing.
+    glm::dvec3 radiance(0.0);
+    for (uint32_t p : emitters_) {
+      const scene::Patch& patch = mesh_.patches[p];
+      const glm::dvec3 transfer =
+          reflectance * patch.emission *
+          scene::pointToPatchFormFactor(x, n, patch.centre, patch.normal, patch.area);
+      radiance += transfer;
+      if (sourceOfPatch_[p] != kNoIndex)
+        sourceTransfers_[sourceOfPatch_[p] * vertices + v] = transfer;
+    }
+    radiance_[v] = radiance;
+    colours_[v] = bundle_.tone.map(radiance);
+  }
+  if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
+  const std::vector<glm::vec3> vertexN = vertexNormals(m);
+  volumeRadiance_.resize(vertices);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance), toneLut_,
+                       colours_, volumeRadiance_);
+  for (size_t v = 0; v < vertices; ++v) radiance_[v] = glm::dvec3(volumeRadiance_[v]);
+
+  // §5 specular: the room reflected in a Phong lobe, from a cube map rendered at the
+  // product's centre (Fig. 9), added in radiance before T().
+  const ProductModel& model = bundle_.products[product];
+  if (!options_.specular || environmentRoom_.mesh.positions.empty() ||
+      !(model.specular.x > 0 || model.specular.y > 0 || model.specular.z > 0)) {
+    return;
+  }
+  renderEnvironmentMap(environmentRoom_, glm::vec3(bounds.centre()), options_.environmentMapSize,
+                       environmentFar_, environment_);
+  const PhongLobe& lobe = lobes_[product];
+  for (size_t v = 0; v < vertices; ++v) {
+    const glm::vec3 p(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+    const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, vertexN[v], eye_);
+    const glm::vec3 l(volumeRadiance_[v].x + model.specular.x * s.x,
+                      volumeRadiance_[v].y + model.specular.y * s.y,
+                      volumeRadiance_[v].z + model.specular.z * s.z);
+    radiance_[v] = glm::dvec3(l);
+    colours_[v] = toneLut_.map(l);
+  }
+}
+
+}  // namespace penumbra::shadow

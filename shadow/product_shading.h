@@ -1,0 +1,68 @@
+// Product shading (design §1, per frame step 2): the placed product's colour per vertex,
+// through the camera response T(). With an irradiance volume in the bundle (Gibson &
+// Chalmers 2003 §5): reflectance x E(n)/pi from the volume's SH9 lookup, plus the §5
+// specular lobe from a small cube map of the room rendered at the product's centre
+// (Fig. 9). Without one: a flat diffuse material lit by every emitting patch, unshadowed,
+// reflectance x sum_j L_j F(x, n -> j). Either way each source's form-factor transfer to
+// each product vertex is kept as that source's L_ij for self-shadowing (Gibson 2003 §7.2).
+// Cost: O(vertices x emitters) form factors, one volume lookup per vertex, one cube map when
+// specular; run only when the product moves (ProductPlacement).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/frame_trace.h"
+#include "scene/patch_mesh.h"
+#include "shadow/environment_map.h"
+#include "shadow/irradiance_volume.h"
+#include "shadow/scene_bundle.h"
+
+namespace penumbra::shadow {
+
+struct ProductShadingOptions {
+  bool shadeFromVolume = true;  // false: the emitters' form factors even with a volume
+  bool specular = true;         // the §5 lobe, for products with a specular reflectance
+  uint32_t environmentMapSize = 32;
+};
+
+class ProductShading {
+ public:
+  // `bundle` and `mesh` (the bundle's patch mesh, patchMeshOf) must outlive the shading;
+  // `room` bounds the room (sets the environment maps' far plane).
+  ProductShading(const SceneBundle& bundle, const scene::PatchMesh& mesh, const scene::Aabb& room,
+                 const ProductShadingOptions& options);
+
+  // Shades product `product` placed as `placed` (world space) with world bounds `bounds`.
+  void shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
+
+  // Per vertex of the last shaded product: its colour, and its unshadowed radiance.
+  std::span<const core::Rgb8> colours() const { return colours_; }
+  std::span<const glm::dvec3> radiance() const { return radiance_; }
+  // [source * vertices + v]: the form-factor transfer from source `source` (index into
+  // SourceReceiverSets::sources) to vertex v, unshadowed.
+  std::span<const glm::dvec3> sourceTransfers() const { return sourceTransfers_; }
+
+ private:
+  const SceneBundle& bundle_;
+  const scene::PatchMesh& mesh_;
+  ProductShadingOptions options_;
+  std::vector<uint32_t> emitters_;       // patches with emitted radiance
+  std::vector<uint32_t> sourceOfPatch_;  // patch -> source index, or kNoIndex
+  ToneLut toneLut_;
+  ToneInverse toneInverse_;
+  raster::ShadedMesh environmentRoom_;  // the room as environment maps draw it
+  glm::vec3 eye_{0.0f};                 // the kiosk camera's position (from its matrix)
+  float environmentFar_ = 0;            // far plane of the environment maps
+  CubeEnvironmentMap environment_;
+  std::vector<PhongLobe> lobes_;  // per product
+  std::vector<core::Rgb8> colours_;
+  std::vector<glm::dvec3> radiance_;
+  std::vector<glm::vec3> volumeRadiance_;  // per vertex, from the irradiance volume
+  std::vector<glm::dvec3> sourceTransfers_;
+};
+
+}  // namespace penumbra::shadow
