@@ -11,8 +11,10 @@
 #include "lighting/irradiance_volume.h"
 #include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
+#include "scene/camera.h"
 #include "shadow/environment_map.h"
 #include "shadow/irradiance_volume.h"
+#include "shadow/source_receiver_sets.h"
 
 namespace penumbra {
 namespace {

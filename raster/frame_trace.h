@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "core/colour.h"
 #include "core/error.h"
+#include "core/geometry.h"
 
 namespace penumbra::raster {
 
