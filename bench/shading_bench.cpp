@@ -8,7 +8,7 @@
 
 #include "core/job_pool.h"
 #include "lighting/embree_scene.h"
-#include "lighting/irradiance_volume.h"
+#include "lighting/irradiance_volume_gather.h"
 #include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
 #include "scene/camera.h"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/colour.h"
 #include "core/json_reader.h"
 #include "lighting/camera_response.h"
 #include "lighting/embree_scene.h"
@@ -107,10 +108,6 @@ glm::dmat3 probeRotation(double yawDegrees, double pitchDegrees) {
   const glm::dmat3 ry(std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a));
   const glm::dmat3 rx(1, 0, 0, 0, std::cos(b), std::sin(b), 0, -std::sin(b), std::cos(b));
   return ry * rx;
-}
-
-double luminance(const glm::dvec3& c) {
-  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
 double median(std::vector<double> v) {
@@ -368,7 +365,7 @@ void scaleProbeToPhotographs(const CaptureManifest& m, const std::vector<Exposur
       if (n < 9) continue;
       const glm::dvec3 photo = sum / 9.0;
       for (int c = 0; c < 3; ++c) ratios[size_t(c)].push_back(photo[c] / pr[c]);
-      lumRatios.push_back(luminance(photo) / luminance(pr));
+      lumRatios.push_back(core::luminance(photo) / core::luminance(pr));
     }
     s.scalePatches = lumRatios.size();
     if (lumRatios.size() < 8) {

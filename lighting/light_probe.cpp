@@ -1,4 +1,5 @@
 #include "lighting/light_probe.h"
+#include "core/colour.h"
 #include "core/random.h"
 
 #include <algorithm>
@@ -15,10 +16,6 @@ namespace penumbra::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-double lum(const glm::dvec3& c) {
-  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-}
 
 void checkImage(const ProbeImage& img) {
   if (img.width <= 0 || img.height <= 0 ||
@@ -210,7 +207,8 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
     if (!out.seen[p]) continue;
     const glm::dvec3& l = out.radiance[p];
     const glm::dvec3& g = out.gathered[p];
-    if (lum(l) > lum(g)) {  // implied reflectance > 1: an emitter (header rule)
+    if (core::luminance(l) >
+        core::luminance(g)) {  // implied reflectance > 1: an emitter (header rule)
       m.emission = glm::max(l - options.defaultReflectance * g, glm::dvec3(0.0));
       if (m.emits()) ++out.emitters;
       continue;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "lighting/embree_scene.h"
-#include "lighting/irradiance_volume.h"
+#include "lighting/irradiance_volume_gather.h"
 #include "lighting/patch_radiosity.h"
 #include "lighting/radiance_transfer.h"
 #include "raster/renderer.h"

@@ -1,4 +1,5 @@
 #include "lighting/radiance_transfer.h"
+#include "core/colour.h"
 #include "core/random.h"
 
 #include <algorithm>
@@ -12,10 +13,6 @@
 
 namespace penumbra::lighting {
 namespace {
-
-double lum(const glm::dvec3& c) {
-  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-}
 
 // Per-vertex surface properties, averaged over the vertex's distinct patches. Vertices
 // are shared within a quad only (patch_mesh.h), so these are averages of neighbouring
@@ -180,7 +177,7 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
     for (size_t i = 0; i < receiverCount; ++i) {
       const uint32_t vertex = receivers[i];
       const glm::dvec3 rho = material.reflectance[vertex];
-      if (!(lum(rho) > 0)) continue;  // a pure emitter reflects nothing
+      if (!(core::luminance(rho) > 0)) continue;  // a pure emitter reflects nothing
       const glm::dvec3& x = mesh.positions[vertex];
       const glm::dvec3& n = mesh.normals[vertex];
       // Patches emit from their front side only (the facing convention of patch_mesh.h);
@@ -203,7 +200,7 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
     glm::dvec3 sum = material.emission[receivers[i]];
     for (size_t e = 0; e < emitters.size(); ++e) sum += transfer[e * receiverCount + i];
     total[i] = sum;
-    maxLuminance = std::max(maxLuminance, lum(sum));
+    maxLuminance = std::max(maxLuminance, core::luminance(sum));
   }
   out.vertexRadiance.reserve(receiverCount);
   for (const glm::dvec3& l : total) out.vertexRadiance.emplace_back(l);
@@ -218,7 +215,7 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
     if (e >= 0) {
       const glm::dvec3* row = &transfer[static_cast<size_t>(e) * receiverCount];
       for (size_t i = 0; i < receiverCount; ++i) {
-        const double l = lum(row[i]);
+        const double l = core::luminance(row[i]);
         luminanceSum += l;
         if (l > threshold) {
           out.entryVertex.push_back(static_cast<uint32_t>(i));

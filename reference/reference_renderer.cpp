@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/colour.h"
 #include "core/job_pool.h"
 #include "core/random.h"
 #include "lighting/embree_scene.h"
@@ -19,10 +20,6 @@ namespace penumbra::reference {
 namespace {
 
 using glm::dvec3;
-
-double lum(const dvec3& c) {
-  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-}
 
 struct Emitter {
   std::array<dvec3, 4> polygon;  // counter-clockwise about `normal`
@@ -193,7 +190,7 @@ class Tracer {
         formFactor[j] = lighting::pointToPolygonFormFactor(hit.x, hit.n, e.polygon);
       }
       unoccluded += e.emission * formFactor[j];
-      total += lum(e.emission) * formFactor[j];
+      total += core::luminance(e.emission) * formFactor[j];
       cdf[j] = total;
     }
     Pair out;
@@ -213,7 +210,7 @@ class Tracer {
       const Emitter& e = emitters_[j];
       const dvec3 y =
           e.polygon[0] + su * (e.polygon[1] - e.polygon[0]) + sv * (e.polygon[3] - e.polygon[0]);
-      const double pj = lum(e.emission) * formFactor[j] / total;
+      const double pj = core::luminance(e.emission) * formFactor[j] / total;
       if (!(pj > 0)) continue;
       const dvec3 d = y - hit.x;
       const double r2 = glm::dot(d, d);

@@ -50,21 +50,6 @@ double powInt(double c, uint32_t k) {
 
 }  // namespace
 
-ToneInverse::ToneInverse(const ToneCurve& curve) {
-  table_[0] = 0.0f;
-  for (int c = 1; c < 255; ++c) {
-    table_[size_t(c)] = static_cast<float>(0.5 * (curve.threshold(c) + curve.threshold(c + 1)));
-  }
-  // The least float that still saturates (a plain rounding may land just below).
-  const double top = curve.threshold(255);
-  float f = static_cast<float>(top);
-  if (double(f) < top) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  table_[255] = f;
-  for (float& v : table_) {
-    if (!std::isfinite(v)) v = 0.0f;  // a code the curve never reaches
-  }
-}
-
 glm::vec3 CubeEnvironmentMap::lookup(const glm::vec3& d, const ToneInverse& inverse) const {
   // Major axis → face; then the face camera's normalized device coordinates.
   const float ax = d.x < 0 ? -d.x : d.x, ay = d.y < 0 ? -d.y : d.y, az = d.z < 0 ? -d.z : d.z;

@@ -26,22 +26,12 @@
 
 #include "raster/frame_trace.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/tone_curve.h"
 
 namespace penumbra::shadow {
 
 inline constexpr int kLobeRings = 4;
 inline constexpr int kLobeAzimuths = 8;
-
-// T^-1 at the middle of each code's radiance interval (code 0 → 0; code 255 → its
-// threshold, the least radiance that saturates).
-class ToneInverse {
- public:
-  explicit ToneInverse(const ToneCurve& curve);
-  float operator()(uint8_t code) const { return table_[code]; }
-
- private:
-  std::array<float, 256> table_{};
-};
 
 // Cube faces in the order +x, -x, +y, -y, +z, -z.
 struct CubeEnvironmentMap {

@@ -11,13 +11,6 @@
 namespace penumbra::shadow {
 namespace {
 
-TEST(ToneInverse, CodesRoundTripThroughT) {
-  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
-  const ToneInverse inverse(tone);
-  EXPECT_EQ(inverse(0), 0.0f);
-  for (int c = 1; c < 256; ++c) EXPECT_EQ(tone(double(inverse(uint8_t(c)))), c) << c;
-}
-
 TEST(PhongLobe, RingsSplitTheLobeEnergy) {
   const PhongLobe diffuseLike(0.0f);  // cos^0: energy 1 - c below c
   EXPECT_NEAR(diffuseLike.cosTheta[0], 0.875, 1e-6);

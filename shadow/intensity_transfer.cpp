@@ -1,5 +1,4 @@
 #include "shadow/intensity_transfer.h"
-#include "core/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,83 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "core/random.h"
+
 namespace penumbra::shadow {
-
-ToneCurve ToneCurve::fromThresholds(const std::array<double, 255>& thresholds) {
-  for (size_t k = 1; k < thresholds.size(); ++k) {
-    if (!(thresholds[k] >= thresholds[k - 1])) {
-      throw std::invalid_argument("tone curve: thresholds must be non-decreasing (code " +
-                                  std::to_string(k + 1) + ")");
-    }
-  }
-  ToneCurve curve;
-  curve.thresholds_ = thresholds;
-  return curve;
-}
-
-ToneCurve ToneCurve::fromSamples(std::span<const Sample> samples) {
-  if (samples.size() < 2) throw std::invalid_argument("ToneCurve: need at least two samples");
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const Sample& s = samples[i];
-    if (!std::isfinite(s.radiance) || !std::isfinite(s.value)) {
-      throw std::invalid_argument("ToneCurve: samples must be finite");
-    }
-    if (i > 0 && (s.radiance < samples[i - 1].radiance || s.value < samples[i - 1].value)) {
-      throw std::invalid_argument("ToneCurve: samples must be non-decreasing");
-    }
-  }
-  ToneCurve curve;
-  const double inf = std::numeric_limits<double>::infinity();
-  size_t seg = 0;
-  for (int k = 1; k <= 255; ++k) {
-    // Code k starts where the interpolated value reaches k - 0.5 (round to nearest).
-    const double level = k - 0.5;
-    if (samples.front().value >= level) {
-      curve.thresholds_[k - 1] = -inf;  // every radiance already reaches code k
-      continue;
-    }
-    while (seg + 1 < samples.size() && samples[seg + 1].value < level) ++seg;
-    if (seg + 1 == samples.size()) {
-      curve.thresholds_[k - 1] = inf;
-      continue;
-    }
-    const Sample& a = samples[seg];
-    const Sample& b = samples[seg + 1];
-    // a.value < level <= b.value, so b.value > a.value and the division is safe.
-    const double f = (level - a.value) / (b.value - a.value);
-    curve.thresholds_[k - 1] = a.radiance + f * (b.radiance - a.radiance);
-  }
-  // Interpolation keeps the table sorted; enforce it against rounding so that the
-  // binary search (and hence T's monotonicity) is exact.
-  for (int k = 1; k < 255; ++k) {
-    curve.thresholds_[k] = std::max(curve.thresholds_[k], curve.thresholds_[k - 1]);
-  }
-  return curve;
-}
-
-ToneCurve ToneCurve::gamma(double exposure, double gamma) {
-  if (!(exposure > 0) || !(gamma > 0)) {
-    throw std::invalid_argument("ToneCurve::gamma: exposure and gamma must be positive");
-  }
-  std::vector<Sample> samples;
-  samples.reserve(511);
-  for (int h = 0; h <= 510; ++h) {
-    const double value = 0.5 * h;
-    samples.push_back({std::pow(value / 255.0, gamma) / exposure, value});
-  }
-  return fromSamples(samples);
-}
-
-uint8_t ToneCurve::operator()(double radiance) const {
-  if (std::isnan(radiance)) return 0;
-  // Number of thresholds <= radiance.
-  const auto it = std::upper_bound(thresholds_.begin(), thresholds_.end(), radiance);
-  return static_cast<uint8_t>(it - thresholds_.begin());
-}
-
-core::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
-  return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
-}
 
 int sourceSet(uint64_t seed, uint64_t sourceId) {
   // State of a SplitMix64 stream seeded with `seed` after `sourceId` steps: each id draws

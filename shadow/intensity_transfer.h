@@ -15,44 +15,9 @@
 #include <glm/glm.hpp>
 
 #include "raster/frame_trace.h"
+#include "shadow/tone_curve.h"
 
 namespace penumbra::shadow {
-
-// A monotone camera response: radiance -> 8-bit code (Gibson 2003 §3, "calibrated camera
-// response function T()"). Stored as the 255 radiances at which the code steps up, so a
-// lookup is one binary search over a sorted table: no libm in the per-vertex path, and
-// monotonicity is exact (the telescoping property depends on it).
-class ToneCurve {
- public:
-  struct Sample {
-    double radiance;  // non-decreasing over the samples
-    double value;     // continuous output in [0, 255], non-decreasing
-  };
-
-  // Piecewise-linear response through `samples` (at least two), constant outside them;
-  // a radiance maps to the code nearest its interpolated value (ties upwards).
-  // Throws std::invalid_argument for fewer than two or non-monotone samples.
-  static ToneCurve fromSamples(std::span<const Sample> samples);
-
-  // An sRGB-like display response: value = 255 * min(1, exposure * L)^(1 / gamma),
-  // sampled at every half code.
-  static ToneCurve gamma(double exposure, double gamma = 2.2);
-
-  // The curve with these code thresholds (as returned by threshold(1..255)), e.g. read
-  // back from a scene bundle. Throws std::invalid_argument unless non-decreasing.
-  static ToneCurve fromThresholds(const std::array<double, 255>& thresholds);
-  std::array<double, 255> thresholds() const { return thresholds_; }
-
-  // T(L) for one channel. NaN maps to 0.
-  uint8_t operator()(double radiance) const;
-  core::Rgb8 map(const glm::dvec3& radiance) const;
-
-  // The smallest radiance with code >= k, k in 1..255 (+inf if never reached).
-  double threshold(int code) const { return thresholds_[code - 1]; }
-
- private:
-  std::array<double, 255> thresholds_{};
-};
 
 // Which of the two occlusion sets of Gibson 2003 §7.1.1 source patch `sourceId` belongs
 // to: 1 for an even pseudo-random id, 2 for an odd one. A counter-based hash of

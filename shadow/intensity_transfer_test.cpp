@@ -13,34 +13,6 @@ namespace {
 
 using glm::dvec3;
 
-TEST(ToneCurve, GammaMatchesFormulaAndIsMonotone) {
-  const ToneCurve t = ToneCurve::gamma(2.0, 2.2);
-  for (int i = 0; i <= 1000; ++i) {
-    const double l = 0.6 * i / 1000.0;
-    const double ideal = 255.0 * std::pow(std::min(1.0, 2.0 * l), 1 / 2.2);
-    EXPECT_NEAR(t(l), ideal, 0.5 + 1e-6) << l;
-    if (i > 0) {
-      EXPECT_GE(t(l), t(0.6 * (i - 1) / 1000.0));
-    }
-  }
-  EXPECT_EQ(t(0), 0);
-  EXPECT_EQ(t(-1), 0);
-  EXPECT_EQ(t(std::nan("")), 0);
-  EXPECT_EQ(t(1e30), 255);
-  EXPECT_EQ(t(std::numeric_limits<double>::infinity()), 255);
-}
-
-TEST(ToneCurve, FromSamplesLinear) {
-  const std::array<ToneCurve::Sample, 2> s = {{{0.0, 0.0}, {255.0, 255.0}}};
-  const ToneCurve t = ToneCurve::fromSamples(s);
-  EXPECT_EQ(t(10.49), 10);
-  EXPECT_EQ(t(10.5), 11);  // ties round up
-  EXPECT_EQ(t(300), 255);
-  EXPECT_DOUBLE_EQ(t.threshold(1), 0.5);
-  const std::array<ToneCurve::Sample, 2> bad = {{{1.0, 10.0}, {0.5, 20.0}}};
-  EXPECT_THROW(ToneCurve::fromSamples(bad), std::invalid_argument);
-}
-
 TEST(SourceSet, DeterministicAndBalanced) {
   int ones = 0;
   for (uint64_t id = 0; id < 10000; ++id) {
@@ -108,15 +80,6 @@ TEST(IntensityTransfer, SingleSetRemovesAllLight) {
   EXPECT_GT(s[0].r, 0);
   EXPECT_THROW(intensityTransfers(total, l, std::vector<uint8_t>{1, 3, 1}, tone, s),
                std::invalid_argument);
-}
-
-TEST(ToneCurveThresholds, RoundTripAndValidation) {
-  const ToneCurve tone = ToneCurve::gamma(1.5, 2.2);
-  const ToneCurve back = ToneCurve::fromThresholds(tone.thresholds());
-  for (double l = 0.0; l < 1.0; l += 0.0137) EXPECT_EQ(back(l), tone(l)) << l;
-  auto bad = tone.thresholds();
-  bad[100] = bad[99] - 1.0;
-  EXPECT_THROW(ToneCurve::fromThresholds(bad), std::invalid_argument);
 }
 
 TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {

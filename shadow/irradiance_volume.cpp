@@ -173,24 +173,6 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
   return out;
 }
 
-ToneLut::ToneLut(const ToneCurve& curve)
-    : curve_(curve), thresholds_(curve.thresholds()), start_(size_t{1} << 15) {
-  for (uint32_t b = 0; b < start_.size(); ++b) {
-    start_[b] = curve(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
-  }
-}
-
-uint8_t ToneLut::operator()(float radiance) const {
-  if (std::isnan(radiance)) return 0;
-  const uint32_t bits = std::bit_cast<uint32_t>(radiance);
-  if (bits >> 31) return curve_(double(radiance));  // negative (or -0)
-  // Codes only grow within a bucket: scan up from its lowest float's code.
-  unsigned code = start_[bits >> 16];
-  const double v = radiance;
-  while (code < 255 && thresholds_[code] <= v) ++code;
-  return static_cast<uint8_t>(code);
-}
-
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
                           const ToneLut& tone, std::span<core::Rgb8> colours,

@@ -1,7 +1,7 @@
 // The irradiance volume of Gibson & Chalmers 2003 §5 as the per-frame path reads it: a
 // uniform grid over the room, nine spherical-harmonic coefficients (RGB) per grid vertex
 // encoding the irradiance arriving from every direction (Ramamoorthi & Hanrahan 2001).
-// lighting/irradiance_volume.h gathers it offline from the patch mesh; this file only
+// lighting/irradiance_volume_gather.h gathers it offline from the patch mesh; this file only
 // stores and evaluates it, so the board build (no Embree) shades products the same way.
 //
 // What is stored: for vertex v, coefficient k (the real SH basis Y_k below, k = l^2 + l + m)
@@ -27,6 +27,7 @@
 
 #include "raster/frame_trace.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/tone_curve.h"
 #include "simd/targets.h"
 
 namespace penumbra::shadow {
@@ -87,25 +88,6 @@ struct IrradianceVolume {
 using ShCornerBlend = void (*)(const float* const record[8], const float weight[8], float inv,
                                float out[kShFloats]);
 ShCornerBlend shCornerBlendFor(simd::Isa isa);
-
-// T() for float radiance, the same codes as ToneCurve::operator() but without its binary
-// search per channel: a table indexed by the top 15 bits of the (non-negative) float gives
-// the code at the bucket's lower end, and a short forward scan over the thresholds
-// finishes (a bucket spans 1/128 of an octave, so the scan is rarely more than one step).
-// Exact for every input; NaN → 0; negative values take ToneCurve's own path. 32 KiB.
-class ToneLut {
- public:
-  explicit ToneLut(const ToneCurve& curve);
-  uint8_t operator()(float radiance) const;
-  core::Rgb8 map(const glm::vec3& radiance) const {
-    return {(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
-  }
-
- private:
-  ToneCurve curve_;
-  std::array<double, 255> thresholds_;
-  std::vector<uint8_t> start_;  // per bucket: the code of its lowest float
-};
 
 // Diffuse shading of a product's vertices (§5): radiance_v = reflectance (*) E(n_v) / pi,
 // then T() per channel. `normals` need not be unit length (zero → +y). `radiance` may be

@@ -41,9 +41,4 @@ struct RadianceTransfers {
   size_t sourceCount() const { return sourceStart.empty() ? 0 : sourceStart.size() - 1; }
 };
 
-// Luminance weights (Rec. 709) used wherever a colour must become one number.
-inline float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 }  // namespace penumbra::shadow

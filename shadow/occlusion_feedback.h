@@ -19,13 +19,14 @@
 
 #include <glm/glm.hpp>
 
+#include "core/colour.h"
 #include "shadow/source_clusters.h"
 
 namespace penumbra::shadow {
 
 // Weight of a transfer when shares of light are measured (Rec. 709 luminance, in double).
 inline double transferWeight(const glm::dvec3& t) {
-  return 0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z;
+  return core::luminance(t);
 }
 
 // What observe() needs of the frame it measures: its passes, clusters and per-probe

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/colour.h"
+
 namespace penumbra::shadow {
 namespace {
 
@@ -62,7 +64,7 @@ class VertexTransferRows {
       for (uint32_t e = t.sourceStart[s]; e < t.sourceStart[s + 1]; ++e) {
         const uint32_t slot = fill[t.entryVertex[e]]++;
         position_[slot] = p;
-        running_[slot] = std::max(0.0, static_cast<double>(luminance(t.entryTransfer[e])));
+        running_[slot] = std::max(0.0, static_cast<double>(core::luminance(t.entryTransfer[e])));
       }
     }
     // Running sums in row order (increasing source position).
@@ -265,7 +267,8 @@ class ShaftHierarchy::PruneTest {
     }
     threshold_.resize(transfers.receiverVertices.size());
     for (size_t v = 0; v < threshold_.size(); ++v) {
-      threshold_[v] = pruneFraction * static_cast<double>(luminance(transfers.vertexRadiance[v]));
+      threshold_[v] =
+          pruneFraction * static_cast<double>(core::luminance(transfers.vertexRadiance[v]));
     }
   }
 

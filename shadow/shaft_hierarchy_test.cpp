@@ -1,4 +1,5 @@
 #include "shadow/shaft_hierarchy.h"
+#include "core/colour.h"
 #include "core/random.h"
 
 #include <gtest/gtest.h>
@@ -176,8 +177,8 @@ void checkConservative(double pruneFraction, int boxes) {
   for (uint32_t s = 0; s < room.sets.sources.size(); ++s) {
     for (uint32_t e = room.transfers.sourceStart[s]; e < room.transfers.sourceStart[s + 1]; ++e) {
       const uint32_t i = room.transfers.entryVertex[e];
-      if (luminance(room.transfers.entryTransfer[e]) <
-          pruneFraction * luminance(room.transfers.vertexRadiance[i])) {
+      if (core::luminance(room.transfers.entryTransfer[e]) <
+          pruneFraction * core::luminance(room.transfers.vertexRadiance[i])) {
         continue;
       }
       const uint32_t v = room.transfers.receiverVertices[i];

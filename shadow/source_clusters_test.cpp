@@ -1,4 +1,5 @@
 #include "shadow/source_clusters.h"
+#include "core/colour.h"
 #include "core/random.h"
 
 #include <gtest/gtest.h>
@@ -74,7 +75,7 @@ double coveredLight(const Fixture& f, const ShaftHierarchy& h) {
   double kept = 0, total = 0;
   for (uint32_t s = 0; s < h.sourceCount(); ++s) {
     for (uint32_t e = f.transfers.sourceStart[s]; e < f.transfers.sourceStart[s + 1]; ++e) {
-      const double l = luminance(f.transfers.entryTransfer[e]);
+      const double l = core::luminance(f.transfers.entryTransfer[e]);
       total += l;
       if (covered[s][f.transfers.receiverVertices[f.transfers.entryVertex[e]]]) kept += l;
     }

@@ -5,13 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "core/colour.h"
+
 namespace penumbra::shadow {
 
 double patchPower(const scene::Patch& patch) {
-  // The weights of luminance(), in double: the ranking must not depend on float rounding
-  // of nearly equal emitters.
-  const glm::dvec3& e = patch.emission;
-  return (0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z) * patch.area;
+  // In double: the ranking must not depend on float rounding of nearly equal emitters.
+  return core::luminance(patch.emission) * patch.area;
 }
 
 SourceReceiverSets selectSourcesAndReceivers(const scene::PatchMesh& mesh,

@@ -2,6 +2,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/colour.h"
+
 namespace penumbra::shadow::testing {
 
 namespace {
@@ -78,11 +80,11 @@ void buildTestRoom(int floorCells, int lightCols, int lightRows, bool wallAndWin
       const double ff = scene::pointToPatchFormFactor(mesh.positions[v], mesh.normals[v],
                                                       src.centre, src.normal, src.area);
       const glm::vec3 l(0.6 * ff * src.emission);
-      if (luminance(l) > 1e-7f) {
+      if (core::luminance(l) > 1e-7f) {
         t.entryVertex.push_back(i);
         t.entryTransfer.push_back(l);
         t.vertexRadiance[i] += l;
-        sum += luminance(l);
+        sum += core::luminance(l);
       }
     }
     t.sourceStart.push_back(static_cast<uint32_t>(t.entryVertex.size()));

@@ -1,4 +1,4 @@
-#include "lighting/irradiance_volume.h"
+#include "lighting/irradiance_volume_gather.h"
 #include "core/random.h"
 
 #include <cmath>
