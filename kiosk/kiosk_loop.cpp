@@ -317,37 +317,120 @@ void KioskLoop::handleCamera(int64_t now) {
   s.frameNew = true;
 }
 
+// 1. Buttons, and attract mode when nobody has pressed one for a while.
+shadow::ProductPose KioskLoop::inputAndPose(int64_t now) {
+  State& s = *s_;
+  handleButtons(now);
+  if (!s.attract && now - s.lastInputNs >= options_.attractAfterNs) {
+    s.attract = true;
+    s.attractStartNs = now;
+    s.attractFirstProduct = s.carouselIndex;
+    info(now, "attract mode: on (idle for " + seconds(now - s.lastInputNs) + ")");
+  }
+  return s.attract ? attractPose(now) : s.pose;
+}
+
+// 2. The newest camera frame becomes the background (design §1 step 1); a camera that
+// stops sending is said once when it stops and once when it is back.
+KioskLoop::CameraStatus KioskLoop::cameraBackground(int64_t now) {
+  State& s = *s_;
+  handleCamera(now);
+  CameraStatus c;
+  c.haveFrame = s.backgroundCaptureNs >= 0;
+  c.ageNs = c.haveFrame ? now - s.backgroundCaptureNs : -1;
+  c.stale = !c.haveFrame || c.ageNs > options_.staleAfterNs;
+  if (c.stale && !s.staleSaid) {
+    s.staleSaid = true;
+    s.staleSinceNs = now;
+    warn(now, c.haveFrame ? "camera: no new frame for " + seconds(c.ageNs) +
+                                "; the screen shows the last one, frozen"
+                          : "camera: no frame yet; the screen shows the calibration photograph");
+  } else if (!c.stale && s.staleSaid) {
+    s.staleSaid = false;
+    info(now, "camera: live again after " + seconds(now - s.staleSinceNs));
+  }
+  return c;
+}
+
+// The controller's verdict (Gibson 2003 §8), logged when it changes.
+void KioskLoop::noteBudget(int64_t now, bool overBudget) {
+  State& s = *s_;
+  if (overBudget == s.overBudget) return;
+  s.overBudget = overBudget;
+  if (overBudget) {
+    warn(now, "frame rate: below target even at " + std::to_string(options_.minPasses) +
+                  " passes and the smallest shadow map");
+  } else {
+    info(now, "frame rate: back within budget");
+  }
+}
+
+// What the LED and the HUD say.
+std::vector<std::string> KioskLoop::warnings(int64_t now, const CameraStatus& camera,
+                                             bool overBudget) const {
+  const State& s = *s_;
+  std::vector<std::string> w;
+  if (io_.camera == nullptr) {
+    w.push_back("NO CAMERA - CALIBRATION PHOTOGRAPH");
+  } else if (s.disconnected) {
+    w.push_back("CAMERA LOST - " +
+                (camera.haveFrame ? "LAST FRAME " + seconds(camera.ageNs) + " OLD" : "NO FRAME"));
+  } else if (camera.stale) {
+    w.push_back(camera.haveFrame ? "CAMERA FROZEN - FRAME " + seconds(camera.ageNs) + " OLD"
+                                 : "NO CAMERA FRAME YET - PHOTOGRAPH");
+  }
+  if (s.lastBadFrameNs != INT64_MIN && now - s.lastBadFrameNs <= options_.staleAfterNs) {
+    w.push_back("BAD CAMERA FRAME REFUSED");
+  }
+  if (io_.buttons == nullptr) w.push_back("NO BUTTONS");
+  if (s.debouncer.anyStuck()) {
+    std::string names;
+    for (size_t i = 0; i < kButtonCount; ++i) {
+      if (s.debouncer.isStuck(static_cast<Button>(i))) {
+        names += std::string(names.empty() ? "" : " ") + buttonName(static_cast<Button>(i));
+      }
+    }
+    w.push_back("BUTTON STUCK: " + names);
+  }
+  if (overBudget) w.push_back("OVER BUDGET");
+  for (const auto& [key, text] : s.faults) w.push_back(text);
+  return w;
+}
+
+// Ready without warnings, degraded with any; a change is logged with its reasons.
+LedState KioskLoop::showLed(int64_t now, const std::vector<std::string>& warnings) {
+  State& s = *s_;
+  const LedState led = warnings.empty() ? LedState::kReady : LedState::kDegraded;
+  if (led != s.led) {
+    std::string why;
+    for (const std::string& w : warnings) why += (why.empty() ? "" : "; ") + w;
+    io_.log->write(
+        now, led == LedState::kReady ? LogLevel::kInfo : LogLevel::kWarning,
+        std::string("led: ") + ledStateName(led) + (why.empty() ? "" : " (" + why + ")"));
+    s.led = led;
+  }
+  io_.led->set(led);
+  return led;
+}
+
+// The HUD's fps over the last 30 frames (integer, from the kiosk clock).
+uint32_t KioskLoop::fpsTenths(int64_t now) {
+  State& s = *s_;
+  s.recentStarts.push_back(now);
+  if (s.recentStarts.size() > 31) s.recentStarts.erase(s.recentStarts.begin());
+  if (s.recentStarts.size() < 2 || s.recentStarts.back() <= s.recentStarts.front()) return 0;
+  return static_cast<uint32_t>(static_cast<int64_t>(s.recentStarts.size() - 1) * 10'000'000'000 /
+                               (s.recentStarts.back() - s.recentStarts.front()));
+}
+
 FrameReport KioskLoop::step() {
   State& s = *s_;
   const int64_t start = io_.time->nowNanoseconds();
   FrameReport r;
   r.startNs = start;
 
-  // 1. Buttons, and attract mode when nobody has pressed one for a while.
-  handleButtons(start);
-  if (!s.attract && start - s.lastInputNs >= options_.attractAfterNs) {
-    s.attract = true;
-    s.attractStartNs = start;
-    s.attractFirstProduct = s.carouselIndex;
-    info(start, "attract mode: on (idle for " + seconds(start - s.lastInputNs) + ")");
-  }
-  const shadow::ProductPose pose = s.attract ? attractPose(start) : s.pose;
-
-  // 2. The newest camera frame becomes the background (design.md §1 step 1).
-  handleCamera(start);
-  const bool haveCamera = s.backgroundCaptureNs >= 0;
-  const int64_t age = haveCamera ? start - s.backgroundCaptureNs : -1;
-  const bool stale = !haveCamera || age > options_.staleAfterNs;
-  if (stale && !s.staleSaid) {
-    s.staleSaid = true;
-    s.staleSinceNs = start;
-    warn(start, haveCamera ? "camera: no new frame for " + seconds(age) +
-                                 "; the screen shows the last one, frozen"
-                           : "camera: no frame yet; the screen shows the calibration photograph");
-  } else if (!stale && s.staleSaid) {
-    s.staleSaid = false;
-    info(start, "camera: live again after " + seconds(start - s.staleSinceNs));
-  }
+  const shadow::ProductPose pose = inputAndPose(start);
+  const CameraStatus camera = cameraBackground(start);
 
   // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
   const shadow::FrameRateController::Decision d = s.controller->next();
@@ -356,64 +439,14 @@ FrameReport KioskLoop::step() {
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
   io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start});
-  if (d.overBudget != s.overBudget) {
-    s.overBudget = d.overBudget;
-    if (d.overBudget) {
-      warn(start, "frame rate: below target even at " + std::to_string(options_.minPasses) +
-                      " passes and the smallest shadow map");
-    } else {
-      info(start, "frame rate: back within budget");
-    }
-  }
+  noteBudget(start, d.overBudget);
 
-  // Warnings: what the LED and the HUD say.
-  if (io_.camera == nullptr) {
-    r.warnings.push_back("NO CAMERA - CALIBRATION PHOTOGRAPH");
-  } else if (s.disconnected) {
-    r.warnings.push_back("CAMERA LOST - " +
-                         (haveCamera ? "LAST FRAME " + seconds(age) + " OLD" : "NO FRAME"));
-  } else if (stale) {
-    r.warnings.push_back(haveCamera ? "CAMERA FROZEN - FRAME " + seconds(age) + " OLD"
-                                    : "NO CAMERA FRAME YET - PHOTOGRAPH");
-  }
-  if (s.lastBadFrameNs != INT64_MIN && start - s.lastBadFrameNs <= options_.staleAfterNs) {
-    r.warnings.push_back("BAD CAMERA FRAME REFUSED");
-  }
-  if (io_.buttons == nullptr) r.warnings.push_back("NO BUTTONS");
-  if (s.debouncer.anyStuck()) {
-    std::string names;
-    for (size_t i = 0; i < kButtonCount; ++i) {
-      if (s.debouncer.isStuck(static_cast<Button>(i))) {
-        names += std::string(names.empty() ? "" : " ") + buttonName(static_cast<Button>(i));
-      }
-    }
-    r.warnings.push_back("BUTTON STUCK: " + names);
-  }
-  if (d.overBudget) r.warnings.push_back("OVER BUDGET");
-  for (const auto& [key, text] : s.faults) r.warnings.push_back(text);
-  const LedState led = r.warnings.empty() ? LedState::kReady : LedState::kDegraded;
-  if (led != s.led) {
-    std::string why;
-    for (const std::string& w : r.warnings) why += (why.empty() ? "" : "; ") + w;
-    io_.log->write(
-        start, led == LedState::kReady ? LogLevel::kInfo : LogLevel::kWarning,
-        std::string("led: ") + ledStateName(led) + (why.empty() ? "" : " (" + why + ")"));
-    s.led = led;
-  }
-  io_.led->set(led);
-
-  // HUD: fps over the last 30 frames (integer, from the kiosk clock).
-  s.recentStarts.push_back(start);
-  if (s.recentStarts.size() > 31) s.recentStarts.erase(s.recentStarts.begin());
-  uint32_t fpsTenths = 0;
-  if (s.recentStarts.size() >= 2 && s.recentStarts.back() > s.recentStarts.front()) {
-    fpsTenths =
-        static_cast<uint32_t>(static_cast<int64_t>(s.recentStarts.size() - 1) * 10'000'000'000 /
-                              (s.recentStarts.back() - s.recentStarts.front()));
-  }
+  r.warnings = warnings(start, camera, d.overBudget);
+  const LedState led = showLed(start, r.warnings);
+  const uint32_t fps = fpsTenths(start);
   if (options_.hud) {
     HudInfo h;
-    h.fpsTenths = fpsTenths;
+    h.fpsTenths = fps;
     h.passes = passes;
     h.shadowMapSize = d.shadowMapSize;
     h.product = bundle_.products[pose.product].name;
@@ -426,6 +459,7 @@ FrameReport KioskLoop::step() {
     r.quit = true;
   }
 
+  // 8. Pacing: the measured time goes back to the controller; the frame period is kept.
   const int64_t end = io_.time->nowNanoseconds();
   s.controller->report(end - start, passes, passPixels);
   const int64_t period = s.quality ? options_.qualityFrameNs : options_.fastFrameNs;
@@ -441,10 +475,10 @@ FrameReport KioskLoop::step() {
   r.attract = s.attract;
   r.quality = s.quality;
   r.cameraFrameNew = s.frameNew;
-  r.backgroundSequence = haveCamera ? s.backgroundSequence : 0;
-  r.backgroundAgeNs = age;
-  r.latencyNs = haveCamera ? end - s.backgroundCaptureNs : -1;
-  r.stale = stale;
+  r.backgroundSequence = camera.haveFrame ? s.backgroundSequence : 0;
+  r.backgroundAgeNs = camera.ageNs;
+  r.latencyNs = camera.haveFrame ? end - s.backgroundCaptureNs : -1;
+  r.stale = camera.stale;
   r.led = led;
   return r;
 }

@@ -127,7 +127,7 @@ class KioskLoop {
   const std::vector<uint32_t>& carousel() const { return carousel_; }
 
   // The bundle's owner replaced product `index`'s model between two frames (a product file,
-  // platform/product_files.h): the next frame places and shades it afresh.
+  // kiosk/product_files.h): the next frame places and shades it afresh.
   void productReplaced(uint32_t index);
   // A fault found outside the loop (a refused product file), keyed by what it concerns: on
   // the HUD and the LED degraded from the next frame until set again with an empty text.
@@ -141,6 +141,18 @@ class KioskLoop {
   void handleCamera(int64_t now);
   void rebuildController();
   shadow::ProductPose attractPose(int64_t now) const;
+  // The stages of step(), in order.
+  struct CameraStatus {
+    bool haveFrame = false;  // a camera frame has ever arrived
+    int64_t ageNs = -1;      // of the background, -1 without one
+    bool stale = true;       // no new frame within options_.staleAfterNs
+  };
+  shadow::ProductPose inputAndPose(int64_t now);
+  CameraStatus cameraBackground(int64_t now);
+  void noteBudget(int64_t now, bool overBudget);
+  std::vector<std::string> warnings(int64_t now, const CameraStatus& camera, bool overBudget) const;
+  LedState showLed(int64_t now, const std::vector<std::string>& warnings);
+  uint32_t fpsTenths(int64_t now);
   void info(int64_t now, const std::string& text);
   void warn(int64_t now, const std::string& text);
 
