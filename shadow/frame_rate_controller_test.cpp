@@ -122,38 +122,7 @@ void expectGoodSettle(const Session& s, size_t frame, uint32_t permille) {
                               << " load " << permille;
 }
 
-TEST(Clock, VirtualClockMovesOnlyWhenAdvanced) {
-  core::VirtualClock c(5);
-  EXPECT_EQ(c.nowNanoseconds(), 5);
-  EXPECT_EQ(c.nowNanoseconds(), 5);
-  c.advance(0);
-  c.advance(1'000);
-  EXPECT_EQ(c.nowNanoseconds(), 1'005);
-  EXPECT_THROW(c.advance(-1), std::invalid_argument);
-  EXPECT_EQ(c.nowNanoseconds(), 1'005);
-}
-
-TEST(Clock, SteadyClockNeverRunsBackwards) {
-  core::SteadyClock c;
-  int64_t prev = c.nowNanoseconds();
-  for (int i = 0; i < 1000; ++i) {
-    const int64_t now = c.nowNanoseconds();
-    ASSERT_GE(now, prev);
-    prev = now;
-  }
-}
-
-TEST(Clock, StopwatchLapsAreMillisecondsSinceTheLastLap) {
-  core::VirtualClock c(5'000);
-  core::Stopwatch watch(c);
-  c.advance(2'500'000);
-  EXPECT_EQ(watch.lap(), 2.5);
-  c.advance(1'000);
-  EXPECT_EQ(watch.lap(), 0.001);
-  EXPECT_EQ(watch.lap(), 0.0);
-}
-
-TEST(Clock, CostModelIsTheDocumentedIntegerFormula) {
+TEST(CostModel, IsTheDocumentedIntegerFormula) {
   const CostModel m({1'000, 200, 3, 7}, {{100, 1500}, {200, 500}});
   // 1000 + (2·(200·1000 + 3·64²) + 7·10) / 1000 = 1000 + 424,646 / 1000 = 1424.
   EXPECT_EQ(m.frameNs(0, 2, 10, 64), 1'424);
