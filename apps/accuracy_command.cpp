@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/render_flags.h"
+#include "core/image.h"
 #include "raster/renderer.h"
 #include "reference/image_metrics.h"
 #include "reference/shadow_region.h"
@@ -37,10 +38,10 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-void writeRgb(const std::string& path, const reference::Rgb8Image& img) {
+void writeRgb(const std::string& path, const core::Image8& img) {
   std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
   for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
-    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.rgb[3 * i + k];
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.pixels[3 * i + k];
   }
   scene::writePng(path, img.width, img.height, rgba);
 }
@@ -73,9 +74,9 @@ struct AccuracyCommand {
     const shadow::ProductPose pose = bundle.startPose;
     const uint32_t w = bundle.view.width, h = bundle.view.height;
 
-    reference::Rgb8Image ref;
+    core::Image8 ref;
     nlohmann::json refInfo;
-    reference::Mask mask;
+    core::Image8 mask;
     if (!referencePath.empty()) {
       ref = reference::loadRgb8(referencePath);
       refInfo = {{"kind", "image"}, {"file", referencePath}};
@@ -90,7 +91,8 @@ struct AccuracyCommand {
       ref = reference::fromRgba8(d.rgba, w, h, "ray-traced reference");
       if (maskPath.empty()) {
         // Its visible shadow: pixels the product's shadow changes, not the product itself.
-        mask = {w, h, d.shadowMask, "ray-traced shadow mask"};
+        mask = core::Image8(w, h, 1, "ray-traced shadow mask");
+        mask.pixels = d.shadowMask;
       }
       refInfo = {{"kind", "raytraced"},
                  {"spp", rays.samplesPerPixel},
@@ -121,7 +123,7 @@ struct AccuracyCommand {
     zero.still(pose, 0);
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
-    } else if (mask.inside.empty()) {
+    } else if (mask.pixels.empty()) {
       mask = reference::shadowRegion(ref, zero.rgba, bundle.background,
                                      "shadow region of the reference");
     }
@@ -129,7 +131,7 @@ struct AccuracyCommand {
     if (!maskOut.empty()) {
       std::vector<uint8_t> rgba(size_t(w) * h * 4, 255);
       for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.inside[i] ? 255 : 0;
+        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.pixels[i] ? 255 : 0;
       }
       scene::writePng(maskOut, w, h, rgba);
     }

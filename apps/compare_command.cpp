@@ -10,6 +10,7 @@
 #ifdef PENUMBRA_HAVE_METRICS
 #include <nlohmann/json.hpp>
 
+#include "core/image.h"
 #include "reference/image_metrics.h"
 #endif
 
@@ -25,9 +26,9 @@ struct CompareCommand {
   int run() const {
     // Everything is read and computed before any file is written, so bad input leaves no
     // partial output behind.
-    const reference::Rgb8Image ref = reference::loadRgb8(a);
-    const reference::Rgb8Image test = reference::loadRgb8(b);
-    std::optional<reference::Mask> m;
+    const core::Image8 ref = reference::loadRgb8(a);
+    const core::Image8 test = reference::loadRgb8(b);
+    std::optional<core::Image8> m;
     if (!mask.empty()) m = reference::loadMask(mask);
     reference::CompareOptions options;
     options.flip.pixelsPerDegree = ppd;

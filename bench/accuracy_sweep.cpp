@@ -18,6 +18,7 @@
 #include <iostream>
 #include <set>
 
+#include "core/image.h"
 #include "lighting/precompute.h"
 #include "raster/renderer.h"
 #include "reference/image_metrics.h"
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
     shadow::FrameLoop zero(refBundle, 256, ro);
     zero.still(pose, 0);
 
-    reference::Rgb8Image ref;
+    core::Image8 ref;
     std::string refLabel;
     if (!referencePath.empty()) {
       ref = reference::loadRgb8(referencePath);
@@ -110,11 +111,11 @@ int main(int argc, char** argv) {
     if (!referenceOut.empty()) {
       std::vector<uint8_t> rgba(size_t(w) * h * 4, 255);
       for (size_t i = 0; i < size_t(w) * h; ++i) {
-        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = ref.rgb[3 * i + k];
+        for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = ref.pixels[3 * i + k];
       }
       scene::writePng(referenceOut, w, h, rgba);
     }
-    reference::Mask mask;
+    core::Image8 mask;
     if (!maskPath.empty()) {
       mask = reference::loadMask(maskPath);
     } else {

@@ -55,7 +55,7 @@ std::vector<size_t> choosePixels(std::span<const Exposure> bracket, int channel,
                                  const ResponseOptions& opt) {
   const size_t pixels = size_t(bracket[0].image.width) * size_t(bracket[0].image.height);
   const size_t want = std::min(size_t(opt.samplesPerChannel), pixels);
-  const Ldr8Image& middle = bracket[bracket.size() / 2].image;
+  const core::Image8& middle = bracket[bracket.size() / 2].image;
   const size_t perBin = want / 32 + 1;
   std::array<size_t, 32> filled{};
   std::vector<size_t> chosen;
@@ -67,9 +67,10 @@ std::vector<size_t> choosePixels(std::span<const Exposure> bracket, int channel,
       const size_t p = size_t(mix(salt + k) % pixels);
       if (taken[p]) continue;
       bool informative = false;
-      for (const Exposure& e : bracket) informative |= hatWeight(e.image.rgb[3 * p + channel]) > 0;
+      for (const Exposure& e : bracket)
+        informative |= hatWeight(e.image.pixels[3 * p + channel]) > 0;
       if (!informative) continue;
-      const size_t bin = middle.rgb[3 * p + channel] / 8u;
+      const size_t bin = middle.pixels[3 * p + channel] / 8u;
       if (pass == 0 && filled[bin] >= perBin) continue;
       ++filled[bin];
       taken[p] = 1;
@@ -86,12 +87,12 @@ void checkBracket(std::span<const Exposure> bracket) {
     throw HdrError("HDR bracket: " + std::to_string(bracket.size()) +
                    " exposure(s), need at least 2");
   }
-  const Ldr8Image& first = bracket[0].image;
+  const core::Image8& first = bracket[0].image;
   for (size_t i = 0; i < bracket.size(); ++i) {
     const Exposure& e = bracket[i];
     const std::string name = e.name.empty() ? "exposure " + std::to_string(i) : e.name;
     if (e.image.width <= 0 || e.image.height <= 0) throw HdrError(name + ": empty image");
-    if (e.image.rgb.size() != size_t(e.image.width) * size_t(e.image.height) * 3) {
+    if (e.image.channels != 3 || !e.image.hasExpectedSize()) {
       throw HdrError(name + ": pixel data is not 3 bytes x width x height");
     }
     if (e.image.width != first.width || e.image.height != first.height) {
@@ -160,7 +161,7 @@ CameraResponse recoverResponse(std::span<const Exposure> bracket, const Response
     };
     for (size_t s = 0; s < pixels.size(); ++s) {
       for (size_t j = 0; j < bracket.size(); ++j) {
-        const int z = bracket[j].image.rgb[3 * pixels[s] + c];
+        const int z = bracket[j].image.pixels[3 * pixels[s] + c];
         const double w = hatWeight(z);
         if (w == 0) continue;
         addRow({{size_t(z), w}, {256 + s, -w}}, w * logDt[j]);

@@ -75,7 +75,7 @@ TEST(CameraResponse, SmallNonMonotonicityIsRepairedWithAWarning) {
   // A camera whose codes 100..109 come out in reverse order: the recovered g dips there.
   auto bracket = makeBracket(gradientField(160, 120), kTimes);
   for (Exposure& e : bracket) {
-    for (uint8_t& v : e.image.rgb) {
+    for (uint8_t& v : e.image.pixels) {
       if (v >= 100 && v <= 109) v = uint8_t(209 - v);
     }
   }
@@ -104,7 +104,7 @@ TEST(CameraResponse, InvalidBracketsRejected) {
   }
   auto sizes = bracket;
   sizes[2].image.width = 16;
-  sizes[2].image.rgb.resize(16 * 24 * 3);
+  sizes[2].image.pixels.resize(16 * 24 * 3);
   EXPECT_THROW(checkBracket(sizes), HdrError);
   auto zero = bracket;
   zero[0].seconds = 0;
@@ -114,7 +114,7 @@ TEST(CameraResponse, InvalidBracketsRejected) {
   EXPECT_THROW(checkBracket(nan), HdrError);
   // Every pixel clipped in every exposure: nothing to learn from.
   auto clipped = bracket;
-  for (Exposure& e : clipped) std::fill(e.image.rgb.begin(), e.image.rgb.end(), uint8_t{255});
+  for (Exposure& e : clipped) std::fill(e.image.pixels.begin(), e.image.pixels.end(), uint8_t{255});
   EXPECT_THROW(recoverResponse(clipped), HdrError);
 }
 

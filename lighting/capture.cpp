@@ -126,7 +126,7 @@ double quantile(std::vector<double> v, double q) {
 std::vector<Exposure> readBracket(const CaptureManifest& m, const std::string& src) {
   std::vector<Exposure> bracket;
   for (const CaptureManifest::Photo& p : m.exposures) {
-    const scene::PhotoRgb8 photo = scene::readPhotoRgb8(p.file);
+    core::Image8 photo = scene::readPhotoRgb8(p.file);
     if (!bracket.empty() &&
         (photo.width != bracket[0].image.width || photo.height != bracket[0].image.height)) {
       throw CaptureError(src + ": exposures: " + p.file.string() + " is " +
@@ -134,8 +134,7 @@ std::vector<Exposure> readBracket(const CaptureManifest& m, const std::string& s
                          ", the first photograph " + std::to_string(bracket[0].image.width) + "x" +
                          std::to_string(bracket[0].image.height));
     }
-    bracket.push_back(
-        {p.file.filename().string(), p.seconds, {photo.width, photo.height, photo.rgb}});
+    bracket.push_back({p.file.filename().string(), p.seconds, std::move(photo)});
   }
   return bracket;
 }
@@ -246,8 +245,9 @@ HdrPhotos mergeHdr(const CaptureManifest& m, const std::vector<Exposure>& bracke
                    const shadow::ToneCurve& tone, int width, int height, CaptureSummary& s) {
   const CameraResponse& response = s.response;
   MergeResult merged = mergeExposures(bracket, response);
-  for (size_t i = 0; i < merged.radiance.rgb.size(); ++i) {
-    merged.radiance.rgb[i] = float(double(merged.radiance.rgb[i]) * s.channelToGrey[int(i % 3)]);
+  for (size_t i = 0; i < merged.radiance.pixels.size(); ++i) {
+    merged.radiance.pixels[i] =
+        float(double(merged.radiance.pixels[i]) * s.channelToGrey[int(i % 3)]);
   }
   s.clippedBright = merged.clippedBright;
   s.clippedDark = merged.clippedDark;
@@ -263,8 +263,8 @@ HdrPhotos mergeHdr(const CaptureManifest& m, const std::vector<Exposure>& bracke
   std::vector<uint8_t> background(size_t(width) * size_t(height) * 4, 255);
   for (size_t i = 0; i < size_t(width) * size_t(height); ++i) {
     for (size_t c = 0; c < 3; ++c) {
-      background[4 * i + c] = m.liveIndex ? bracket[size_t(*m.liveIndex)].image.rgb[3 * i + c]
-                                          : tone(double(merged.radiance.rgb[3 * i + c]));
+      background[4 * i + c] = m.liveIndex ? bracket[size_t(*m.liveIndex)].image.pixels[3 * i + c]
+                                          : tone(double(merged.radiance.pixels[3 * i + c]));
     }
   }
   return {std::move(merged), std::move(background)};
@@ -354,11 +354,12 @@ void scaleProbeToPhotographs(const CaptureManifest& m, const std::vector<Exposur
           const size_t i = 3 * (size_t(v) * size_t(width) + size_t(u));
           bool clipped = false;
           for (size_t c = 0; c < 3; ++c) {
-            clipped = clipped || shortest.image.rgb[i + c] == 255 || longest.image.rgb[i + c] == 0;
+            clipped =
+                clipped || shortest.image.pixels[i + c] == 255 || longest.image.pixels[i + c] == 0;
           }
           if (clipped) continue;
-          sum += glm::dvec3(merged.radiance.rgb[i], merged.radiance.rgb[i + 1],
-                            merged.radiance.rgb[i + 2]);
+          sum += glm::dvec3(merged.radiance.pixels[i], merged.radiance.pixels[i + 1],
+                            merged.radiance.pixels[i + 2]);
           ++n;
         }
       }

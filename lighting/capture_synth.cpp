@@ -172,8 +172,7 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
   probe.position = o.probePosition;
   const double a = o.probeYawDegrees * std::numbers::pi / 180;
   probe.rotation = glm::dmat3(std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a));
-  probe.image = {o.probeWidth, o.probeWidth / 2,
-                 std::vector<float>(size_t(o.probeWidth) * size_t(o.probeWidth / 2) * 3, 0.0f)};
+  probe.image = core::ImageF(uint32_t(o.probeWidth), uint32_t(o.probeWidth / 2));
   renderProbe(probe, out.mesh, rays, out.radiance);
   writeExr(dir / "probe.exr", probe.image);
 

@@ -138,8 +138,7 @@ TEST(Capture, ShowroomClosedLoopRecoversCameraResponseAndMaterials) {
     probe.position = so.probePosition;
     const double a = so.probeYawDegrees * std::numbers::pi / 180;
     probe.rotation = glm::dmat3(std::cos(a), 0, -std::sin(a), 0, 1, 0, std::sin(a), 0, std::cos(a));
-    probe.image = {so.probeWidth, so.probeWidth / 2,
-                   std::vector<float>(size_t(so.probeWidth) * size_t(so.probeWidth / 2) * 3, 1.0f)};
+    probe.image = core::ImageF(uint32_t(so.probeWidth), uint32_t(so.probeWidth / 2), 1.0f);
     const ProbeProjection pp = projectProbe(probe, truth.mesh, rays);
     seen = pp.seen;
   }
@@ -188,12 +187,12 @@ TEST(Capture, ShowroomClosedLoopRecoversCameraResponseAndMaterials) {
   for (uint32_t src : r.bundle.sets.sources) EXPECT_TRUE(trueEmitters.count(src)) << src;
 
   // The background is the live photograph, byte for byte.
-  const scene::PhotoRgb8 live =
+  const core::Image8 live =
       scene::readPhotoRgb8(dir / ("bracket-" + std::to_string(so.liveIndex) + ".png"));
   ASSERT_EQ(r.bundle.background.size(), size_t(live.width) * size_t(live.height) * 4);
   for (size_t i = 0; i < size_t(live.width) * size_t(live.height); ++i) {
-    ASSERT_EQ(r.bundle.background[4 * i], live.rgb[3 * i]) << i;
-    ASSERT_EQ(r.bundle.background[4 * i + 2], live.rgb[3 * i + 2]) << i;
+    ASSERT_EQ(r.bundle.background[4 * i], live.pixels[3 * i]) << i;
+    ASSERT_EQ(r.bundle.background[4 * i + 2], live.pixels[3 * i + 2]) << i;
   }
 
   // The bundle drives a frame: saved, loaded, the product at its start pose, two frames
@@ -320,12 +319,12 @@ TEST(Capture, LiveExposureByTimeReproducesThePhotograph) {
   PrecomputeOptions o;
   o.irradianceVolume = false;
   const CaptureResult r = runCapture(m, o);
-  const scene::PhotoRgb8 photo =
+  const core::Image8 photo =
       scene::readPhotoRgb8(dir / ("bracket-" + std::to_string(so.liveIndex) + ".png"));
   size_t n = 0, within2 = 0;
   int worst = 0;
-  for (size_t i = 0; i < photo.rgb.size(); ++i) {
-    const int want = photo.rgb[i];
+  for (size_t i = 0; i < photo.pixels.size(); ++i) {
+    const int want = photo.pixels[i];
     if (want < 8 || want > 247) continue;  // clipped or at the noise floor
     const int got = r.bundle.background[4 * (i / 3) + i % 3];
     worst = std::max(worst, std::abs(got - want));

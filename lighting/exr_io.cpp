@@ -12,12 +12,12 @@
 
 namespace penumbra::lighting {
 
-HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report) {
+core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report) {
   const std::string name = path.filename().string();
   if (!std::filesystem::is_regular_file(path)) {
     throw HdrError(name + ": no such file (" + path.string() + ")");
   }
-  HdrImage img;
+  core::ImageF img;
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -31,21 +31,19 @@ HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report) {
         channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
     const bool grey = !rgb && channels.findChannel("Y");
     if (!rgb && !grey) throw HdrError(name + ": has neither R, G, B nor Y channels");
-    img.width = int(w);
-    img.height = int(h);
-    img.rgb.assign(size_t(w) * size_t(h) * 3, 0.0f);
+    img = core::ImageF(uint32_t(w), uint32_t(h));
     Imf::FrameBuffer fb;
     const size_t xs = 3 * sizeof(float), ys = xs * size_t(w);
     const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < (grey ? 1 : 3); ++c) {
       fb.insert(grey ? "Y" : names[c],
-                Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, xs, ys));
+                Imf::Slice::Make(Imf::FLOAT, img.pixels.data() + c, dw, xs, ys));
     }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     if (grey) {
       for (size_t p = 0; p < size_t(w) * size_t(h); ++p) {
-        img.rgb[3 * p + 1] = img.rgb[3 * p + 2] = img.rgb[3 * p];
+        img.pixels[3 * p + 1] = img.pixels[3 * p + 2] = img.pixels[3 * p];
       }
     }
   } catch (const HdrError&) {
@@ -55,7 +53,7 @@ HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report) {
   }
   ExrReadReport r;
   size_t nonFinite = 0;
-  for (float& v : img.rgb) {
+  for (float& v : img.pixels) {
     if (!std::isfinite(v)) {
       ++nonFinite;
     } else if (v < 0) {
@@ -71,13 +69,13 @@ HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report) {
   return img;
 }
 
-void writeExr(const std::filesystem::path& path, const HdrImage& image) {
+void writeExr(const std::filesystem::path& path, const core::ImageF& image) {
   const std::string name = path.filename().string();
   if (image.width <= 0 || image.height <= 0 ||
-      image.rgb.size() != size_t(image.width) * size_t(image.height) * 3) {
+      image.pixels.size() != size_t(image.width) * size_t(image.height) * 3) {
     throw HdrError(name + ": image is empty or its pixel data is not 3 x width x height");
   }
-  for (float v : image.rgb) {
+  for (float v : image.pixels) {
     if (!std::isfinite(v)) throw HdrError(name + ": image holds NaN or infinite values");
   }
   try {
@@ -90,10 +88,11 @@ void writeExr(const std::filesystem::path& path, const HdrImage& image) {
     const size_t xs = 3 * sizeof(float), ys = xs * size_t(image.width);
     for (int c = 0; c < 3; ++c) {
       // OpenEXR's slices take a non-const base pointer even for writing.
-      fb.insert(names[c],
-                Imf::Slice(Imf::FLOAT,
-                           const_cast<char*>(reinterpret_cast<const char*>(image.rgb.data() + c)),
-                           xs, ys));
+      fb.insert(
+          names[c],
+          Imf::Slice(Imf::FLOAT,
+                     const_cast<char*>(reinterpret_cast<const char*>(image.pixels.data() + c)), xs,
+                     ys));
     }
     file.setFrameBuffer(fb);
     file.writePixels(image.height);

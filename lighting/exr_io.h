@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 
+#include "core/image.h"
 #include "lighting/hdr_image.h"
 
 namespace penumbra::lighting {
@@ -19,10 +20,10 @@ struct ExrReadReport {
 
 // Reads the R, G, B channels (any pixel type; a luminance-only "Y" file is replicated to
 // RGB) of the data window. Rejects NaN and infinite values (counting them in the message).
-HdrImage readExr(const std::filesystem::path& path, ExrReadReport* report = nullptr);
+core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report = nullptr);
 
 // Writes 32-bit float R, G, B with lossless ZIP compression. Throws for an empty or
 // inconsistent image or a non-finite value; on error no file is left behind.
-void writeExr(const std::filesystem::path& path, const HdrImage& image);
+void writeExr(const std::filesystem::path& path, const core::ImageF& image);
 
 }  // namespace penumbra::lighting

@@ -38,12 +38,12 @@ TEST_F(ExrFiles, ReadsEveryBlenderProbeAndClampsNegatives) {
   size_t totalClamped = 0;
   for (const auto& f : files) {
     ExrReadReport report;
-    const HdrImage img = readExr(f, &report);
+    const core::ImageF img = readExr(f, &report);
     EXPECT_GT(img.width, 0);
     EXPECT_EQ(img.width, 2 * img.height) << f << " is not lat-long";
-    EXPECT_EQ(img.rgb.size(), size_t(img.width) * img.height * 3);
+    EXPECT_EQ(img.pixels.size(), size_t(img.width) * img.height * 3);
     float maxV = 0;
-    for (float v : img.rgb) {
+    for (float v : img.pixels) {
       ASSERT_GE(v, 0.0f);
       maxV = std::max(maxV, v);
     }
@@ -59,13 +59,13 @@ TEST_F(ExrFiles, ReadsEveryBlenderProbeAndClampsNegatives) {
 }
 
 TEST_F(ExrFiles, WriteReadRoundTripIsExact) {
-  const HdrImage img = testutil::gradientField(37, 23);
+  const core::ImageF img = testutil::gradientField(37, 23);
   writeExr(dir / "g.exr", img);
   ExrReadReport report;
-  const HdrImage back = readExr(dir / "g.exr", &report);
+  const core::ImageF back = readExr(dir / "g.exr", &report);
   EXPECT_EQ(back.width, 37);
   EXPECT_EQ(back.height, 23);
-  EXPECT_EQ(back.rgb, img.rgb);
+  EXPECT_EQ(back.pixels, img.pixels);
   EXPECT_EQ(report.clampedNegative, 0u);
 }
 
@@ -83,15 +83,15 @@ TEST_F(ExrFiles, BadFilesAndImagesNamed) {
   } catch (const HdrError& e) {
     EXPECT_NE(std::string(e.what()).find("garbage.exr"), std::string::npos) << e.what();
   }
-  HdrImage img = testutil::gradientField(8, 8);
-  img.rgb[5] = std::nanf("");
+  core::ImageF img = testutil::gradientField(8, 8);
+  img.pixels[5] = std::nanf("");
   EXPECT_THROW(writeExr(dir / "nan.exr", img), HdrError);
   EXPECT_FALSE(std::filesystem::exists(dir / "nan.exr"));
-  img.rgb.resize(10);
+  img.pixels.resize(10);
   EXPECT_THROW(writeExr(dir / "short.exr", img), HdrError);
   // Large but finite values pass through.
   img = testutil::gradientField(8, 8);
-  img.rgb[4] = 1e30f;
+  img.pixels[4] = 1e30f;
   writeExr(dir / "big.exr", img);
   EXPECT_NO_THROW(readExr(dir / "big.exr"));
 }
@@ -101,13 +101,13 @@ TEST_F(ExrFiles, BadFilesAndImagesNamed) {
 TEST_F(ExrFiles, ProbeBracketRecoversResponseAndRadiance) {
   const auto probe = kProbes / "interior.exr";
   if (!std::filesystem::exists(probe)) GTEST_SKIP() << "blender-data is not installed";
-  HdrImage truth = readExr(probe);
+  core::ImageF truth = readExr(probe);
   // Scale so the median channel value sits mid-range at dt = 1, and lift exact zeros (a
   // zero radiance is clipped in every exposure and has no relative error).
-  std::vector<float> sorted = truth.rgb;
+  std::vector<float> sorted = truth.pixels;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const float scale = 0.2f / sorted[sorted.size() / 2];
-  for (float& v : truth.rgb) v = std::max(v * scale, 1e-4f);
+  for (float& v : truth.pixels) v = std::max(v * scale, 1e-4f);
   const double times[5] = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0};
   const auto bracket = testutil::makeBracket(truth, times);
   const CameraResponse r = recoverResponse(bracket);
@@ -123,10 +123,10 @@ TEST_F(ExrFiles, ProbeBracketRecoversResponseAndRadiance) {
   }
   const MergeResult m = mergeExposures(bracket, r);
   // Relative error over channel values that some exposure measured (not clipped throughout).
-  std::vector<uint8_t> measured(truth.rgb.size(), 0);
-  for (size_t i = 0; i < truth.rgb.size(); ++i) {
+  std::vector<uint8_t> measured(truth.pixels.size(), 0);
+  for (size_t i = 0; i < truth.pixels.size(); ++i) {
     for (const Exposure& e : bracket) {
-      if (hatWeight(e.image.rgb[i]) > 0) measured[i] = 1;
+      if (hatWeight(e.image.pixels[i]) > 0) measured[i] = 1;
     }
   }
   const std::vector<double> err = testutil::relativeErrors(m.radiance, truth, measured);

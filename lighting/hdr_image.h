@@ -1,7 +1,7 @@
-// Image types of the HDR capture (Gibson & Chalmers 2003 §4): bracketed 8-bit exposures in,
-// float radiance out. Plain structs without any library type, so penumbra_hdr stays free of
-// OpenCV; callers load photographs however they like (the calibrate/capture commands use
-// OpenCV's imread).
+// Inputs of the HDR capture (Gibson & Chalmers 2003 §4): bracketed 8-bit exposures
+// (core::Image8, RGB) in, float radiance (core::ImageF) out. The image types carry no library
+// type, so penumbra_hdr stays free of OpenCV; callers load photographs however they like (the
+// calibrate/capture commands use scene::readPhotoRgb8).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
 
 namespace penumbra::lighting {
 
@@ -18,29 +19,12 @@ class HdrError : public core::Error {
   using core::Error::Error;
 };
 
-// 8-bit RGB, 3 bytes per pixel, rows top to bottom.
-struct Ldr8Image {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgb;
-};
-
 // One photograph of a bracket and its exposure time (seconds, or any unit common to the
 // bracket: only ratios matter).
 struct Exposure {
   std::string name;  // for messages, e.g. the file name
   double seconds = 0;
-  Ldr8Image image;
-};
-
-// Linear radiance (relative units), 3 floats per pixel, rows top to bottom.
-struct HdrImage {
-  int width = 0, height = 0;
-  std::vector<float> rgb;
-  const float* pixel(uint32_t x, uint32_t y) const { return &rgb[index(x, y)]; }
-  float* pixel(uint32_t x, uint32_t y) { return &rgb[index(x, y)]; }
-
- private:
-  size_t index(uint32_t x, uint32_t y) const { return (size_t{y} * size_t(width) + x) * 3; }
+  core::Image8 image;
 };
 
 }  // namespace penumbra::lighting

@@ -19,7 +19,7 @@ MergeResult mergeExposures(std::span<const Exposure> bracket, const CameraRespon
   MergeResult out;
   out.radiance.width = bracket[0].image.width;
   out.radiance.height = bracket[0].image.height;
-  out.radiance.rgb.assign(pixels * 3, 0.0f);
+  out.radiance.pixels.assign(pixels * 3, 0.0f);
   out.minRadiance = std::numeric_limits<double>::infinity();
   out.maxRadiance = 0;
   for (size_t p = 0; p < pixels; ++p) {
@@ -28,7 +28,7 @@ MergeResult mergeExposures(std::span<const Exposure> bracket, const CameraRespon
       const std::array<double, 256>& g = response.logExposure[c];
       double num = 0, den = 0;
       for (size_t j = 0; j < bracket.size(); ++j) {  // fixed order: bracket order
-        const int z = bracket[j].image.rgb[3 * p + c];
+        const int z = bracket[j].image.pixels[3 * p + c];
         const double w = hatWeight(z);
         num += w * (g[z] - logDt[j]);
         den += w;
@@ -38,14 +38,14 @@ MergeResult mergeExposures(std::span<const Exposure> bracket, const CameraRespon
         e = std::exp(num / den);
         out.minRadiance = std::min(out.minRadiance, e);
         out.maxRadiance = std::max(out.maxRadiance, e);
-      } else if (bracket[shortest].image.rgb[3 * p + c] >= 128) {
+      } else if (bracket[shortest].image.pixels[3 * p + c] >= 128) {
         e = std::exp(g[254] - logDt[shortest]);  // at least this bright
         bright = true;
       } else {
         e = std::exp(g[1] - logDt[longest]);  // at most this bright
         dark = true;
       }
-      out.radiance.rgb[3 * p + c] = float(e);
+      out.radiance.pixels[3 * p + c] = float(e);
     }
     out.clippedBright += bright ? 1 : 0;
     out.clippedDark += dark ? 1 : 0;

@@ -17,7 +17,7 @@
 namespace penumbra::lighting {
 
 struct MergeResult {
-  HdrImage radiance;  // relative radiance, exposure time 1 (g(128) = 0 units)
+  core::ImageF radiance;  // relative radiance, exposure time 1 (g(128) = 0 units)
   // Pixels with a channel clipped in every exposure (weight 0 throughout), by whether the
   // shortest exposure shows it bright (>= 128, i.e. 255: saturated) or dark (code 0).
   size_t clippedBright = 0;

@@ -17,7 +17,7 @@ using testutil::makeBracket;
 constexpr double kTimes[5] = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0};
 
 TEST(HdrMerge, RecoversRadianceOfASyntheticBracket) {
-  const HdrImage truth = gradientField(320, 240);
+  const core::ImageF truth = gradientField(320, 240);
   const auto bracket = makeBracket(truth, kTimes);
   const MergeResult m = mergeExposures(bracket, recoverResponse(bracket));
   ASSERT_EQ(m.radiance.width, 320);
@@ -32,34 +32,34 @@ TEST(HdrMerge, RecoversRadianceOfASyntheticBracket) {
 }
 
 TEST(HdrMerge, ClippedCodesCarryNoWeight) {
-  const HdrImage truth = gradientField(64, 48);
+  const core::ImageF truth = gradientField(64, 48);
   auto bracket = makeBracket(truth, kTimes);
   const CameraResponse r = recoverResponse(bracket);
   const MergeResult before = mergeExposures(bracket, r);
   // Pixel 0 (the darkest corner): clip it to 255 in the longest exposure only. With a hat
   // weight of 0 at 255 the estimate must not move (OpenCV's MergeDebevec would pull it).
   const size_t p = 5;  // a dark pixel, below 255 in every exposure
-  ASSERT_LT(bracket[4].image.rgb[3 * p], 250);
-  bracket[4].image.rgb[3 * p] = 255;
+  ASSERT_LT(bracket[4].image.pixels[3 * p], 250);
+  bracket[4].image.pixels[3 * p] = 255;
   const MergeResult after = mergeExposures(bracket, r);
   const double withoutLongest = [&] {
     double num = 0, den = 0;
     for (size_t j = 0; j < 4; ++j) {
-      const int z = bracket[j].image.rgb[3 * p];
+      const int z = bracket[j].image.pixels[3 * p];
       num += hatWeight(z) * (r.logExposure[0][z] - std::log(kTimes[j]));
       den += hatWeight(z);
     }
     return std::exp(num / den);
   }();
-  EXPECT_FLOAT_EQ(after.radiance.rgb[3 * p], float(withoutLongest));
-  EXPECT_NE(after.radiance.rgb[3 * p], before.radiance.rgb[3 * p]);
+  EXPECT_FLOAT_EQ(after.radiance.pixels[3 * p], float(withoutLongest));
+  EXPECT_NE(after.radiance.pixels[3 * p], before.radiance.pixels[3 * p]);
   // A pixel saturated in every exposure is counted and gets the brightest measurable value.
-  for (Exposure& e : bracket) e.image.rgb[3 * 7 + 1] = 255;
-  for (Exposure& e : bracket) e.image.rgb[3 * 9 + 2] = 0;
+  for (Exposure& e : bracket) e.image.pixels[3 * 7 + 1] = 255;
+  for (Exposure& e : bracket) e.image.pixels[3 * 9 + 2] = 0;
   const MergeResult clipped = mergeExposures(bracket, r);
   EXPECT_EQ(clipped.clippedBright, before.clippedBright + 1);
   EXPECT_EQ(clipped.clippedDark, before.clippedDark + 1);
-  EXPECT_FLOAT_EQ(clipped.radiance.rgb[3 * 7 + 1],
+  EXPECT_FLOAT_EQ(clipped.radiance.pixels[3 * 7 + 1],
                   float(std::exp(r.logExposure[1][254] - std::log(kTimes[0]))));
 }
 
@@ -68,7 +68,7 @@ TEST(HdrMerge, InvalidBracketsRejected) {
   const CameraResponse r = recoverResponse(bracket);
   EXPECT_THROW(mergeExposures(std::span(bracket).first(1), r), HdrError);
   bracket[1].image.height = 12;
-  bracket[1].image.rgb.resize(32 * 12 * 3);
+  bracket[1].image.pixels.resize(32 * 12 * 3);
   try {
     mergeExposures(bracket, r);
     FAIL();

@@ -26,7 +26,8 @@ inline double trueLogExposure(int c, int z) {
   return kGamma[c] * std::log(z / 255.0) - std::log(kGain[c]);
 }
 
-inline std::vector<Exposure> makeBracket(const HdrImage& radiance, std::span<const double> times) {
+inline std::vector<Exposure> makeBracket(const core::ImageF& radiance,
+                                         std::span<const double> times) {
   std::vector<Exposure> out;
   for (double t : times) {
     Exposure e;
@@ -34,9 +35,9 @@ inline std::vector<Exposure> makeBracket(const HdrImage& radiance, std::span<con
     e.seconds = t;
     e.image.width = radiance.width;
     e.image.height = radiance.height;
-    e.image.rgb.resize(radiance.rgb.size());
-    for (size_t i = 0; i < radiance.rgb.size(); ++i) {
-      e.image.rgb[i] = trueCode(int(i % 3), double(radiance.rgb[i]) * t);
+    e.image.pixels.resize(radiance.pixels.size());
+    for (size_t i = 0; i < radiance.pixels.size(); ++i) {
+      e.image.pixels[i] = trueCode(int(i % 3), double(radiance.pixels[i]) * t);
     }
     out.push_back(std::move(e));
   }
@@ -45,17 +46,17 @@ inline std::vector<Exposure> makeBracket(const HdrImage& radiance, std::span<con
 
 // A smooth radiance field spanning about e^-6 .. e^2 (a 3,000:1 range; no code
 // clipped in every exposure of the bracket 1/16 .. 16), different per channel.
-inline HdrImage gradientField(int w, int h) {
-  HdrImage img;
+inline core::ImageF gradientField(int w, int h) {
+  core::ImageF img;
   img.width = w;
   img.height = h;
-  img.rgb.resize(size_t(w) * size_t(h) * 3);
+  img.pixels.resize(size_t(w) * size_t(h) * 3);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       for (int c = 0; c < 3; ++c) {
         const double s = double(x) / (w - 1), t = double(y) / (h - 1);
         const double l = -6.0 + 8.0 * s + 0.3 * std::sin(6.0 * t + c) - 0.2 * c * t;
-        img.rgb[(size_t(y) * w + x) * 3 + c] = float(std::exp(l));
+        img.pixels[(size_t(y) * w + x) * 3 + c] = float(std::exp(l));
       }
     }
   }
@@ -65,13 +66,14 @@ inline HdrImage gradientField(int w, int h) {
 // Sorted relative errors |merged / (k_c * truth) - 1| over the channel values with
 // use[i] != 0 (all when `use` is empty). k_c, the median ratio of channel c, removes the
 // free per-channel constant of the response (camera_response.h).
-inline std::vector<double> relativeErrors(const HdrImage& merged, const HdrImage& truth,
+inline std::vector<double> relativeErrors(const core::ImageF& merged, const core::ImageF& truth,
                                           const std::vector<uint8_t>& use = {}) {
   std::vector<double> err;
   for (int c = 0; c < 3; ++c) {
     std::vector<double> ratio;
-    for (size_t i = size_t(c); i < truth.rgb.size(); i += 3) {
-      if (use.empty() || use[i]) ratio.push_back(double(merged.rgb[i]) / double(truth.rgb[i]));
+    for (size_t i = size_t(c); i < truth.pixels.size(); i += 3) {
+      if (use.empty() || use[i])
+        ratio.push_back(double(merged.pixels[i]) / double(truth.pixels[i]));
     }
     if (ratio.empty()) continue;
     std::vector<double> sorted = ratio;

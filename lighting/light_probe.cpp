@@ -17,15 +17,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-void checkImage(const ProbeImage& img) {
+void checkImage(const core::ImageF& img) {
   if (img.width <= 0 || img.height <= 0 ||
-      img.rgb.size() != size_t(img.width) * size_t(img.height) * 3) {
+      img.pixels.size() != size_t(img.width) * size_t(img.height) * 3) {
     throw std::invalid_argument("light probe: image size does not match its pixels");
   }
 }
 
 // Pixel containing image-plane point (u, v) in [-1, 1]^2 (v up).
-void discPixel(const ProbeImage& img, double u, double v, uint32_t& x, uint32_t& y) {
+void discPixel(const core::ImageF& img, double u, double v, uint32_t& x, uint32_t& y) {
   const double fx = (u + 1) * 0.5 * img.width, fy = (1 - v) * 0.5 * img.height;
   x = static_cast<uint32_t>(std::clamp(fx, 0.0, double(img.width - 1)));
   y = static_cast<uint32_t>(std::clamp(fy, 0.0, double(img.height - 1)));
@@ -101,12 +101,12 @@ bool LightProbe::direction(uint32_t x, uint32_t y, glm::dvec3& out) const {
   return true;
 }
 
-ProbeSanitizeReport sanitizeProbe(ProbeImage& image, float saturationLevel) {
+ProbeSanitizeReport sanitizeProbe(core::ImageF& image, float saturationLevel) {
   ProbeSanitizeReport r;
-  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+  for (size_t i = 0; i < image.pixels.size(); i += 3) {
     bool saturated = false;
     for (size_t c = i; c < i + 3; ++c) {
-      float& v = image.rgb[c];
+      float& v = image.pixels[c];
       if (!std::isfinite(v)) {
         ++r.nonFinite;
         v = 0;

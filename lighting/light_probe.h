@@ -24,6 +24,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/image.h"
 #include "lighting/embree_scene.h"
 #include "lighting/hdr_image.h"
 #include "scene/patch_mesh.h"
@@ -43,11 +44,8 @@ enum class ProbeMapping {
   Fisheye,
 };
 
-// A probe is a radiance image (lighting/exr_io.h reads one from an EXR file).
-using ProbeImage = HdrImage;
-
 struct LightProbe {
-  ProbeImage image;
+  core::ImageF image;  // the radiance image (lighting/exr_io.h reads one from an EXR file)
   ProbeMapping mapping = ProbeMapping::LatLong;
   glm::dvec3 position{0.0};  // probe centre in the room frame (metres)
   glm::dmat3 rotation{1.0};  // probe frame → room frame (columns: probe axes in the room)
@@ -70,7 +68,7 @@ struct ProbeSanitizeReport {
 };
 
 // Clamps the image in place and counts what it did. saturationLevel <= 0 disables the count.
-ProbeSanitizeReport sanitizeProbe(ProbeImage& image, float saturationLevel);
+ProbeSanitizeReport sanitizeProbe(core::ImageF& image, float saturationLevel);
 
 struct ProbeProjectionOptions {
   int samplesPerSide = 4;  // jittered samples per patch side (inset from its edges)

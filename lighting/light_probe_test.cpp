@@ -16,9 +16,13 @@ namespace {
 
 using glm::dvec3;
 
-ProbeImage uniformImage(int w, int h, const glm::vec3& c) {
-  ProbeImage img{w, h, {}};
-  for (size_t i = 0; i < size_t(w) * size_t(h); ++i) img.rgb.insert(img.rgb.end(), {c.x, c.y, c.z});
+core::ImageF uniformImage(int w, int h, const glm::vec3& c) {
+  core::ImageF img{uint32_t(w), uint32_t(h)};
+  for (size_t i = 0; i < img.pixels.size(); i += 3) {
+    img.pixels[i] = c.x;
+    img.pixels[i + 1] = c.y;
+    img.pixels[i + 2] = c.z;
+  }
   return img;
 }
 
@@ -38,7 +42,7 @@ TEST(LightProbeMapping, PixelDirectionRoundTripForEveryMapping) {
     probe.rotation = testRotation();
     const uint32_t w = mapping == ProbeMapping::LatLong ? 96 : 64, h = 48 + (w == 64 ? 16 : 0);
     probe.image = uniformImage(w, h, glm::vec3(0.0f));
-    for (uint32_t i = 0; i < w * h; ++i) probe.image.rgb[3 * size_t(i)] = float(i);
+    for (uint32_t i = 0; i < w * h; ++i) probe.image.pixels[3 * size_t(i)] = float(i);
     size_t checked = 0;
     for (uint32_t y = 0; y < h; ++y) {
       for (uint32_t x = 0; x < w; ++x) {
@@ -148,10 +152,10 @@ TEST(LightProbeProjection, BadValuesAreClampedCountedAndReported) {
   const EmbreeScene rays(mesh);
   LightProbe probe;
   probe.image = uniformImage(64, 32, glm::vec3(1.0f));
-  probe.image.rgb[0] = std::numeric_limits<float>::quiet_NaN();
-  probe.image.rgb[4] = -0.01f;
-  probe.image.rgb[7] = std::numeric_limits<float>::infinity();
-  probe.image.rgb[30] = 65504.0f;
+  probe.image.pixels[0] = std::numeric_limits<float>::quiet_NaN();
+  probe.image.pixels[4] = -0.01f;
+  probe.image.pixels[7] = std::numeric_limits<float>::infinity();
+  probe.image.pixels[30] = 65504.0f;
   probe.position = dvec3(2.0, 1.2, 1.5);
   ProbeProjectionOptions o;
   o.saturationLevel = 65504.0f;
@@ -166,7 +170,7 @@ TEST(LightProbeProjection, BadValuesAreClampedCountedAndReported) {
   }
   probe.position = dvec3(-5.0, 1.0, 1.0);  // outside: sees only back faces
   EXPECT_THROW(projectProbe(probe, mesh, rays, o), std::invalid_argument);
-  probe.image.rgb.pop_back();
+  probe.image.pixels.pop_back();
   EXPECT_THROW(projectProbe(probe, mesh, rays, o), std::invalid_argument);
 }
 

@@ -95,65 +95,57 @@ nlohmann::json regionJson(const RegionErrors& r) {
 
 }  // namespace
 
-Rgb8Image loadRgb8(const std::filesystem::path& path) {
+core::Image8 loadRgb8(const std::filesystem::path& path) {
   const cv::Mat bgr = readOrThrow(path, cv::IMREAD_COLOR, "image");
-  Rgb8Image img;
-  img.width = uint32_t(bgr.cols);
-  img.height = uint32_t(bgr.rows);
-  img.name = path.string();
-  img.rgb.resize(size_t(img.width) * img.height * 3);
+  core::Image8 img(uint32_t(bgr.cols), uint32_t(bgr.rows), 3, path.string());
   for (int y = 0; y < bgr.rows; ++y) {
     const uint8_t* row = bgr.ptr<uint8_t>(y);
     for (int x = 0; x < bgr.cols; ++x) {
       const size_t o = (size_t(y) * img.width + size_t(x)) * 3;
-      img.rgb[o] = row[3 * x + 2];
-      img.rgb[o + 1] = row[3 * x + 1];
-      img.rgb[o + 2] = row[3 * x];
+      img.pixels[o] = row[3 * x + 2];
+      img.pixels[o + 1] = row[3 * x + 1];
+      img.pixels[o + 2] = row[3 * x];
     }
   }
   return img;
 }
 
-Mask loadMask(const std::filesystem::path& path) {
+core::Image8 loadMask(const std::filesystem::path& path) {
   const cv::Mat grey = readOrThrow(path, cv::IMREAD_GRAYSCALE, "mask");
-  Mask m;
-  m.width = uint32_t(grey.cols);
-  m.height = uint32_t(grey.rows);
-  m.name = path.string();
-  m.inside.resize(size_t(m.width) * m.height);
+  core::Image8 m(uint32_t(grey.cols), uint32_t(grey.rows), 1, path.string());
   for (int y = 0; y < grey.rows; ++y) {
     const uint8_t* row = grey.ptr<uint8_t>(y);
-    std::copy(row, row + grey.cols, m.inside.begin() + std::ptrdiff_t(y) * grey.cols);
+    std::copy(row, row + grey.cols, m.pixels.begin() + std::ptrdiff_t(y) * grey.cols);
   }
   return m;
 }
 
-Rgb8Image fromRgba8(std::span<const uint8_t> rgba, uint32_t width, uint32_t height,
-                    std::string name) {
+core::Image8 fromRgba8(std::span<const uint8_t> rgba, uint32_t width, uint32_t height,
+                       std::string name) {
   const size_t n = size_t(width) * height;
   if (rgba.size() != 4 * n) {
     throw MetricsError(name + ": expected " + sizeText(width, height) + " RGBA8 pixels");
   }
-  Rgb8Image img{width, height, std::vector<uint8_t>(3 * n), std::move(name)};
+  core::Image8 img(width, height, 3, std::move(name));
   for (size_t i = 0; i < n; ++i) {
-    for (size_t c = 0; c < 3; ++c) img.rgb[3 * i + c] = rgba[4 * i + c];
+    for (size_t c = 0; c < 3; ++c) img.pixels[3 * i + c] = rgba[4 * i + c];
   }
   return img;
 }
 
-ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test, const Mask* mask,
-                              const CompareOptions& options) {
+ImageComparison compareImages(const core::Image8& reference, const core::Image8& test,
+                              const core::Image8* mask, const CompareOptions& options) {
   const uint32_t w = reference.width, h = reference.height;
   const size_t n = size_t(w) * h;
   if (n == 0) throw MetricsError(reference.name + ": empty image");
-  if (reference.rgb.size() != 3 * n) {
+  if (reference.pixels.size() != 3 * n) {
     throw MetricsError(reference.name + ": pixel buffer does not match " + sizeText(w, h));
   }
-  if (test.width != w || test.height != h || test.rgb.size() != 3 * n) {
+  if (test.width != w || test.height != h || test.pixels.size() != 3 * n) {
     throw MetricsError(test.name + ": size " + sizeText(test.width, test.height) +
                        " differs from " + reference.name + " (" + sizeText(w, h) + ")");
   }
-  if (mask != nullptr && (mask->width != w || mask->height != h || mask->inside.size() != n)) {
+  if (mask != nullptr && (mask->width != w || mask->height != h || mask->pixels.size() != n)) {
     throw MetricsError(mask->name + ": mask size " + sizeText(mask->width, mask->height) +
                        " differs from the images (" + sizeText(w, h) + ")");
   }
@@ -162,11 +154,12 @@ ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test,
   c.width = w;
   c.height = h;
   c.pixelsPerDegree = options.flip.pixelsPerDegree;
-  if (options.computeFlip) c.flipMap = flipErrorMap(reference.rgb, test.rgb, w, h, options.flip);
+  if (options.computeFlip)
+    c.flipMap = flipErrorMap(reference.pixels, test.pixels, w, h, options.flip);
 
   Histogram all, in;
   for (size_t i = 0; i < n; ++i) {
-    const bool inside = mask != nullptr && mask->inside[i] != 0;
+    const bool inside = mask != nullptr && mask->pixels[i] != 0;
     const double flip = c.flipMap.empty() ? 0.0 : double(c.flipMap[i]);
     ++all.pixels;
     all.flipSum += flip;
@@ -175,7 +168,7 @@ ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test,
       in.flipSum += flip;
     }
     for (size_t k = 0; k < 3; ++k) {
-      const int e = std::abs(int(reference.rgb[3 * i + k]) - int(test.rgb[3 * i + k]));
+      const int e = std::abs(int(reference.pixels[3 * i + k]) - int(test.pixels[3 * i + k]));
       ++all.count[size_t(e)];
       if (inside) ++in.count[size_t(e)];
     }
@@ -185,8 +178,8 @@ ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test,
 
   // SSIM through OpenCV contrib (Wang et al. 2004 with OpenCV's Gaussian window). The Mats
   // wrap our buffers without copying; channel order does not matter for a per-channel mean.
-  const cv::Mat a(int(h), int(w), CV_8UC3, const_cast<uint8_t*>(reference.rgb.data()));
-  const cv::Mat b(int(h), int(w), CV_8UC3, const_cast<uint8_t*>(test.rgb.data()));
+  const cv::Mat a(int(h), int(w), CV_8UC3, const_cast<uint8_t*>(reference.pixels.data()));
+  const cv::Mat b(int(h), int(w), CV_8UC3, const_cast<uint8_t*>(test.pixels.data()));
   cv::Mat map;
   const cv::Scalar s = cv::quality::QualitySSIM::compute(a, b, map);
   c.ssim = (s[0] + s[1] + s[2]) / 3.0;
@@ -197,7 +190,7 @@ ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test,
     for (uint32_t y = 0; y < h; ++y) {
       const cv::Vec3d* row = map64.ptr<cv::Vec3d>(int(y));
       for (uint32_t x = 0; x < w; ++x) {
-        if (mask->inside[size_t(y) * w + x] == 0) continue;
+        if (mask->pixels[size_t(y) * w + x] == 0) continue;
         sum += (row[x][0] + row[x][1] + row[x][2]) / 3.0;
       }
     }

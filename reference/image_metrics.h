@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "reference/flip.h"
 
 namespace penumbra::reference {
@@ -42,26 +43,16 @@ class MetricsError : public core::Error {
   using core::Error::Error;
 };
 
-struct Rgb8Image {
-  uint32_t width = 0, height = 0;
-  std::vector<uint8_t> rgb;  // 3 bytes per pixel, rows top first
-  std::string name;          // file it came from (for error messages), or a label
-};
-
-struct Mask {
-  uint32_t width = 0, height = 0;
-  std::vector<uint8_t> inside;  // 1 byte per pixel, nonzero = inside
-  std::string name;
-};
+// Images are core::Image8: RGB with 3 channels, masks with 1 channel (nonzero = inside).
 
 // Reads PNG (or anything OpenCV decodes) as 8-bit RGB; alpha is dropped, 16-bit input is
 // scaled to 8 bits by OpenCV, grey is expanded. Throws MetricsError naming the file.
-Rgb8Image loadRgb8(const std::filesystem::path& path);
-// Reads a mask; colour masks are converted to grey first. Throws MetricsError.
-Mask loadMask(const std::filesystem::path& path);
-// RGBA8 pixels (as Penumbra renders them) to an Rgb8Image.
-Rgb8Image fromRgba8(std::span<const uint8_t> rgba, uint32_t width, uint32_t height,
-                    std::string name);
+core::Image8 loadRgb8(const std::filesystem::path& path);
+// Reads a mask (1 channel); colour masks are converted to grey first. Throws MetricsError.
+core::Image8 loadMask(const std::filesystem::path& path);
+// RGBA8 pixels (as Penumbra renders them) to a 3-channel core::Image8.
+core::Image8 fromRgba8(std::span<const uint8_t> rgba, uint32_t width, uint32_t height,
+                       std::string name);
 
 struct RegionErrors {
   uint64_t pixels = 0;  // pixels in the region
@@ -89,8 +80,9 @@ struct CompareOptions {
 
 // Compares `test` against `reference`. Throws MetricsError (naming both images) when sizes
 // differ, or when the mask's size differs from theirs.
-ImageComparison compareImages(const Rgb8Image& reference, const Rgb8Image& test,
-                              const Mask* mask = nullptr, const CompareOptions& options = {});
+ImageComparison compareImages(const core::Image8& reference, const core::Image8& test,
+                              const core::Image8* mask = nullptr,
+                              const CompareOptions& options = {});
 
 // The comparison as a JSON object (field names as in the definitions above, "frame" and
 // "mask" sub-objects, "ssim", "ssim_mask", "flip_ppd", "width", "height").

@@ -11,13 +11,13 @@
 namespace penumbra::reference {
 namespace {
 
-Rgb8Image uniform(uint32_t w, uint32_t h, uint8_t v, const char* name = "uniform") {
-  return {w, h, std::vector<uint8_t>(size_t(w) * h * 3, v), name};
+core::Image8 uniform(uint32_t w, uint32_t h, uint8_t v, const char* name = "uniform") {
+  return core::Image8(w, h, 3, name, v);
 }
 
 TEST(ImageMetrics, ImageAgainstItselfIsPerfect) {
-  Rgb8Image a = uniform(16, 12, 0);
-  for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] = uint8_t((i * 37) % 251);
+  core::Image8 a = uniform(16, 12, 0);
+  for (size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] = uint8_t((i * 37) % 251);
   const ImageComparison c = compareImages(a, a);
   EXPECT_EQ(c.frame.pixels, 16u * 12u);
   EXPECT_EQ(c.frame.meanAbs, 0.0);
@@ -37,13 +37,13 @@ TEST(ImageMetrics, ImageAgainstItselfIsPerfect) {
 // 3, the rest 0. mean = 19/48, max = 10, nearest-rank p99 = the 48th smallest (⌈47.52⌉) = 10,
 // MSE = (100 + 27)/48, PSNR = 10·log10(65025·48/127) = 43.90518.
 TEST(ImageMetrics, MatchesHandComputedValuesOn4x4) {
-  const Rgb8Image a = uniform(4, 4, 100, "a");
-  Rgb8Image b = uniform(4, 4, 100, "b");
-  b.rgb[0] = 110;
-  for (int k = 0; k < 3; ++k) b.rgb[size_t(3 + k)] = 97;
-  Mask m{4, 4, std::vector<uint8_t>(16, 0), "mask"};
-  m.inside[0] = 255;  // only pixel (0,0) inside: samples 10, 0, 0
-  m.inside[5] = 1;    // and pixel (1,1), unchanged
+  const core::Image8 a = uniform(4, 4, 100, "a");
+  core::Image8 b = uniform(4, 4, 100, "b");
+  b.pixels[0] = 110;
+  for (int k = 0; k < 3; ++k) b.pixels[size_t(3 + k)] = 97;
+  core::Image8 m(4, 4, 1, "mask");
+  m.pixels[0] = 255;  // only pixel (0,0) inside: samples 10, 0, 0
+  m.pixels[5] = 1;    // and pixel (1,1), unchanged
   CompareOptions o;
   o.computeFlip = false;
   const ImageComparison c = compareImages(a, b, &m, o);
@@ -64,13 +64,13 @@ TEST(ImageMetrics, MatchesHandComputedValuesOn4x4) {
 // Nearest rank over 300 samples: rank ⌈297⌉ = 297. Errors sorted: 295 zeros, 20, 20, 50, 50,
 // 50 → the 297th is 20 (a mean of the top 1% or an interpolated percentile would differ).
 TEST(ImageMetrics, P99IsNearestRankOverChannelSamples) {
-  const Rgb8Image a = uniform(10, 10, 128, "a");
-  Rgb8Image b = a;
-  b.rgb[0] = 178;
-  b.rgb[10] = 78;
-  b.rgb[299] = 178;
-  b.rgb[50] = 148;
-  b.rgb[51] = 108;
+  const core::Image8 a = uniform(10, 10, 128, "a");
+  core::Image8 b = a;
+  b.pixels[0] = 178;
+  b.pixels[10] = 78;
+  b.pixels[299] = 178;
+  b.pixels[50] = 148;
+  b.pixels[51] = 108;
   CompareOptions o;
   o.computeFlip = false;
   const ImageComparison c = compareImages(a, b, nullptr, o);
@@ -80,9 +80,9 @@ TEST(ImageMetrics, P99IsNearestRankOverChannelSamples) {
 }
 
 TEST(ImageMetrics, EmptyMaskGivesNullRegion) {
-  const Rgb8Image a = uniform(8, 8, 10, "a");
-  const Rgb8Image b = uniform(8, 8, 20, "b");
-  const Mask m{8, 8, std::vector<uint8_t>(64, 0), "empty.png"};
+  const core::Image8 a = uniform(8, 8, 10, "a");
+  const core::Image8 b = uniform(8, 8, 20, "b");
+  const core::Image8 m(8, 8, 1, "empty.png");
   const ImageComparison c = compareImages(a, b, &m);
   EXPECT_EQ(c.masked->pixels, 0u);
   EXPECT_FALSE(c.ssimMasked.has_value());
@@ -93,13 +93,13 @@ TEST(ImageMetrics, EmptyMaskGivesNullRegion) {
 }
 
 TEST(ImageMetrics, SsimFallsWithNoise) {
-  Rgb8Image a = uniform(32, 32, 0, "a");
-  for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] = uint8_t(64 + (i / 3) % 128);
-  Rgb8Image small = a, large = a;
-  for (size_t i = 0; i < a.rgb.size(); ++i) {
+  core::Image8 a = uniform(32, 32, 0, "a");
+  for (size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] = uint8_t(64 + (i / 3) % 128);
+  core::Image8 small = a, large = a;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
     const int n = int((i * 2654435761u) >> 28) - 8;  // −8..7, fixed pattern
-    small.rgb[i] = uint8_t(int(a.rgb[i]) + n / 4);
-    large.rgb[i] = uint8_t(int(a.rgb[i]) + 4 * n);
+    small.pixels[i] = uint8_t(int(a.pixels[i]) + n / 4);
+    large.pixels[i] = uint8_t(int(a.pixels[i]) + 4 * n);
   }
   const double s1 = compareImages(a, small).ssim, s2 = compareImages(a, large).ssim;
   EXPECT_LT(s1, 1.0);
@@ -121,10 +121,10 @@ void expectError(F f, std::initializer_list<std::string> needles) {
 }
 
 TEST(ImageMetrics, MismatchedSizesNameTheFiles) {
-  const Rgb8Image a = uniform(4, 4, 0, "ref.png");
-  const Rgb8Image b = uniform(4, 5, 0, "test.png");
+  const core::Image8 a = uniform(4, 4, 0, "ref.png");
+  const core::Image8 b = uniform(4, 5, 0, "test.png");
   expectError([&] { compareImages(a, b); }, {"test.png", "ref.png", "4x5", "4x4"});
-  const Mask m{3, 4, std::vector<uint8_t>(12, 1), "shadow-mask.png"};
+  const core::Image8 m(3, 4, 1, "shadow-mask.png", 1);
   expectError([&] { compareImages(a, a, &m); }, {"shadow-mask.png", "3x4"});
 }
 
@@ -144,18 +144,20 @@ class ImageFiles : public ::testing::Test {
 TEST_F(ImageFiles, LoadsRgbInRgbOrderAndMasks) {
   cv::Mat bgra(2, 3, CV_8UC4, cv::Scalar(30, 20, 10, 128));  // B, G, R, A
   ASSERT_TRUE(cv::imwrite((dir_ / "a.png").string(), bgra));
-  const Rgb8Image img = loadRgb8(dir_ / "a.png");
+  const core::Image8 img = loadRgb8(dir_ / "a.png");
   EXPECT_EQ(img.width, 3u);
   EXPECT_EQ(img.height, 2u);
-  EXPECT_EQ(img.rgb[0], 10);
-  EXPECT_EQ(img.rgb[1], 20);
-  EXPECT_EQ(img.rgb[2], 30);
+  EXPECT_EQ(img.pixels[0], 10);
+  EXPECT_EQ(img.pixels[1], 20);
+  EXPECT_EQ(img.pixels[2], 30);
   cv::Mat mask(2, 3, CV_8UC1, cv::Scalar(0));
   mask.at<uint8_t>(1, 2) = 7;
   ASSERT_TRUE(cv::imwrite((dir_ / "m.png").string(), mask));
-  const Mask m = loadMask(dir_ / "m.png");
-  EXPECT_EQ(m.inside[5], 7);
-  EXPECT_EQ(m.inside[0], 0);
+  const core::Image8 m = loadMask(dir_ / "m.png");
+  EXPECT_EQ(m.channels, 1u);
+  ASSERT_EQ(m.pixels.size(), 6u);
+  EXPECT_EQ(m.pixels[5], 7);
+  EXPECT_EQ(m.pixels[0], 0);
 }
 
 TEST_F(ImageFiles, UnreadableFilesAreNamed) {

@@ -361,21 +361,20 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
   return image;
 }
 
-lighting::HdrImage hdrImageOf(uint32_t width, uint32_t height,
-                              const std::vector<glm::vec3>& radiance) {
+core::ImageF hdrImageOf(uint32_t width, uint32_t height, const std::vector<glm::vec3>& radiance) {
   if (radiance.size() != size_t{width} * height) {
     throw std::invalid_argument("hdrImageOf: " + std::to_string(radiance.size()) +
                                 " pixels for a " + std::to_string(width) + "x" +
                                 std::to_string(height) + " image");
   }
-  lighting::HdrImage image;
-  image.width = static_cast<int>(width);
-  image.height = static_cast<int>(height);
-  image.rgb.reserve(radiance.size() * 3);
+  core::ImageF image;
+  image.width = width;
+  image.height = height;
+  image.pixels.reserve(radiance.size() * 3);
   for (const glm::vec3& v : radiance) {
-    image.rgb.push_back(v.r);
-    image.rgb.push_back(v.g);
-    image.rgb.push_back(v.b);
+    image.pixels.push_back(v.r);
+    image.pixels.push_back(v.g);
+    image.pixels.push_back(v.b);
   }
   return image;
 }

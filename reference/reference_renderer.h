@@ -37,7 +37,7 @@
 
 #include <glm/glm.hpp>
 
-#include "lighting/hdr_image.h"
+#include "core/image.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/scene_bundle.h"
@@ -96,8 +96,7 @@ ReferenceScene referenceSceneOf(const shadow::SceneBundle& bundle,
                                 const std::optional<shadow::ProductPose>& pose);
 
 // Per-pixel radiance as the HDR image type the EXR writer takes (lighting/exr_io.h).
-lighting::HdrImage hdrImageOf(uint32_t width, uint32_t height,
-                              const std::vector<glm::vec3>& radiance);
+core::ImageF hdrImageOf(uint32_t width, uint32_t height, const std::vector<glm::vec3>& radiance);
 
 // Called after each finished image row with (rows done, rows); from worker threads, one
 // call at a time.

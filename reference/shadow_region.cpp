@@ -33,28 +33,29 @@ std::vector<uint8_t> productPixels(std::span<const uint8_t> unshadowed,
   return product;
 }
 
-Mask shadowRegion(const Rgb8Image& reference, std::span<const uint8_t> unshadowed,
-                  std::span<const uint8_t> background, std::string name) {
+core::Image8 shadowRegion(const core::Image8& reference, std::span<const uint8_t> unshadowed,
+                          std::span<const uint8_t> background, std::string name) {
   const uint32_t w = reference.width, h = reference.height;
-  requireSize(reference.rgb, 3, w, h, reference.name);
+  requireSize(reference.pixels, 3, w, h, reference.name);
   const std::vector<uint8_t> product = productPixels(unshadowed, background, w, h);
-  Mask mask{w, h, std::vector<uint8_t>(size_t(w) * h, 0), std::move(name)};
-  for (size_t i = 0; i < mask.inside.size(); ++i) {
+  core::Image8 mask(w, h, 1, std::move(name));
+  for (size_t i = 0; i < mask.pixels.size(); ++i) {
     if (product[i]) continue;
     for (size_t k = 0; k < 3; ++k) {
-      if (reference.rgb[3 * i + k] != unshadowed[4 * i + k]) mask.inside[i] = 1;
+      if (reference.pixels[3 * i + k] != unshadowed[4 * i + k]) mask.pixels[i] = 1;
     }
   }
   return mask;
 }
 
-ContactErrors contactErrors(const Rgb8Image& reference, std::span<const uint8_t> frame,
+ContactErrors contactErrors(const core::Image8& reference, std::span<const uint8_t> frame,
                             std::span<const uint8_t> unshadowed,
-                            std::span<const uint8_t> background, const Mask& region, int radius) {
+                            std::span<const uint8_t> background, const core::Image8& region,
+                            int radius) {
   const int w = int(reference.width), h = int(reference.height);
-  requireSize(reference.rgb, 3, reference.width, reference.height, reference.name);
+  requireSize(reference.pixels, 3, reference.width, reference.height, reference.name);
   requireSize(frame, 4, reference.width, reference.height, "frame");
-  requireSize(region.inside, 1, reference.width, reference.height, region.name);
+  requireSize(region.pixels, 1, reference.width, reference.height, region.name);
   const std::vector<uint8_t> product =
       productPixels(unshadowed, background, reference.width, reference.height);
   std::vector<uint8_t> near(size_t(w) * size_t(h), 0);  // product pixels dilated by radius
@@ -73,7 +74,7 @@ ContactErrors contactErrors(const Rgb8Image& reference, std::span<const uint8_t>
     for (int x = 0; x < w; ++x) {
       const size_t p = size_t(y) * size_t(w) + size_t(x);
       if (product[p]) continue;
-      if (!region.inside[p]) {
+      if (!region.pixels[p]) {
         for (size_t c = 0; c < 3; ++c) {
           if (int(unshadowed[4 * p + c]) - int(frame[4 * p + c]) >= 3) {
             ++e.spuriousPixels;
@@ -85,7 +86,7 @@ ContactErrors contactErrors(const Rgb8Image& reference, std::span<const uint8_t>
       if (!near[p]) continue;
       ++e.bandPixels;
       for (size_t c = 0; c < 3; ++c) {
-        const int d = int(frame[4 * p + c]) - int(reference.rgb[3 * p + c]);
+        const int d = int(frame[4 * p + c]) - int(reference.pixels[3 * p + c]);
         e.meanAbs += std::abs(d);
         e.meanSigned += d;
       }

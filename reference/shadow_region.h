@@ -15,7 +15,7 @@
 // sweep's copy also took a threshold other than one level, so the two could name different
 // regions for the same frames.
 //
-// Images are RGBA8 as Penumbra renders them (alpha ignored) or reference::Rgb8Image; all
+// Images are RGBA8 as Penumbra renders them (alpha ignored) or core::Image8; all
 // must share one size (MetricsError otherwise). Cost: one pass over the pixels, and for the
 // contact band one (2 radius + 1)^2 dilation per product pixel.
 #pragma once
@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "core/image.h"
 #include "reference/image_metrics.h"
 
 namespace penumbra::reference {
@@ -35,8 +36,8 @@ std::vector<uint8_t> productPixels(std::span<const uint8_t> unshadowed,
                                    uint32_t height);
 
 // The shadow region of `reference` (the rule above), named `name`.
-Mask shadowRegion(const Rgb8Image& reference, std::span<const uint8_t> unshadowed,
-                  std::span<const uint8_t> background, std::string name);
+core::Image8 shadowRegion(const core::Image8& reference, std::span<const uint8_t> unshadowed,
+                          std::span<const uint8_t> background, std::string name);
 
 // Shadow acne and light leaking at contact, against the reference: the contact band is the
 // shadow region within `radius` pixels (Chebyshev distance) of the product's pixels (where
@@ -49,8 +50,9 @@ struct ContactErrors {
   double meanAbs = 0, meanSigned = 0;  // per channel sample over the band; 0 when it is empty
 };
 
-ContactErrors contactErrors(const Rgb8Image& reference, std::span<const uint8_t> frame,
+ContactErrors contactErrors(const core::Image8& reference, std::span<const uint8_t> frame,
                             std::span<const uint8_t> unshadowed,
-                            std::span<const uint8_t> background, const Mask& region, int radius);
+                            std::span<const uint8_t> background, const core::Image8& region,
+                            int radius);
 
 }  // namespace penumbra::reference

@@ -11,13 +11,13 @@ struct Strip {
   static constexpr uint32_t kWidth = 6, kHeight = 1;
   std::vector<uint8_t> background = std::vector<uint8_t>(kWidth * 4, 100);
   std::vector<uint8_t> unshadowed = background;
-  Rgb8Image reference{kWidth, kHeight, std::vector<uint8_t>(kWidth * 3, 100), "reference"};
+  core::Image8 reference{kWidth, kHeight, 3, "reference", 100};
 
   Strip() {
     for (size_t k = 0; k < 3; ++k) unshadowed[k] = 200;
-    for (size_t k = 0; k < 3; ++k) reference.rgb[k] = 150;  // the reference shades it otherwise
+    for (size_t k = 0; k < 3; ++k) reference.pixels[k] = 150;  // the reference shades it otherwise
   }
-  void setReference(size_t x, size_t channel, uint8_t v) { reference.rgb[3 * x + channel] = v; }
+  void setReference(size_t x, size_t channel, uint8_t v) { reference.pixels[3 * x + channel] = v; }
   static void set(std::vector<uint8_t>& rgba, size_t x, size_t channel, uint8_t v) {
     rgba[4 * x + channel] = v;
   }
@@ -35,12 +35,13 @@ TEST(ShadowRegion, OneLevelInOneChannelCountsAndTheProductNeverDoes) {
   s.setReference(1, 1, 99);  // one level darker in green
   s.setReference(2, 0, 60);
   s.setReference(4, 2, 101);  // lighter counts too: the shadow "changes a byte"
-  const Mask m = shadowRegion(s.reference, s.unshadowed, s.background, "region");
+  const core::Image8 m = shadowRegion(s.reference, s.unshadowed, s.background, "region");
   EXPECT_EQ(m.width, s.kWidth);
   EXPECT_EQ(m.height, s.kHeight);
   EXPECT_EQ(m.name, "region");
+  EXPECT_EQ(m.channels, 1u);
   // Pixel 0 differs (150 against 200) but is the product's own.
-  EXPECT_EQ(m.inside, (std::vector<uint8_t>{0, 1, 1, 0, 1, 0}));
+  EXPECT_EQ(m.pixels, (std::vector<uint8_t>{0, 1, 1, 0, 1, 0}));
 }
 
 TEST(ShadowRegion, RejectsImagesOfAnotherSize) {
@@ -62,7 +63,7 @@ TEST(ShadowRegion, ContactBandAndSpuriousShadowByHand) {
     s.setReference(2, k, 50);
     s.setReference(4, k, 70);
   }
-  const Mask region = shadowRegion(s.reference, s.unshadowed, s.background, "region");
+  const core::Image8 region = shadowRegion(s.reference, s.unshadowed, s.background, "region");
   std::vector<uint8_t> frame = s.unshadowed;
   for (size_t k = 0; k < 3; ++k) {
     Strip::set(frame, 1, k, 46);
@@ -86,7 +87,7 @@ TEST(ShadowRegion, ContactBandAndSpuriousShadowByHand) {
 
 TEST(ShadowRegion, EmptyBandGivesZeroErrors) {
   Strip s;
-  const Mask region = shadowRegion(s.reference, s.unshadowed, s.background, "region");
+  const core::Image8 region = shadowRegion(s.reference, s.unshadowed, s.background, "region");
   const ContactErrors e =
       contactErrors(s.reference, s.unshadowed, s.unshadowed, s.background, region, 3);
   EXPECT_EQ(e.bandPixels, 0u);

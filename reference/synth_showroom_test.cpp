@@ -78,11 +78,11 @@ TEST(SynthShowroom, WritesACaptureManifestWhoseMarksGiveTheTrueCameraBack) {
 
   // The object-present radiance differs from the empty room's: the product is in view
   // and casts shadows (one render, shared samples, so elsewhere they mostly agree).
-  const lighting::HdrImage room = lighting::readExr(one / "room.exr");
-  const lighting::HdrImage present = lighting::readExr(one / "object_present.exr");
-  ASSERT_EQ(room.rgb.size(), size_t{160} * 120 * 3);
+  const core::ImageF room = lighting::readExr(one / "room.exr");
+  const core::ImageF present = lighting::readExr(one / "object_present.exr");
+  ASSERT_EQ(room.pixels.size(), size_t{160} * 120 * 3);
   size_t differing = 0;
-  for (size_t i = 0; i < room.rgb.size(); ++i) differing += room.rgb[i] != present.rgb[i];
+  for (size_t i = 0; i < room.pixels.size(); ++i) differing += room.pixels[i] != present.pixels[i];
   EXPECT_GT(differing, 300u);
 
   // Closed loop on the marks: vanishing-point calibration recovers the scene's camera.

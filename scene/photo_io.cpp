@@ -8,7 +8,7 @@
 
 namespace penumbra::scene {
 
-PhotoRgb8 readPhotoRgb8(const std::filesystem::path& path) {
+core::Image8 readPhotoRgb8(const std::filesystem::path& path) {
   const std::string name = path.filename().string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -33,14 +33,11 @@ PhotoRgb8 readPhotoRgb8(const std::filesystem::path& path) {
     default:
       throw CalibrationError(name + ": unsupported channel count");
   }
-  PhotoRgb8 out;
-  out.width = rgb.cols;
-  out.height = rgb.rows;
-  out.rgb.resize(size_t(rgb.cols) * size_t(rgb.rows) * 3);
+  core::Image8 out(uint32_t(rgb.cols), uint32_t(rgb.rows), 3, name);
   for (int y = 0; y < rgb.rows; ++y) {
     const uint8_t* row = rgb.ptr<uint8_t>(y);
     std::copy(row, row + size_t(rgb.cols) * 3,
-              out.rgb.begin() + ptrdiff_t(size_t(y) * rgb.cols * 3));
+              out.pixels.begin() + ptrdiff_t(size_t(y) * rgb.cols * 3));
   }
   return out;
 }

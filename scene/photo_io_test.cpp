@@ -14,16 +14,18 @@ namespace {
 TEST(PhotoIo, ReadsARealJpegAsRgb) {
   const std::filesystem::path photo = "/usr/share/doc/opencv-doc/examples/data/left01.jpg";
   if (!std::filesystem::exists(photo)) GTEST_SKIP() << "no opencv-doc";
-  const PhotoRgb8 p = readPhotoRgb8(photo);
+  const core::Image8 p = readPhotoRgb8(photo);
   EXPECT_EQ(p.width, 640);
   EXPECT_EQ(p.height, 480);
-  ASSERT_EQ(p.rgb.size(), 640u * 480u * 3u);
+  EXPECT_EQ(p.channels, 3u);
+  EXPECT_EQ(p.name, "left01.jpg");  // the file name, for the capture's error messages
+  ASSERT_EQ(p.pixels.size(), 640u * 480u * 3u);
   // A grey chessboard photo: the three channels agree and the board spans dark to light.
   uint8_t lo = 255, hi = 0;
-  for (size_t i = 0; i < p.rgb.size(); i += 3) {
-    EXPECT_EQ(p.rgb[i], p.rgb[i + 1]);
-    lo = std::min(lo, p.rgb[i]);
-    hi = std::max(hi, p.rgb[i]);
+  for (size_t i = 0; i < p.pixels.size(); i += 3) {
+    EXPECT_EQ(p.pixels[i], p.pixels[i + 1]);
+    lo = std::min(lo, p.pixels[i]);
+    hi = std::max(hi, p.pixels[i]);
   }
   EXPECT_LT(lo, 60);
   EXPECT_GT(hi, 200);
