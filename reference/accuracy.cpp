@@ -1,11 +1,11 @@
 #include "reference/accuracy.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "scene/image_io.h"
 #include "shadow/frame_loop.h"
+#include "shadow/frame_runs.h"
 #ifdef PENUMBRA_HAVE_REFERENCE
 #include "reference/differential.h"
 #endif
@@ -14,11 +14,6 @@ namespace penumbra::reference {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 void writeRgb(const std::string& path, const Rgb8Image& img) {
   std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
@@ -119,18 +114,13 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   co.flip.pixelsPerDegree = o.pixelsPerDegree;
   shadow::FrameLoop f(bundle, measured, o.render);
   for (int n : o.passes) {
-    std::vector<double> ms;
-    for (int k = 0; k <= o.frames; ++k) {
-      shadow::ProductPose p = pose;  // slides a little every frame, as in `profile`
-      p.x += 0.01f * float(k % 7);
-      f.step(p, size_t(n));
-      if (k > 0) ms.push_back(double(f.frameNs) * 1e-6);  // frame 0 warms the caches
-    }
+    // Timed with the product sliding a little every frame, as in `penumbra profile`.
+    const double ms = shadow::profilePasses(f, pose, size_t(n), o.frames).total;
     f.still(pose, size_t(n));
     AccuracyRow row;
     row.passesAsked = n;
     row.passes = f.stats.passes;
-    row.msPerFrame = median(ms);
+    row.msPerFrame = ms;
     row.comparison = compareImages(
         ref, fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"), &mask, co);
     row.contact = contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, o.contactRadius);
