@@ -29,6 +29,7 @@
 #include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
 #include "shadow/light_frustum.h"
+#include "shadow/patch_transfer.h"
 
 namespace {
 
@@ -186,15 +187,15 @@ class Lighting {
 
   const std::vector<Emitter>& emitters() const { return emitters_; }
 
-  // Radiance reflected at x (normal n, reflectance rho) from one emitter:
-  // rho * L_e * F(x, patch) * visibility.
+  // Radiance reflected at x (normal n, reflectance rho) from one emitter: the product's
+  // transfer (shadow/patch_transfer.h, rho * L_e * F(x, patch)) times visibility.
   dvec3 transfer(const dvec3& x, const dvec3& n, const dvec3& rho, const Emitter& e) const {
-    const double f = scene::pointToPatchFormFactor(x, n, e.centre, e.normal, e.area);
-    if (f <= 0) return dvec3(0.0);
+    const dvec3 t = shadow::unshadowedTransfer(x, n, rho, e.emission, e.centre, e.normal, e.area);
+    if (t == dvec3(0.0)) return t;  // facing away (F = 0): no shadow ray needed
     // Start the shadow ray a hair off the surface so the receiver's own box face does not
     // count as a blocker.
     if (room_.segmentBlocked(x + 1e-6 * n, e.centre)) return dvec3(0.0);
-    return rho * e.emission * f;
+    return t;
   }
 
   // Sum over all emitters of L_e F V (the "irradiance / pi" seen by x), without rho.
@@ -696,7 +697,7 @@ raster::FrameTrace buildEdgesTrace(TraceSummary& summary) {
   }
   auto transferAt = [&](const dvec3& x, const dvec3& n, size_t j) {
     const dvec3 ln = glm::normalize(bounds.centre() - lights[j]);
-    return rho * emission * scene::pointToPatchFormFactor(x, n, lights[j], ln, area);
+    return shadow::unshadowedTransfer(x, n, rho, emission, lights[j], ln, area);
   };
   const std::array<uint32_t, 3> sizes = {256, 128, 512};
   for (size_t j = 0; j < lights.size(); ++j) {
