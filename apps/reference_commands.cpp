@@ -3,9 +3,7 @@
 
 #ifdef PENUMBRA_HAVE_REFERENCE
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -80,34 +78,18 @@ struct ReferenceCommand {
     std::printf("reference %ux%u spp %d light_samples %d bounces %d seconds %.2f\n", image.width,
                 image.height, options.samplesPerPixel, options.lightSamples, options.bounces,
                 seconds);
-    // Pixels whose bytes differ from the background photograph: 0 when the product is out
-    // of sight and casts no shadow (differential rendering leaves the photograph as it is).
-    size_t changed = 0;
-    for (size_t i = 0; i < frame.rgba.size(); i += 4) {
-      changed += std::memcmp(&frame.rgba[i], &b.background[i], 3) != 0;
-    }
     std::printf("shadow_pixels %zu product_pixels %zu changed_pixels %zu\n", frame.shadowPixels,
-                frame.objectPixels, changed);
+                frame.objectPixels, reference::changedPixels(frame, b.background));
     if (noise) {
       // The same render with an unrelated seed: the two differ only by their Monte Carlo
-      // noise, so the RMS of their 8-bit difference over the shadow region (either
-      // render's) divided by sqrt(2) estimates one render's noise.
+      // noise (reference::shadowNoiseRms).
       reference::ReferenceOptions other = options;
       other.seed = core::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
       const reference::DifferentialFrame second = reference::composeDifferential(
           reference::renderReference(scene, other, progressBar("noise    ")), b.background, b.tone);
-      double sum = 0;
       size_t count = 0;
-      for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
-        if (!frame.shadowMask[i] && !second.shadowMask[i]) continue;
-        for (int c = 0; c < 3; ++c) {
-          const double d = double(frame.rgba[4 * i + size_t(c)]) - second.rgba[4 * i + size_t(c)];
-          sum += d * d;
-          ++count;
-        }
-      }
-      std::printf("noise_rms_lsb_shadow %.3f (over %zu channel values)\n",
-                  count ? std::sqrt(sum / double(count) / 2.0) : 0.0, count);
+      const double rms = reference::shadowNoiseRms(frame, second, &count);
+      std::printf("noise_rms_lsb_shadow %.3f (over %zu channel values)\n", rms, count);
     }
     if (!exr.empty()) {
 #ifdef PENUMBRA_HAVE_OPENEXR
@@ -130,12 +112,7 @@ struct ReferenceCommand {
     }
     scene::writePng(out, image.width, image.height, frame.rgba);
     if (!mask.empty()) {
-      std::vector<uint8_t> rgba(frame.shadowMask.size() * 4);
-      for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
-        for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = frame.shadowMask[i];
-        rgba[4 * i + 3] = 255;
-      }
-      scene::writePng(mask, image.width, image.height, rgba);
+      scene::writePng(mask, image.width, image.height, reference::shadowMaskRgba(frame));
     }
     return 0;
   }

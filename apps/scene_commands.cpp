@@ -1,6 +1,5 @@
 #include "apps/scene_commands.h"
 
-#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -13,7 +12,7 @@
 #include "scene/image_io.h"
 #include "scene/sha256.h"
 #include "shadow/frame_loop.h"
-#include "shadow/frame_rate_controller.h"
+#include "shadow/frame_runs.h"
 #include "shadow/scene_bundle.h"
 #ifdef PENUMBRA_HAVE_LIGHTING
 #include "lighting/precompute.h"
@@ -21,15 +20,6 @@
 #endif
 
 namespace penumbra::apps {
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-}  // namespace
 
 shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
   std::vector<float> values;
@@ -109,32 +99,16 @@ struct RenderCommand {
     shadow::FrameLoop& loop = session.loop;
     const shadow::CompositeStats& stats = loop.stats;
     uint32_t n = static_cast<uint32_t>(passes);
-    double msFrame = 0;
     if (fps > 0) {
       // Frame-rate control (Gibson 2003 §8): let the controller settle on this machine,
       // then keep its last frame.
-      shadow::FrameRateController::Options o;
-      o.targetFrameNs = static_cast<int64_t>(1e9 / fps);
-      o.maxPasses = 200;
-      o.initialPasses = 8;
-      o.minPasses = 4;
-      o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
-      shadow::FrameRateController controller(o);
-      for (uint32_t f = 1; f <= 40; ++f) {
-        const shadow::FrameRateController::Decision d = controller.next();
-        n = d.passes;
-        loop.step(pose, d);
-        controller.report(loop.frameNs, n, loop.renderer.lastStats().passPixels);
-        msFrame = double(loop.frameNs) * 1e-6;
-      }
+      n = shadow::settleFrameRate(loop, pose, shadow::renderControllerOptions(fps)).passes;
     } else {
-      // Two frames of the still product: the first measures where it blocks the light, the
-      // second takes its intensity transfers at those occluded shares (docs/fig3.md).
-      for (uint32_t f = 1; f <= 2; ++f) {
-        loop.step(pose, n);
-        msFrame = double(loop.frameNs) * 1e-6;
-      }
+      // The first frame measures where the product blocks the light, the second takes its
+      // intensity transfers at those occluded shares (docs/fig3.md).
+      loop.still(pose, n);
     }
+    const double msFrame = double(loop.frameNs) * 1e-6;
     std::printf("product %s at (%.3f, %.3f, %.3f) yaw %.1f\n",
                 bundle.products[pose.product].name.c_str(), double(pose.x), double(pose.lift),
                 double(pose.z), double(pose.yawDegrees));
@@ -174,8 +148,6 @@ struct ProfileCommand {
   int run() const {
     Session session(scene);
     shadow::FrameLoop& loop = session.loop;
-    const shadow::CompositeStats& stats = loop.stats;
-    const raster::Renderer& renderer = loop.renderer;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
@@ -184,29 +156,15 @@ struct ProfileCommand {
     std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "total",
                 "travers", "cluster", "transfer", "shadows", "finish");
     for (int asked : passes) {
-      std::vector<double> total, trav, clus, xfer, obj, pass, fin;
-      for (int f = 0; f < frames + 1; ++f) {
-        // The product slides a little every frame, as on the kiosk, so nothing is cached.
-        shadow::ProductPose p = session.pose;
-        p.x += 0.01f * float(f % 7);
-        loop.step(p, size_t(asked));
-        if (f == 0) continue;  // warm-up
-        total.push_back(double(loop.frameNs) * 1e-6);
-        trav.push_back(stats.msTraversal);
-        clus.push_back(stats.msClusters);
-        xfer.push_back(stats.msTransfers + stats.msObject);
-        obj.push_back(renderer.lastStats().msObjects);
-        pass.push_back(renderer.lastStats().msPasses);
-        fin.push_back(renderer.lastStats().msFinish);
-      }
-      const raster::FrameStats& rs = renderer.lastStats();
-      out << asked << ',' << stats.passes << ',' << stats.occludedSources << ','
-          << stats.receiverPatches << ',' << stats.shaftsVisited << ',' << rs.passPixels << ','
-          << median(total) << ',' << median(trav) << ',' << median(clus) << ',' << median(xfer)
-          << ',' << median(obj) << ',' << median(pass) << ',' << median(fin) << '\n';
-      std::printf("%6d %6u %9llu %9.3f %9.4f %9.4f %9.3f %9.3f %9.3f\n", asked, stats.passes,
-                  static_cast<unsigned long long>(rs.passPixels), median(total), median(trav),
-                  median(clus), median(xfer), median(pass), median(fin));
+      const shadow::PassProfile r =
+          shadow::profilePasses(loop, session.pose, size_t(asked), frames);
+      out << asked << ',' << r.passes << ',' << r.occludedSources << ',' << r.receivers << ','
+          << r.shaftsVisited << ',' << r.shadowedPixels << ',' << r.total << ',' << r.traversal
+          << ',' << r.clusters << ',' << r.transfers << ',' << r.objects << ',' << r.shadowPasses
+          << ',' << r.finish << '\n';
+      std::printf("%6d %6u %9llu %9.3f %9.4f %9.4f %9.3f %9.3f %9.3f\n", asked, r.passes,
+                  static_cast<unsigned long long>(r.shadowedPixels), r.total, r.traversal,
+                  r.clusters, r.transfers, r.shadowPasses, r.finish);
     }
     out.close();
     if (!plot.empty()) {

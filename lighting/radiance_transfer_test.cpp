@@ -300,7 +300,7 @@ TEST(CameraVisibility, SeesTheFrontWallNotTheBackWall) {
 }
 
 // ---------------------------------------------------------------------------------------
-// The synthetic showroom of apps/synth_trace.cpp (6 x 3 x 5 m, four ceiling panels, a
+// The synthetic showroom of shadow/synthetic_traces.cpp (6 x 3 x 5 m, four ceiling panels, a
 // window, a desk; 0.45 m patches; 640 x 480 camera), end to end (timed in
 // bench/shading_bench.cpp).
 

@@ -1,6 +1,7 @@
 #include "reference/differential.h"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace penumbra::reference {
@@ -74,6 +75,44 @@ DifferentialFrame composeDifferential(const ReferenceImage& image,
     }
   }
   return out;
+}
+
+size_t changedPixels(const DifferentialFrame& frame, std::span<const uint8_t> background) {
+  if (background.size() != frame.rgba.size()) {
+    throw std::invalid_argument("changedPixels: background size differs from the frame's");
+  }
+  size_t changed = 0;
+  for (size_t i = 0; i < frame.rgba.size(); i += 4) {
+    changed += std::memcmp(&frame.rgba[i], &background[i], 3) != 0;
+  }
+  return changed;
+}
+
+double shadowNoiseRms(const DifferentialFrame& a, const DifferentialFrame& b, size_t* samples) {
+  if (a.rgba.size() != b.rgba.size() || a.shadowMask.size() != b.shadowMask.size()) {
+    throw std::invalid_argument("shadowNoiseRms: the two renders differ in size");
+  }
+  double sum = 0;
+  size_t count = 0;
+  for (size_t i = 0; i < a.shadowMask.size(); ++i) {
+    if (!a.shadowMask[i] && !b.shadowMask[i]) continue;
+    for (size_t c = 0; c < 3; ++c) {
+      const double d = double(a.rgba[4 * i + c]) - b.rgba[4 * i + c];
+      sum += d * d;
+      ++count;
+    }
+  }
+  if (samples) *samples = count;
+  return count ? std::sqrt(sum / double(count) / 2.0) : 0.0;
+}
+
+std::vector<uint8_t> shadowMaskRgba(const DifferentialFrame& frame) {
+  std::vector<uint8_t> rgba(frame.shadowMask.size() * 4);
+  for (size_t i = 0; i < frame.shadowMask.size(); ++i) {
+    for (size_t c = 0; c < 3; ++c) rgba[4 * i + c] = frame.shadowMask[i];
+    rgba[4 * i + 3] = 255;
+  }
+  return rgba;
 }
 
 }  // namespace penumbra::reference

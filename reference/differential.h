@@ -47,4 +47,19 @@ DifferentialFrame composeDifferential(const ReferenceImage& image,
                                       std::span<const uint8_t> background,
                                       const shadow::ToneCurve& tone);
 
+// Pixels whose RGB bytes differ from the background photograph (RGBA8, the frame's size):
+// 0 when the product is out of sight and casts no shadow, since differential rendering
+// leaves the photograph as it is there.
+size_t changedPixels(const DifferentialFrame& frame, std::span<const uint8_t> background);
+
+// One render's Monte Carlo noise in 8-bit levels, from two renders of the same scene with
+// unrelated seeds: they differ only by their noise, so the RMS of their difference over
+// the RGB samples of either one's shadow region, divided by sqrt(2), estimates one render's
+// noise. 0 when neither has a shadow pixel; `samples` (when given) gets the count averaged.
+double shadowNoiseRms(const DifferentialFrame& a, const DifferentialFrame& b,
+                      size_t* samples = nullptr);
+
+// The shadow mask as an RGBA8 image (white where the shadow changes a byte, opaque).
+std::vector<uint8_t> shadowMaskRgba(const DifferentialFrame& frame);
+
 }  // namespace penumbra::reference

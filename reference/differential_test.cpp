@@ -70,5 +70,33 @@ TEST(ComposeDifferential, SubtractsTheBlockedLightAndMixesTheProductByCoverage) 
   EXPECT_EQ(f.objectPixels, 1u);
 }
 
+TEST(ComposeDifferential, ChangedPixelsNoiseAndMaskImage) {
+  DifferentialFrame a;
+  a.width = 3;
+  a.height = 1;
+  a.rgba = {10, 10, 10, 255, 20, 20, 20, 255, 30, 30, 30, 255};
+  a.shadowMask = {0, 255, 0};
+  const std::vector<uint8_t> background = {10, 10, 10, 255, 90, 20, 20, 255, 30, 30, 31, 7};
+  EXPECT_EQ(changedPixels(a, background), 2u) << "alpha is not compared";
+
+  DifferentialFrame b = a;
+  b.rgba[4] = 24;  // +4 in one channel of the shared shadow pixel
+  b.shadowMask = {0, 255, 255};
+  b.rgba[8] = 27;  // -3 in the pixel only b's mask holds
+  size_t samples = 0;
+  // Two shadow pixels x 3 channels; squared differences 16 + 9 over 6 samples, halved.
+  EXPECT_DOUBLE_EQ(shadowNoiseRms(a, b, &samples), std::sqrt(25.0 / 6.0 / 2.0));
+  EXPECT_EQ(samples, 6u);
+  b.rgba[0] = 0;  // outside both masks: not counted
+  EXPECT_DOUBLE_EQ(shadowNoiseRms(a, b), std::sqrt(25.0 / 6.0 / 2.0));
+  a.shadowMask = b.shadowMask = {0, 0, 0};
+  EXPECT_EQ(shadowNoiseRms(a, b, &samples), 0.0);
+  EXPECT_EQ(samples, 0u);
+
+  b.shadowMask = {0, 255, 0};
+  EXPECT_EQ(shadowMaskRgba(b),
+            (std::vector<uint8_t>{0, 0, 0, 255, 255, 255, 255, 255, 0, 0, 0, 255}));
+}
+
 }  // namespace
 }  // namespace penumbra::reference

@@ -9,4 +9,15 @@ if(PENUMBRA_WITH_OPENCV)
                                       ${CMAKE_CURRENT_LIST_DIR}/shadow_region.cpp)
   target_link_libraries(penumbra_metrics PUBLIC penumbra_core ${OpenCV_LIBS} nlohmann_json::nlohmann_json)
   target_include_directories(penumbra_metrics SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  # `penumbra accuracy` as a library function (reference/accuracy.h). Its ray-traced
+  # reference comes from penumbra_reference, which reference/CMakeLists.txt adds after this
+  # file exactly when penumbra_lighting exists (Embree); a link to a target defined later
+  # is resolved when CMake generates.
+  add_library(penumbra_accuracy STATIC ${CMAKE_CURRENT_LIST_DIR}/accuracy.cpp)
+  target_link_libraries(penumbra_accuracy PUBLIC penumbra_metrics penumbra_shadow penumbra_scene
+                                                 penumbra_hdr)
+  if(PENUMBRA_WITH_EMBREE AND TARGET penumbra_lighting)
+    target_link_libraries(penumbra_accuracy PRIVATE penumbra_reference)
+    target_compile_definitions(penumbra_accuracy PRIVATE PENUMBRA_HAVE_REFERENCE=1)
+  endif()
 endif()

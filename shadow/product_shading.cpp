@@ -1,5 +1,6 @@
 #include "shadow/product_shading.h"
 
+#include "shadow/patch_transfer.h"
 #include "shadow/shaft_hierarchy.h"
 
 namespace penumbra::shadow {
@@ -58,9 +59,7 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
     glm::dvec3 radiance(0.0);
     for (uint32_t p : emitters_) {
       const scene::Patch& patch = mesh_.patches[p];
-      const glm::dvec3 transfer =
-          reflectance * patch.emission *
-          scene::pointToPatchFormFactor(x, n, patch.centre, patch.normal, patch.area);
+      const glm::dvec3 transfer = unshadowedTransfer(x, n, reflectance, patch);
       radiance += transfer;
       if (sourceOfPatch_[p] != kNoIndex)
         sourceTransfers_[sourceOfPatch_[p] * vertices + v] = transfer;

@@ -1,0 +1,169 @@
+#include "reference/accuracy.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "scene/image_io.h"
+#include "shadow/frame_loop.h"
+#include "shadow/frame_runs.h"
+#ifdef PENUMBRA_HAVE_REFERENCE
+#include "reference/differential.h"
+#endif
+
+namespace penumbra::reference {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void writeRgb(const std::string& path, const Rgb8Image& img) {
+  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.rgb[3 * i + k];
+  }
+  scene::writePng(path, img.width, img.height, rgba);
+}
+
+void writeMask(const std::string& path, const Mask& mask) {
+  std::vector<uint8_t> rgba(size_t(mask.width) * mask.height * 4, 255);
+  for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.inside[i] ? 255 : 0;
+  }
+  scene::writePng(path, mask.width, mask.height, rgba);
+}
+
+nlohmann::json orNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
+
+// The reference image and, from the ray tracer, its own shadow mask (else left empty).
+Rgb8Image makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
+                        nlohmann::json& info, Mask& mask) {
+  const shadow::ProductPose pose = bundle.startPose;
+  const uint32_t w = bundle.view.width, h = bundle.view.height;
+  if (!o.referencePath.empty()) {
+    info = {{"kind", "image"}, {"file", o.referencePath}};
+    return loadRgb8(o.referencePath);
+  }
+#ifdef PENUMBRA_HAVE_REFERENCE
+  if (!o.penumbraReference) {
+    // The ray-traced ground truth (reference/reference_renderer.h, docs/reference.md): HDR
+    // differential rendering of the same room, light and placed product.
+    const auto t0 = Clock::now();
+    const DifferentialFrame d = composeDifferential(
+        renderReference(referenceSceneOf(bundle, pose), o.rays), bundle.background, bundle.tone);
+    // Its visible shadow: pixels the product's shadow changes, not the product itself.
+    mask = {w, h, d.shadowMask, "ray-traced shadow mask"};
+    info = {{"kind", "raytraced"},
+            {"spp", o.rays.samplesPerPixel},
+            {"light_samples", o.rays.lightSamples},
+            {"bounces", o.rays.bounces},
+            {"seed", o.rays.seed},
+            {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};
+    return fromRgba8(d.rgba, w, h, "ray-traced reference");
+  }
+#endif
+  shadow::FrameLoop r(bundle, o.referenceMapSize, o.render);
+  r.still(pose, o.referencePasses);
+  info = {{"kind", "penumbra"},
+          {"passes", r.stats.passes},
+          {"shadow_map", o.referenceMapSize},
+          {"note", "stand-in for the ray-traced reference"}};
+  return fromRgba8(r.rgba, w, h, "penumbra reference");
+}
+
+}  // namespace
+
+bool accuracyHasRayTracer() {
+#ifdef PENUMBRA_HAVE_REFERENCE
+  return true;
+#else
+  return false;
+#endif
+}
+
+AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
+                               const std::function<void(const AccuracyRow&)>& onRow) {
+  const shadow::ProductPose pose = bundle.startPose;
+  const uint32_t w = bundle.view.width, h = bundle.view.height;
+  AccuracyReport report;
+  report.width = w;
+  report.height = h;
+  Mask mask;
+  const Rgb8Image ref = makeReference(bundle, o, report.reference, mask);
+  if (ref.width != w || ref.height != h) {
+    throw MetricsError(ref.name + ": size " + std::to_string(ref.width) + "x" +
+                       std::to_string(ref.height) + " differs from the bundle's " +
+                       std::to_string(w) + "x" + std::to_string(h) + " view");
+  }
+  shadow::CompositorOptions measured = shadow::FrameLoop::optionsFor(o.shadowMapSize);
+  measured.accumulation = o.accumulation;
+  measured.perClusterShares = o.perClusterShares;
+  measured.depthBias = o.depthBias;
+  // The shadow-free frame (background + product): the region rule's and contact band's base.
+  shadow::FrameLoop zero(bundle, measured, o.render);
+  zero.still(pose, 0);
+  if (!o.maskPath.empty()) {
+    mask = loadMask(o.maskPath);
+  } else if (mask.inside.empty()) {
+    mask = shadowRegion(ref, zero.rgba, bundle.background, "shadow region of the reference");
+  }
+  if (!o.referenceOut.empty()) writeRgb(o.referenceOut, ref);
+  if (!o.maskOut.empty()) writeMask(o.maskOut, mask);
+
+  CompareOptions co;
+  co.flip.pixelsPerDegree = o.pixelsPerDegree;
+  shadow::FrameLoop f(bundle, measured, o.render);
+  for (int n : o.passes) {
+    // Timed with the product sliding a little every frame, as in `penumbra profile`.
+    const double ms = shadow::profilePasses(f, pose, size_t(n), o.frames).total;
+    f.still(pose, size_t(n));
+    AccuracyRow row;
+    row.passesAsked = n;
+    row.passes = f.stats.passes;
+    row.msPerFrame = ms;
+    row.comparison = compareImages(
+        ref, fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"), &mask, co);
+    row.contact = contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, o.contactRadius);
+    if (onRow) onRow(row);
+    report.rows.push_back(std::move(row));
+  }
+  return report;
+}
+
+nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
+                      const AccuracyReport& report) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const AccuracyRow& r : report.rows) {
+    const ImageComparison& c = r.comparison;
+    const RegionErrors& s = *c.masked;
+    rows.push_back({{"passes_asked", r.passesAsked},
+                    {"passes", r.passes},
+                    {"ms_per_frame", r.msPerFrame},
+                    {"mean_abs_shadow", s.pixels ? nlohmann::json(s.meanAbs) : nullptr},
+                    {"p99_abs_shadow", s.pixels ? nlohmann::json(s.p99Abs) : nullptr},
+                    {"shadow_pixels", s.pixels},
+                    {"mean_abs_frame", c.frame.meanAbs},
+                    {"ssim", c.ssim},
+                    {"psnr", orNull(c.frame.psnr)},
+                    {"flip", c.frame.flipMean},
+                    {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr},
+                    {"contact_pixels", r.contact.bandPixels},
+                    {"mean_abs_contact", r.contact.meanAbs},
+                    {"mean_signed_contact", r.contact.meanSigned},
+                    {"spurious_shadow_pixels", r.contact.spuriousPixels}});
+  }
+  return {{"bundle", bundlePath},
+          {"reference", report.reference},
+          {"shadow_map", o.shadowMapSize},
+          {"flip_ppd", o.pixelsPerDegree},
+          {"width", report.width},
+          {"height", report.height},
+          {"frames_timed", o.frames},
+          {"results", rows},
+          {"accumulation", raster::accumulationName(o.accumulation)},
+          {"per_cluster_shares", o.perClusterShares},
+          {"depth_bias", o.depthBias},
+          {"contact_radius", o.contactRadius}};
+}
+
+}  // namespace penumbra::reference

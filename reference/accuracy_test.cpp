@@ -1,0 +1,90 @@
+// measureAccuracy on the bundled showroom with the Penumbra stand-in as the reference (no
+// ray tracer needed): the stand-in's own settings reproduce it exactly, fewer passes do not,
+// the region written out is the one measured, and a reference of another size is refused.
+#include "reference/accuracy.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "scene/image_io.h"
+#include "tests/scratch_dir.h"
+
+namespace penumbra::reference {
+namespace {
+
+const shadow::SceneBundle& showroom() {
+  static const shadow::SceneBundle bundle =
+      shadow::loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle");
+  return bundle;
+}
+
+AccuracyOptions standIn() {
+  AccuracyOptions o;
+  o.passes = {2, 1000};
+  o.frames = 1;
+  o.shadowMapSize = 256;
+  o.penumbraReference = true;
+  o.referenceMapSize = 256;  // the measured pipeline's own map: all passes must match
+  o.referencePasses = 1000;
+  return o;
+}
+
+TEST(Accuracy, AllPassesEqualTheStandInFewerDoNot) {
+  const std::filesystem::path dir = test::scratchPath("accuracy");
+  std::filesystem::create_directories(dir);
+  AccuracyOptions o = standIn();
+  o.maskOut = (dir / "mask.png").string();
+  std::vector<int> seen;
+  const AccuracyReport r = measureAccuracy(
+      showroom(), o, [&](const AccuracyRow& row) { seen.push_back(row.passesAsked); });
+  EXPECT_EQ(seen, o.passes);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.reference["kind"], "penumbra");
+  EXPECT_EQ(r.width, showroom().view.width);
+
+  const AccuracyRow& few = r.rows[0];
+  ASSERT_TRUE(few.comparison.masked.has_value());
+  EXPECT_GT(few.comparison.masked->pixels, 0u) << "the product casts a shadow at the start pose";
+  EXPECT_GT(few.comparison.masked->meanAbs, 0.0);
+  EXPECT_LT(few.comparison.ssim, 1.0);
+  EXPECT_LE(few.passes, 2u);
+  EXPECT_GT(few.msPerFrame, 0.0);
+
+  const AccuracyRow& all = r.rows[1];
+  EXPECT_EQ(all.comparison.frame.maxAbs, 0u);
+  EXPECT_EQ(all.comparison.masked->meanAbs, 0.0);
+  EXPECT_EQ(all.contact.meanAbs, 0.0);
+
+  // The region written out is the one the errors were measured over.
+  const Mask written = loadMask(o.maskOut);
+  uint64_t inside = 0;
+  for (uint8_t v : written.inside) inside += v ? 1 : 0;
+  EXPECT_EQ(inside, few.comparison.masked->pixels);
+
+  const nlohmann::json j = toJson("showroom.bundle", o, r);
+  EXPECT_EQ(j["results"][1]["psnr"], nullptr) << "identical frames: PSNR is infinite";
+  EXPECT_EQ(j["results"][0]["passes_asked"], 2);
+  EXPECT_EQ(j["accumulation"], "fixed8_8");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Accuracy, AReferenceOfAnotherSizeIsRefused) {
+  const std::filesystem::path dir = test::scratchPath("accuracy");
+  std::filesystem::create_directories(dir);
+  AccuracyOptions o = standIn();
+  o.referencePath = (dir / "small.png").string();
+  scene::writePng(o.referencePath, 4, 4, std::vector<uint8_t>(4 * 4 * 4, 128));
+  try {
+    measureAccuracy(showroom(), o);
+    ADD_FAILURE() << "no error";
+  } catch (const MetricsError& e) {
+    EXPECT_NE(std::string(e.what()).find("differs from the bundle's"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace penumbra::reference

@@ -1,0 +1,72 @@
+#include "shadow/frame_runs.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace penumbra::shadow {
+
+FrameRateController::Options renderControllerOptions(double fps) {
+  if (!(fps > 0)) throw std::invalid_argument("frame rate must be positive");
+  FrameRateController::Options o;
+  o.targetFrameNs = static_cast<int64_t>(1e9 / fps);
+  o.maxPasses = 200;
+  o.initialPasses = 8;
+  o.minPasses = 4;
+  o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
+  return o;
+}
+
+FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose& pose,
+                                              const FrameRateController::Options& options,
+                                              uint32_t frames) {
+  FrameRateController controller(options);
+  FrameRateController::Decision d;
+  for (uint32_t f = 1; f <= frames; ++f) {
+    d = controller.next();
+    loop.step(pose, d);
+    controller.report(loop.frameNs, d.passes, loop.renderer.lastStats().passPixels);
+  }
+  return d;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+PassProfile profilePasses(FrameLoop& loop, const ProductPose& pose, size_t passes, int frames) {
+  std::vector<double> total, trav, clus, xfer, obj, pass, fin;
+  for (int f = 0; f < frames + 1; ++f) {
+    ProductPose p = pose;
+    p.x += 0.01f * float(f % 7);
+    loop.step(p, passes);
+    if (f == 0) continue;  // warm-up
+    const CompositeStats& s = loop.stats;
+    const raster::FrameStats& r = loop.renderer.lastStats();
+    total.push_back(double(loop.frameNs) * 1e-6);
+    trav.push_back(s.msTraversal);
+    clus.push_back(s.msClusters);
+    xfer.push_back(s.msTransfers + s.msObject);
+    obj.push_back(r.msObjects);
+    pass.push_back(r.msPasses);
+    fin.push_back(r.msFinish);
+  }
+  PassProfile out;
+  out.passesAsked = passes;
+  out.passes = loop.stats.passes;
+  out.occludedSources = loop.stats.occludedSources;
+  out.receivers = loop.stats.receiverPatches;
+  out.shaftsVisited = loop.stats.shaftsVisited;
+  out.shadowedPixels = loop.renderer.lastStats().passPixels;
+  out.total = median(total);
+  out.traversal = median(trav);
+  out.clusters = median(clus);
+  out.transfers = median(xfer);
+  out.objects = median(obj);
+  out.shadowPasses = median(pass);
+  out.finish = median(fin);
+  return out;
+}
+
+}  // namespace penumbra::shadow

@@ -1,0 +1,46 @@
+// Runs of the per-frame loop (shadow::FrameLoop) longer than one still frame, as the tools
+// make them: the frame-rate controller settling on this machine at a target rate (Gibson
+// 2003 §8; `penumbra render --fps`), and the median stage times of a product that slides a
+// little every frame, as on the kiosk, so that nothing is reused between frames (`penumbra
+// profile`, `penumbra accuracy`). Cost: the frames they step, nothing more.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "shadow/frame_loop.h"
+#include "shadow/frame_rate_controller.h"
+#include "shadow/scene_bundle.h"
+
+namespace penumbra::shadow {
+
+// The controller `penumbra render --fps` uses: 8 passes to start, 4 to 200, and below 4
+// passes the 256 map halved to 128 and 64 first.
+FrameRateController::Options renderControllerOptions(double fps);
+
+// Steps `loop` `frames` times at `pose` under a controller with `options`, reporting each
+// frame's measured time; returns the last frame's decision (the frame left in `loop`).
+FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose& pose,
+                                              const FrameRateController::Options& options,
+                                              uint32_t frames = 40);
+
+// One pass count's cost. Counts are the last frame's; times (ms) are medians over the timed
+// frames: the whole frame, traversal, clustering, transfers (with the product's shading),
+// and the renderer's objects, shadow passes and finish.
+struct PassProfile {
+  size_t passesAsked = 0;
+  uint32_t passes = 0, occludedSources = 0, receivers = 0, shaftsVisited = 0;
+  uint64_t shadowedPixels = 0;  // receiver pixels the passes touched
+  double total = 0, traversal = 0, clusters = 0, transfers = 0, objects = 0, shadowPasses = 0,
+         finish = 0;
+};
+
+// frames + 1 steps with at most `passes` passes, the product at pose.x + 0.01 * (f % 7) in
+// frame f; frame 0 warms the caches and is not timed. frames >= 1.
+PassProfile profilePasses(FrameLoop& loop, const ProductPose& pose, size_t passes, int frames);
+
+// The median of `v` (the mean of the middle two for an even count); 0 when empty.
+double median(std::vector<double> v);
+
+}  // namespace penumbra::shadow
