@@ -15,18 +15,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-void writeRgb(const std::string& path, const Rgb8Image& img) {
+void writeRgb(const std::string& path, const core::Image8& img) {
   std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4, 255);
   for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
-    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.rgb[3 * i + k];
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = img.pixels[3 * i + k];
   }
   scene::writePng(path, img.width, img.height, rgba);
 }
 
-void writeMask(const std::string& path, const Mask& mask) {
+void writeMask(const std::string& path, const core::Image8& mask) {
   std::vector<uint8_t> rgba(size_t(mask.width) * mask.height * 4, 255);
   for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
-    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.inside[i] ? 255 : 0;
+    for (size_t k = 0; k < 3; ++k) rgba[4 * i + k] = mask.pixels[i] ? 255 : 0;
   }
   scene::writePng(path, mask.width, mask.height, rgba);
 }
@@ -36,8 +36,8 @@ nlohmann::json orNull(double v) {
 }
 
 // The reference image and, from the ray tracer, its own shadow mask (else left empty).
-Rgb8Image makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
-                        nlohmann::json& info, Mask& mask) {
+core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
+                           nlohmann::json& info, core::Image8& mask) {
   const shadow::ProductPose pose = bundle.startPose;
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   if (!o.referencePath.empty()) {
@@ -52,7 +52,8 @@ Rgb8Image makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions
     const DifferentialFrame d = composeDifferential(
         renderReference(referenceSceneOf(bundle, pose), o.rays), bundle.background, bundle.tone);
     // Its visible shadow: pixels the product's shadow changes, not the product itself.
-    mask = {w, h, d.shadowMask, "ray-traced shadow mask"};
+    mask = core::Image8(w, h, 1, "ray-traced shadow mask");
+    mask.pixels = d.shadowMask;
     info = {{"kind", "raytraced"},
             {"spp", o.rays.samplesPerPixel},
             {"light_samples", o.rays.lightSamples},
@@ -88,8 +89,8 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   AccuracyReport report;
   report.width = w;
   report.height = h;
-  Mask mask;
-  const Rgb8Image ref = makeReference(bundle, o, report.reference, mask);
+  core::Image8 mask;
+  const core::Image8 ref = makeReference(bundle, o, report.reference, mask);
   if (ref.width != w || ref.height != h) {
     throw MetricsError(ref.name + ": size " + std::to_string(ref.width) + "x" +
                        std::to_string(ref.height) + " differs from the bundle's " +
@@ -104,7 +105,7 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   zero.still(pose, 0);
   if (!o.maskPath.empty()) {
     mask = loadMask(o.maskPath);
-  } else if (mask.inside.empty()) {
+  } else if (mask.pixels.empty()) {
     mask = shadowRegion(ref, zero.rgba, bundle.background, "shadow region of the reference");
   }
   if (!o.referenceOut.empty()) writeRgb(o.referenceOut, ref);

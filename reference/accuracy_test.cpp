@@ -58,9 +58,9 @@ TEST(Accuracy, AllPassesEqualTheStandInFewerDoNot) {
   EXPECT_EQ(all.contact.meanAbs, 0.0);
 
   // The region written out is the one the errors were measured over.
-  const Mask written = loadMask(o.maskOut);
+  const core::Image8 written = loadMask(o.maskOut);
   uint64_t inside = 0;
-  for (uint8_t v : written.inside) inside += v ? 1 : 0;
+  for (uint8_t v : written.pixels) inside += v ? 1 : 0;
   EXPECT_EQ(inside, few.comparison.masked->pixels);
 
   const nlohmann::json j = toJson("showroom.bundle", o, r);
