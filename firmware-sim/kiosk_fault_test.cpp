@@ -259,7 +259,7 @@ TEST(KioskFaults, CorruptProductIsLeftOut) {
   play(run, s.frames, kStale);
 }
 
-// A shop drops product model files on the board (platform/product_files.h): a truncated one
+// A shop drops product model files on the board (kiosk/product_files.h): a truncated one
 // at start-up and a NaN-vertex one hot-swapped later are refused, the last good model stays
 // (frames identical to a kiosk that never saw them), the LED and HUD say so until a good
 // file replaces the model, which then shows.

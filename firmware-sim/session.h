@@ -32,7 +32,7 @@ struct Overrun {
   int64_t extraNs = 0;
 };
 
-// A product model file the shop drops on the board (platform/product_files.h): at start-up
+// A product model file the shop drops on the board (kiosk/product_files.h): at start-up
 // (atNs = 0, before the first frame) or hot-swapped while the kiosk runs.
 struct ScriptedProductFile {
   int64_t atNs = 0;

@@ -1,4 +1,4 @@
-// Exposure bracketing (platform/exposure_control.h) against a sensor model with the
+// Exposure bracketing (kiosk/exposure_control.h) against a sensor model with the
 // pipeline delay real sensors have: a control change takes effect `delay` frames after it
 // was requested. No camera exists on the build machines, so this is the camera's stand-in;
 // the libcamera backend implements the same ControllableCamera interface.

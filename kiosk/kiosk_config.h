@@ -30,7 +30,7 @@ struct KioskConfig {
   std::string gpioChip = "/dev/gpiochip0";
   std::string display = "sdl";  // sdl | none
   bool fullscreen = true;
-  // Product models from files (platform/product_files.h), watched while the kiosk runs.
+  // Product models from files (kiosk/product_files.h), watched while the kiosk runs.
   std::vector<ProductFile> productFiles;
 };
 

@@ -1,4 +1,4 @@
-// The board program's configuration (platform/kiosk_config.h): the camera keys and the
+// The board program's configuration (kiosk/kiosk_config.h): the camera keys and the
 // strictness that names the file and the key.
 #include "kiosk/kiosk_config.h"
 

@@ -1,4 +1,4 @@
-// Product model files (platform/product_files.h) with the faulty models of
+// Product model files (kiosk/product_files.h) with the faulty models of
 // data/sessions/faulty-models/: each refused naming the file and the reason.
 #include "kiosk/product_files.h"
 

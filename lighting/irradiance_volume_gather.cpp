@@ -91,7 +91,7 @@ shadow::IrradianceVolume buildIrradianceVolume(const scene::PatchMesh& mesh,
   const int samples = 2 * n * n;
   const double weight = 4.0 * std::numbers::pi / samples;
 
-  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  // One pool per call (core/job_pool.h): this stage runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(count, [&](size_t v, int) {
     const size_t i = v % options.dims.x, j = (v / options.dims.x) % options.dims.y,

@@ -153,7 +153,7 @@ ProbeProjection projectProbe(const LightProbe& probeIn, const scene::PatchMesh& 
   out.radiance.assign(n, glm::dvec3(0.0));
   out.seen.assign(n, 0);
   const int side = options.samplesPerSide;
-  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  // One pool per call (core/job_pool.h): this stage runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(n, [&](size_t p, int) {
     const std::array<glm::dvec3, 4> poly = patchPolygon(mesh, static_cast<uint32_t>(p));

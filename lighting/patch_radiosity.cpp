@@ -20,7 +20,7 @@ std::vector<glm::dvec3> gatherPatchIrradiance(const scene::PatchMesh& mesh, cons
     if (l.x > 0 || l.y > 0 || l.z > 0) senders.push_back(j);
   }
   std::vector<glm::dvec3> out(n, glm::dvec3(0.0));
-  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  // One pool per call (core/job_pool.h): this stage runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(n, [&](size_t i, int) {
     const scene::Patch& pi = mesh.patches[i];

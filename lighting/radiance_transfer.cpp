@@ -167,7 +167,7 @@ shadow::RadianceTransfers computeRadianceTransfers(const scene::PatchMesh& mesh,
 
   // transfer[e * receiverCount + i] = L_ij for emitter e, receiver vertex i.
   std::vector<glm::dvec3> transfer(emitters.size() * receiverCount, glm::dvec3(0.0));
-  // One pool per call (raster/job_pool.h): this stage runs far longer than starting threads.
+  // One pool per call (core/job_pool.h): this stage runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(emitters.size(), [&](size_t e, int) {
     const uint32_t j = emitters[e];

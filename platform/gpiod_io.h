@@ -1,7 +1,7 @@
 // The kiosk's buttons and status LED on libgpiod 1.6 (C++ bindings, design.md §6): one
 // input line per button, requested for both edges with the internal pull-up and active-low
 // (buttons switch to ground), read without blocking each frame; debouncing is the kiosk's
-// (platform/buttons.h: libgpiod 1.6 has none). The LED is one output line.
+// (kiosk/buttons.h: libgpiod 1.6 has none). The LED is one output line.
 #pragma once
 
 #include <array>

@@ -309,7 +309,7 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
   uint32_t rowsDone = 0;
   const double halfW = 0.5 * scene.width, halfH = 0.5 * scene.height;
   // One image row per work item: a pixel's samples, draws and sums never leave its thread.
-  // One pool per image (raster/job_pool.h): rendering runs far longer than starting threads.
+  // One pool per image (core/job_pool.h): rendering runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(scene.height, [&](size_t py, int) {
     for (uint32_t px = 0; px < scene.width; ++px) {

@@ -25,7 +25,7 @@
 // with and without the product share their random numbers until the product changes them.
 //
 // Determinism: every random number is a counter-based hash of (seed, pixel, camera sample,
-// draw index) (lighting/sampling.h), every sum runs in a fixed order inside one pixel, and
+// draw index) (core/random.h), every sum runs in a fixed order inside one pixel, and
 // a pixel is written by one thread: the image is the same bytes for any thread count.
 // Unlike the per-frame path, this offline renderer uses libm (form factors, sampling).
 #pragma once
