@@ -10,14 +10,13 @@
 
 #include "scene/image_io.h"
 #include "tests/scratch_dir.h"
+#include "tests/showroom_bundle.h"
 
 namespace penumbra::reference {
 namespace {
 
 const shadow::SceneBundle& showroom() {
-  static const shadow::SceneBundle bundle =
-      shadow::loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle");
-  return bundle;
+  return testing::showroomBundle();
 }
 
 AccuracyOptions standIn() {

@@ -9,14 +9,14 @@
 
 #include "shadow/product_placement.h"
 #include "shadow/scene_bundle.h"
+#include "tests/showroom_bundle.h"
 
 namespace penumbra::shadow {
 namespace {
 
 struct Showroom {
   Showroom()
-      : bundle(
-            loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle")),
+      : bundle(testing::showroomBundle()),
         mesh(patchMeshOf(bundle)),
         hierarchy(mesh, bundle.sets, bundle.transfers, {}) {}
   SceneBundle bundle;

@@ -1,6 +1,7 @@
 // The per-frame loop on the bundled showroom: compose -> render -> observe with numbered
 // frames, the controller's decisions, a camera background and a replaced product model.
 #include "shadow/frame_loop.h"
+#include "tests/showroom_bundle.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +11,7 @@ namespace penumbra::shadow {
 namespace {
 
 const SceneBundle& showroom() {
-  static const SceneBundle bundle =
-      loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle");
-  return bundle;
+  return testing::showroomBundle();
 }
 
 TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {

@@ -1,6 +1,7 @@
 // The loop runs of the tools on the bundled showroom: the profile's sliding product and its
 // last-frame counts, the median, and the controller settling under a generous budget.
 #include "shadow/frame_runs.h"
+#include "tests/showroom_bundle.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +11,7 @@ namespace penumbra::shadow {
 namespace {
 
 const SceneBundle& showroom() {
-  static const SceneBundle bundle =
-      loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom" / "showroom.bundle");
-  return bundle;
+  return testing::showroomBundle();
 }
 
 TEST(FrameRuns, MedianOfOddEvenAndEmpty) {
