@@ -12,6 +12,8 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "bundles are little-endian");
 constexpr char kMagic[16] = "PENUMBRA-BUNDLE";
 constexpr size_t kHeaderSize = 16 + 4 + 4 + 32;
+// Section names are short identifiers ("transfers.entry_vertex"); anything longer is damage.
+constexpr uint32_t kMaxSectionName = 255;
 
 template <class T>
 void put(std::vector<uint8_t>& out, T value) {
@@ -83,7 +85,13 @@ BundleReader::BundleReader(const std::filesystem::path& path, uint32_t expectedV
     uint32_t nameLength;
     std::memcpy(&nameLength, data_.data() + at, 4);
     at += 4;
-    need(nameLength + 12, "section header");
+    // Widened before the sum: a crafted length near 2^32 must not wrap past the check.
+    if (nameLength > kMaxSectionName) {
+      throw BundleError(path_ + ": section " + std::to_string(s) + ": name of " +
+                        std::to_string(nameLength) + " bytes (at most " +
+                        std::to_string(kMaxSectionName) + ")");
+    }
+    need(size_t{nameLength} + 12, "section header");
     std::string name(reinterpret_cast<const char*>(data_.data() + at), nameLength);
     at += nameLength;
     uint32_t elementSize;

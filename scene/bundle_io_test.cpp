@@ -3,7 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "scene/sha256.h"
 
 namespace penumbra::scene {
 namespace {
@@ -67,6 +72,32 @@ TEST_F(BundleFiles, TruncationIsDetected) {
   EXPECT_NE(errorOf().find(path_.string()), std::string::npos);
   fs::resize_file(path_, 20);
   EXPECT_NE(errorOf().find("bad magic"), std::string::npos);
+}
+
+// A section name length near 2^32 with a valid checksum (a crafted file, not a damaged one):
+// refused by name, never read past the buffer (it wrapped a 32-bit bounds check once).
+TEST_F(BundleFiles, HugeSectionNameIsRefusedEvenWithAValidChecksum) {
+  for (uint32_t length : {0xFFFFFFF8u, 0xFFFFFFF4u, 256u}) {
+    BundleWriter w(3);
+    const std::vector<uint8_t> one{1};
+    w.add<uint8_t>("x", one);
+    w.write(path_);
+    std::vector<uint8_t> bytes;
+    {
+      std::ifstream in(path_, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    constexpr size_t kHeader = 16 + 4 + 4 + 32;
+    std::memcpy(bytes.data() + kHeader, &length, 4);
+    Sha256 hash;
+    hash.update(std::span<const uint8_t>(bytes).subspan(kHeader));
+    const auto digest = hash.finish();
+    std::memcpy(bytes.data() + 24, digest.data(), 32);
+    std::ofstream(path_, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    EXPECT_NE(errorOf().find("name of " + std::to_string(length) + " bytes"), std::string::npos)
+        << errorOf();
+  }
 }
 
 TEST_F(BundleFiles, NotABundle) {
