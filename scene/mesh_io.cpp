@@ -86,7 +86,7 @@ void forEachLine(std::string_view text, F&& f) {
 
 // A coordinate within the limits of mesh_io.h (the message prints the value as written).
 void checkCoordinate(double v, const std::string& name, const std::string& where) {
-  if (!std::isfinite(v)) fail(name, where, "non-finite coordinate " + core::formatNumber(v));
+  if (!std::isfinite(v)) fail(name, where, "non-finite coordinate '" + core::formatNumber(v) + "'");
   if (std::abs(v) > kMaxModelCoordinate) {
     fail(name, where,
          "coordinate " + core::formatNumber(v) +
