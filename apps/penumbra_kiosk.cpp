@@ -204,9 +204,13 @@ int main(int argc, char** argv) {
     int64_t nextPollNs = time.nowNanoseconds() + 1'000'000'000;
     for (;;) {
       if (!config.productFiles.empty() && time.nowNanoseconds() >= nextPollNs) {
-        // Hot-swap: once a second, between frames.
-        tell(productFiles.poll(guarded.bundle, log, time.nowNanoseconds()));
+        // Hot-swap: files are looked at once a second and loaded off the frame loop; the
+        // old model stays on screen until a load is ready (kiosk/product_files.h).
+        tell(productFiles.poll(guarded.bundle, log, time.nowNanoseconds(),
+                               kiosk::ProductFileWatcher::Wait::kNo));
         nextPollNs = time.nowNanoseconds() + 1'000'000'000;
+      } else if (productFiles.loading()) {
+        tell(productFiles.collect(guarded.bundle, log, time.nowNanoseconds()));
       }
       const kiosk::FrameReport r = loop.step();
       ++shown;

@@ -1,5 +1,7 @@
 #include "kiosk/product_files.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "scene/mesh_io.h"
@@ -48,25 +50,51 @@ shadow::ProductModel loadProductFile(const std::filesystem::path& file,
   return model;
 }
 
-std::string swapProductFile(shadow::SceneBundle& bundle, const ProductFile& swap, KioskLog& log,
-                            int64_t nowNs) {
-  for (shadow::ProductModel& p : bundle.products) {
-    if (p.name != swap.product) continue;
-    try {
-      p = loadProductFile(swap.file, p);
-    } catch (const ProductFileError& e) {
-      log.write(
-          nowNs, LogLevel::kError,
-          "product " + swap.product + ": refused " + e.what() + "; keeping the last good model");
-      return e.what();
-    }
-    log.write(nowNs, LogLevel::kInfo,
-              "product " + swap.product + ": model " + swap.file.string() + " (" +
-                  std::to_string(p.mesh.triangleCount()) + " triangles)");
-    return {};
+namespace {
+
+// The bundle's product `swap` replaces; throws ProductFileError when there is none.
+uint32_t productIndex(const shadow::SceneBundle& bundle, const ProductFile& swap) {
+  for (uint32_t i = 0; i < bundle.products.size(); ++i) {
+    if (bundle.products[i].name == swap.product) return i;
   }
   throw ProductFileError(swap.file.string() + ": the bundle has no product named '" + swap.product +
                          "'");
+}
+
+// Never throws: every failure, an allocation one included, is a refusal.
+ProductFileWatcher::Loaded loadOrRefuse(const std::filesystem::path& file,
+                                        const shadow::ProductModel& current) {
+  try {
+    return {loadProductFile(file, current), {}};
+  } catch (const ProductFileError& e) {
+    return {{}, e.what()};
+  } catch (const std::exception& e) {
+    return {{}, file.string() + ": " + e.what()};
+  }
+}
+
+// Replaces `product` by a loaded model or logs the refusal (one line) and keeps it.
+std::string apply(shadow::ProductModel& product, const ProductFile& swap,
+                  ProductFileWatcher::Loaded loaded, KioskLog& log, int64_t nowNs) {
+  if (!loaded.refusal.empty()) {
+    log.write(nowNs, LogLevel::kError,
+              "product " + swap.product + ": refused " + loaded.refusal +
+                  "; keeping the last good model");
+    return loaded.refusal;
+  }
+  product = std::move(loaded.model);
+  log.write(nowNs, LogLevel::kInfo,
+            "product " + swap.product + ": model " + swap.file.string() + " (" +
+                std::to_string(product.mesh.triangleCount()) + " triangles)");
+  return {};
+}
+
+}  // namespace
+
+std::string swapProductFile(shadow::SceneBundle& bundle, const ProductFile& swap, KioskLog& log,
+                            int64_t nowNs) {
+  shadow::ProductModel& p = bundle.products[productIndex(bundle, swap)];
+  return apply(p, swap, loadOrRefuse(swap.file, p), log, nowNs);
 }
 
 std::string productFileFault(const std::string& product) {
@@ -74,28 +102,51 @@ std::string productFileFault(const std::string& product) {
 }
 
 ProductFileWatcher::ProductFileWatcher(std::vector<ProductFile> files) {
-  for (ProductFile& f : files) files_.push_back({std::move(f)});
+  for (ProductFile& f : files) files_.push_back({std::move(f), {}, false, {}});
 }
 
+ProductFileWatcher::~ProductFileWatcher() = default;  // a std::async future waits for its load
+
 std::vector<ProductFileWatcher::Change> ProductFileWatcher::poll(shadow::SceneBundle& bundle,
-                                                                 KioskLog& log, int64_t nowNs) {
-  std::vector<Change> changes;
+                                                                 KioskLog& log, int64_t nowNs,
+                                                                 Wait wait) {
   for (Watched& w : files_) {
+    if (w.load.valid()) continue;
     std::error_code ec;
     const std::filesystem::file_time_type t = std::filesystem::last_write_time(w.file.file, ec);
     if (w.polled && !ec && t == w.seen) continue;
     if (w.polled && ec && w.seen == std::filesystem::file_time_type{}) continue;  // still absent
     w.polled = true;
     w.seen = ec ? std::filesystem::file_time_type{} : t;
-    Change c;
-    c.refusal = swapProductFile(bundle, w.file, log, nowNs);
-    c.replaced = c.refusal.empty();
-    for (uint32_t i = 0; i < bundle.products.size(); ++i) {
-      if (bundle.products[i].name == w.file.product) c.product = i;
+    // The worker reads the file and places the model on a copy of the product (its name and
+    // material); the bundle stays the frame thread's.
+    w.load = std::async(std::launch::async, loadOrRefuse, w.file.file,
+                        bundle.products[productIndex(bundle, w.file)]);
+  }
+  return collect(bundle, log, nowNs, wait);
+}
+
+std::vector<ProductFileWatcher::Change> ProductFileWatcher::collect(shadow::SceneBundle& bundle,
+                                                                    KioskLog& log, int64_t nowNs,
+                                                                    Wait wait) {
+  std::vector<Change> changes;
+  for (Watched& w : files_) {
+    if (!w.load.valid()) continue;
+    if (wait == Wait::kNo &&
+        w.load.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      continue;
     }
+    Change c;
+    c.product = productIndex(bundle, w.file);
+    c.refusal = apply(bundle.products[c.product], w.file, w.load.get(), log, nowNs);
+    c.replaced = c.refusal.empty();
     changes.push_back(std::move(c));
   }
   return changes;
+}
+
+bool ProductFileWatcher::loading() const {
+  return std::any_of(files_.begin(), files_.end(), [](const Watched& w) { return w.load.valid(); });
 }
 
 }  // namespace penumbra::kiosk

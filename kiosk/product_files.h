@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <future>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -53,26 +54,56 @@ std::string productFileFault(const std::string& product);
 
 // On the board: the configured product files, polled (by modification time, so a file
 // copied over an old one is noticed) and applied to the bundle when they change.
+//
+// Loading never blocks the display (issue 18: a hostile PLY hung the frame loop): a changed
+// file is read on a worker thread (std::async) while the frame loop keeps drawing the old
+// model, and the result is applied between two frames by collect() once it is ready: the
+// new model, or one log line saying why the file was refused with the old model kept. The
+// work of one load is bounded by the loaders' limits (scene/mesh_io.h), so a worker always
+// ends. Only the frame thread touches the bundle; a worker gets a copy of the product.
+//
+// Virtual time: the simulator (firmware-sim) has no wall-clock duration for a load, so it
+// loads a scripted file synchronously between frames (swapProductFile, or poll() with
+// kUntilLoaded): the model changes at the first frame at or after its scripted time on any
+// machine, and replays keep their hashes.
 class ProductFileWatcher {
  public:
   explicit ProductFileWatcher(std::vector<ProductFile> files);
+  ~ProductFileWatcher();  // waits for loads still running (each bounded)
+
+  enum class Wait { kNo, kUntilLoaded };
 
   struct Change {
     uint32_t product = 0;  // index in the bundle
     bool replaced = false;
     std::string refusal;  // empty when replaced
   };
-  // Applies every file that is new or changed since the last poll (all of them at the
-  // first) with swapProductFile(); a file that cannot be stat'ed counts as refused. Returns
-  // what changed, for KioskLoop::setFault / productReplaced. Throws ProductFileError for a
-  // product name the bundle does not have.
-  std::vector<Change> poll(shadow::SceneBundle& bundle, KioskLog& log, int64_t nowNs);
+  // Starts loading every file that is new or changed since the last poll (all of them at
+  // the first; a file whose load is still running is looked at again once it is applied),
+  // then collect()s; a file that cannot be stat'ed counts as refused. Throws
+  // ProductFileError for a product name the bundle does not have.
+  std::vector<Change> poll(shadow::SceneBundle& bundle, KioskLog& log, int64_t nowNs,
+                           Wait wait = Wait::kUntilLoaded);
+  // Applies the loads that have finished (all of them with kUntilLoaded) to the bundle, as
+  // swapProductFile() would, and returns what changed, for KioskLoop::setFault /
+  // productReplaced. Cheap when nothing is ready: call it between frames.
+  std::vector<Change> collect(shadow::SceneBundle& bundle, KioskLog& log, int64_t nowNs,
+                              Wait wait = Wait::kNo);
+  // Whether a load is running.
+  bool loading() const;
+
+  // A load's outcome: the new model, or why the file was refused.
+  struct Loaded {
+    shadow::ProductModel model;
+    std::string refusal;
+  };
 
  private:
   struct Watched {
     ProductFile file;
     std::filesystem::file_time_type seen{};
     bool polled = false;
+    std::future<Loaded> load;  // valid while a load runs or waits to be applied
   };
   std::vector<Watched> files_;
 };

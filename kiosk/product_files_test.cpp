@@ -120,5 +120,62 @@ TEST(ProductFiles, WatcherAppliesNewAndChangedFilesOnly) {
   fs::remove_all(dir);
 }
 
+// Issue 18: a hot-swapped file is loaded off the frame loop. poll(kNo) starts the load and
+// returns; until collect() applies it the bundle keeps the old model (only poll and collect
+// touch it, on the caller's thread).
+TEST(ProductFiles, LoadsInTheBackgroundAndKeepsTheOldModelMeanwhile) {
+  const fs::path dir = test::scratchPath("product-background");
+  fs::create_directories(dir);
+  const fs::path file = dir / "bunny.obj";
+  fs::copy_file(kData / "models" / "chair.obj", file, fs::copy_options::overwrite_existing);
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  ProductFileWatcher watcher({{"bunny", file}});
+  auto changes = watcher.poll(b, log, 1, ProductFileWatcher::Wait::kNo);
+  if (changes.empty()) {  // the load is still running: the old model is on screen
+    EXPECT_TRUE(watcher.loading());
+    EXPECT_EQ(b.products[0].mesh, current().mesh);
+    changes = watcher.collect(b, log, 2, ProductFileWatcher::Wait::kUntilLoaded);
+  }
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_TRUE(changes[0].replaced);
+  EXPECT_FALSE(watcher.loading());
+  EXPECT_NE(b.products[0].mesh, current().mesh);
+  EXPECT_TRUE(watcher.collect(b, log, 3).empty());
+  fs::remove_all(dir);
+}
+
+// Issue 18: the 230-byte binary PLY announcing 10^12 records of an element without
+// properties hung the kiosk's main loop. Its load ends at once with a refusal: one log
+// line, the last good model kept.
+TEST(ProductFiles, HostilePlyIsRefusedWithoutBlocking) {
+  const fs::path dir = test::scratchPath("product-hostile");
+  fs::create_directories(dir);
+  const fs::path file = dir / "bunny.ply";
+  std::ofstream(file, std::ios::binary)
+      << "ply\nformat binary_little_endian 1.0\ncomment hot-swapped from a USB stick\n"
+         "element foo 1000000000000\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+         "end_header\n";
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  ProductFileWatcher watcher({{"bunny", file}});
+  const auto start = std::chrono::steady_clock::now();
+  watcher.poll(b, log, 1, ProductFileWatcher::Wait::kNo);
+  const auto changes = watcher.collect(b, log, 2, ProductFileWatcher::Wait::kUntilLoaded);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_FALSE(changes[0].replaced);
+  EXPECT_NE(changes[0].refusal.find("element foo: 1000000000000 records, more than"),
+            std::string::npos)
+      << changes[0].refusal;
+  EXPECT_EQ(b.products[0].mesh, current().mesh);
+  ASSERT_EQ(log.lines().size(), 1u);
+  EXPECT_TRUE(log.contains("product bunny: refused " + file.string()));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace penumbra::kiosk

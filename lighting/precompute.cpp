@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/json_reader.h"
 #include "lighting/embree_scene.h"
 #include "lighting/irradiance_volume_gather.h"
 #include "lighting/patch_radiosity.h"
@@ -57,7 +58,15 @@ scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
       for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
     }
   }
-  return scene::buildPatchMesh(room, options.patchSize > 0 ? options.patchSize : scene.patchSize);
+  const double size = options.patchSize > 0 ? options.patchSize : scene.patchSize;
+  // The scene file checked its own patch size (scene_file.h); an override is checked here.
+  if (const double patches = scene::patchCount(room, size); patches > scene::kMaxPatches) {
+    throw scene::SceneFileError(scene.source.string(), "patch size " + core::formatNumber(size),
+                                "cuts the room into " + core::formatNumber(patches) +
+                                    " patches, more than the " +
+                                    core::formatNumber(scene::kMaxPatches) + " precompute handles");
+  }
+  return scene::buildPatchMesh(room, size);
 }
 
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
@@ -124,6 +133,14 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
       patchesVisibleFromCamera(stored, embree, scene.camera.viewProj(), scene.width, scene.height);
   b.sets = shadow::selectSourcesAndReceivers(
       stored, visible, options.powerShare > 0 ? options.powerShare : scene.powerShare);
+  // A bundle without receivers has nothing to shade: `render` and the kiosk refuse it
+  // (shadow/scene_bundle.h), so precompute refuses to write it (issue 18: it printed
+  // "receivers 0", exited 0, and the kiosk then crashed on the bundle).
+  if (b.sets.receivers.empty()) {
+    throw scene::SceneFileError(scene.source.string(), "camera",
+                                "sees no surface of the room (0 receivers): aim camera.target "
+                                "at the room");
+  }
   end();
 
   begin("radiance transfers");

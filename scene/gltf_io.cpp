@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 namespace penumbra::scene {
 
@@ -27,7 +29,9 @@ ProductMaterial mapMetallicRoughness(const glm::dvec3& baseColour, double metall
 #include <glm/gtc/quaternion.hpp>
 
 #include <cstring>
+#include <fstream>
 #include <string>
+#include <system_error>
 
 namespace penumbra::scene {
 namespace {
@@ -122,6 +126,111 @@ T load(const unsigned char* p) {
 
 namespace {
 
+// The files a glTF may read (itself, its buffers and images, through tinygltf's file
+// callbacks): regular files of at most kMaxModelFileBytes inside the glTF's own folder. An
+// image `uri` of "/" or ".." is a folder (tinygltf's own reader asked the allocator for
+// 2^63 bytes for it), "/dev/zero" never ends, and "../../etc/passwd" is no part of the
+// model; each is refused with the first such problem kept for the message, since tinygltf
+// treats a missing image as a mere warning.
+struct ModelFiles {
+  std::filesystem::path folder;  // weakly canonical
+  std::string refusal;           // the first refused file, empty when none
+
+  bool accept(const std::string& file) {
+    std::error_code ec;
+    const std::filesystem::path p = std::filesystem::weakly_canonical(file, ec);
+    std::string problem;
+    const std::filesystem::file_status st = std::filesystem::status(p, ec);
+    const auto [end, _] = std::mismatch(folder.begin(), folder.end(), p.begin(), p.end());
+    if (ec || !std::filesystem::exists(st)) {
+      problem = "no such file";
+    } else if (end != folder.end()) {
+      problem = "is outside the model's folder " + folder.string();
+    } else if (!std::filesystem::is_regular_file(st)) {
+      problem = "is not a regular file";
+    } else if (std::filesystem::file_size(p, ec) > kMaxModelFileBytes || ec) {
+      problem = "is larger than " + std::to_string(kMaxModelFileBytes) + " bytes";
+    }
+    if (problem.empty()) return true;
+    if (refusal.empty()) refusal = "\"" + file + "\" " + problem;
+    return false;
+  }
+
+  static bool exists(const std::string& file, void* self) {
+    return static_cast<ModelFiles*>(self)->accept(file);
+  }
+  // No `~` or environment expansion (tinygltf's default runs wordexp on the uri).
+  static std::string expand(const std::string& file, void*) { return file; }
+  static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                   void* self) {
+    if (!static_cast<ModelFiles*>(self)->accept(file)) {
+      if (err) *err += static_cast<ModelFiles*>(self)->refusal;
+      return false;
+    }
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(file, ec);
+    std::ifstream in(file, std::ios::binary);
+    out->resize(ec ? 0 : size_t(size));
+    in.read(reinterpret_cast<char*>(out->data()), std::streamsize(out->size()));
+    if (ec || !in) {
+      if (err) *err += "\"" + file + "\": read error";
+      return false;
+    }
+    if (out->empty()) {  // tinygltf indexes the first byte unchecked
+      if (err) *err += "\"" + file + "\": empty file";
+      return false;
+    }
+    return true;
+  }
+  static bool write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
+    return false;
+  }
+};
+
+// Width and height from a PNG's IHDR or a JPEG's start-of-frame marker; nullopt for any
+// other format (glTF 2.0 images are PNG or JPEG) or a header that ends early.
+std::optional<std::pair<uint32_t, uint32_t>> imageSize(const unsigned char* b, size_t n) {
+  const auto be16 = [&](size_t i) { return uint32_t(b[i]) << 8 | b[i + 1]; };
+  const auto be32 = [&](size_t i) { return be16(i) << 16 | be16(i + 2); };
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (n >= 24 && std::memcmp(b, kPng, 8) == 0) return std::pair(be32(16), be32(20));
+  if (n < 4 || b[0] != 0xff || b[1] != 0xd8) return std::nullopt;
+  for (size_t i = 2; i + 9 <= n;) {
+    if (b[i] != 0xff) return std::nullopt;
+    const unsigned char marker = b[i + 1];
+    // SOF0-SOF15 carry the size, except DHT (C4), JPG (C8) and DAC (CC).
+    if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc) {
+      return std::pair(be16(i + 7), be16(i + 5));
+    }
+    i += 2 + be16(i + 2);
+  }
+  return std::nullopt;
+}
+
+// A texture's texels are averaged (gltf_io.h), and a PNG of 65535 x 65535 pixels is a few
+// kilobytes that decode to 16 GB: the size is read from the header before decoding.
+constexpr uint32_t kMaxTextureSide = 8192;
+
+bool loadBoundedImage(tinygltf::Image* image, int index, std::string* err, std::string* warn,
+                      int reqWidth, int reqHeight, const unsigned char* bytes, int size,
+                      void* user) {
+  const auto wh = imageSize(bytes, size_t(std::max(size, 0)));
+  const std::string what = "images[" + std::to_string(index) + "]: ";
+  if (!wh) {
+    if (err) *err += what + "not a PNG or JPEG image";
+    return false;
+  }
+  if (wh->first == 0 || wh->second == 0 || wh->first > kMaxTextureSide ||
+      wh->second > kMaxTextureSide) {
+    if (err) {
+      *err += what + std::to_string(wh->first) + " x " + std::to_string(wh->second) +
+              " pixels, expected 1 to " + std::to_string(kMaxTextureSide) + " per side";
+    }
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, user);
+}
+
 tinygltf::Model readModel(const std::filesystem::path& path) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -129,11 +238,110 @@ tinygltf::Model readModel(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (!std::filesystem::exists(path)) fail(path, "cannot open file");
+  std::error_code ec;
+  ModelFiles files{std::filesystem::weakly_canonical(path, ec).parent_path(), {}};
+  if (!files.accept(path.string())) fail(path, "cannot open file: " + files.refusal);
+  loader.SetFsCallbacks(
+      {&ModelFiles::exists, &ModelFiles::expand, &ModelFiles::read, &ModelFiles::write, &files});
+  loader.SetImageLoader(&loadBoundedImage, nullptr);
   const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
                                 : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+  if (!files.refusal.empty()) fail(path, "uri " + files.refusal);
   if (!ok) fail(path, "not a valid glTF 2.0 file: " + (err.empty() ? warn : err));
   return model;
+}
+
+// What a node's subtree adds to the flattened model, each instance counted: a node reused
+// by several parents is instanced once per path from a root, so a DAG of n nodes can stand
+// for 2^n instances. Counted with one memoized visit per node (saturating sums), before
+// anything is flattened, so a hostile graph costs O(nodes + edges) to refuse.
+struct SubtreeCost {
+  size_t instances = 0, vertices = 0, triangles = 0;
+};
+
+constexpr size_t kMaxNodeInstances = 65536;  // a catalogue product has tens to hundreds
+constexpr int kMaxNodeDepth = 64;
+
+size_t saturatingAdd(size_t a, size_t b) {
+  return a > std::numeric_limits<size_t>::max() - b ? std::numeric_limits<size_t>::max() : a + b;
+}
+
+class NodeGraphCost {
+ public:
+  NodeGraphCost(const std::filesystem::path& path, const tinygltf::Model& model)
+      : path_(path),
+        model_(model),
+        state_(model.nodes.size(), kUnvisited),
+        cost_(model.nodes.size()) {}
+
+  SubtreeCost of(int n, int depth) {
+    if (n < 0 || size_t(n) >= model_.nodes.size()) {
+      fail(path_, "node " + std::to_string(n) + " does not exist");
+    }
+    if (depth > kMaxNodeDepth) {
+      fail(path_, "node hierarchy deeper than " + std::to_string(kMaxNodeDepth));
+    }
+    uint8_t& state = state_[size_t(n)];
+    if (state == kDone) return cost_[size_t(n)];
+    if (state == kOnPath) {
+      fail(path_, "nodes[" + std::to_string(n) + "]: the node is its own ancestor (a cycle)");
+    }
+    state = kOnPath;
+    const tinygltf::Node& node = model_.nodes[size_t(n)];
+    SubtreeCost c{1, 0, 0};
+    if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) {
+      for (const tinygltf::Primitive& prim : model_.meshes[size_t(node.mesh)].primitives) {
+        if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) continue;
+        const auto pos = prim.attributes.find("POSITION");
+        const size_t vertices = pos == prim.attributes.end() ? 0 : accessorCount(pos->second);
+        c.vertices = saturatingAdd(c.vertices, vertices);
+        c.triangles = saturatingAdd(
+            c.triangles, (prim.indices >= 0 ? accessorCount(prim.indices) : vertices) / 3);
+      }
+    }
+    for (int child : node.children) {
+      const SubtreeCost k = of(child, depth + 1);
+      c.instances = saturatingAdd(c.instances, k.instances);
+      c.vertices = saturatingAdd(c.vertices, k.vertices);
+      c.triangles = saturatingAdd(c.triangles, k.triangles);
+    }
+    state = kDone;
+    return cost_[size_t(n)] = c;
+  }
+
+ private:
+  enum : uint8_t { kUnvisited, kOnPath, kDone };
+  size_t accessorCount(int a) const {
+    return a >= 0 && size_t(a) < model_.accessors.size() ? model_.accessors[size_t(a)].count : 0;
+  }
+  const std::filesystem::path& path_;
+  const tinygltf::Model& model_;
+  std::vector<uint8_t> state_;
+  std::vector<SubtreeCost> cost_;
+};
+
+// Refuses a node graph with a cycle, or whose flattened model would exceed the limits of
+// mesh_io.h, before the walk that builds it.
+void checkNodeGraph(const std::filesystem::path& path, const tinygltf::Model& model,
+                    const std::vector<int>& roots) {
+  NodeGraphCost graph(path, model);
+  SubtreeCost total;
+  for (int r : roots) {
+    const SubtreeCost c = graph.of(r, 0);
+    total.instances = saturatingAdd(total.instances, c.instances);
+    total.vertices = saturatingAdd(total.vertices, c.vertices);
+    total.triangles = saturatingAdd(total.triangles, c.triangles);
+  }
+  const auto over = [&](size_t n, size_t limit, const std::string& what) {
+    if (n <= limit) return;
+    fail(path,
+         "nodes: the scene instances " +
+             (n == std::numeric_limits<size_t>::max() ? "more than 2^64" : std::to_string(n)) +
+             " " + what + ", more than the " + std::to_string(limit) + " a model may have");
+  };
+  over(total.instances, kMaxNodeInstances, "nodes");
+  over(total.triangles, kMaxMeshTriangles, "triangles");
+  over(total.vertices, kMaxMeshVertices, "vertices");
 }
 
 // The root nodes: the default scene's (the first scene's without one), or, in a file
@@ -171,7 +379,7 @@ class SceneFlattener {
     if (n < 0 || size_t(n) >= model.nodes.size()) {
       fail(path, "node " + std::to_string(n) + " does not exist");
     }
-    if (depth > 64) fail(path, "node hierarchy deeper than 64 (a cycle?)");
+    if (depth > kMaxNodeDepth) fail(path, "node hierarchy deeper than 64");
     const tinygltf::Node& node = model.nodes[size_t(n)];
     const glm::dmat4 world = parent * nodeTransform(node);
     if (node.mesh >= 0) {
@@ -241,6 +449,9 @@ class SceneFlattener {
           world * glm::dvec4(load<float>(p), load<float>(p + 4), load<float>(p + 8), 1.0);
       if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
         fail(path, what + ".POSITION: non-finite position");
+      }
+      if (std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}) > kMaxModelCoordinate) {
+        fail(path, what + ".POSITION: position outside [-1e6, 1e6] (model units)");
       }
       out_.mesh.positions.emplace_back(q.x, q.y, q.z);
     }
@@ -341,7 +552,9 @@ class SceneFlattener {
 GltfModel loadGltf(const std::filesystem::path& path) {
   const tinygltf::Model model = readModel(path);
   SceneFlattener scene(path, model);
-  for (int r : sceneRoots(path, model)) scene.visit(r, glm::dmat4(1.0), 0);
+  const std::vector<int> roots = sceneRoots(path, model);
+  checkNodeGraph(path, model, roots);
+  for (int r : roots) scene.visit(r, glm::dmat4(1.0), 0);
   return scene.finish();
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -102,7 +103,7 @@ TEST_F(GltfCorrupt, MalformedFilesGiveClearErrors) {
               "expected float VEC3");
   expectError("nomesh.gltf", replaced("\"mesh\": 0", "\"mesh\": 4"), "does not exist");
   expectError("cycle.gltf", replaced("\"mesh\": 0,", "\"mesh\": 0, \"children\": [0],"),
-              "deeper than 64");
+              "nodes[0]: the node is its own ancestor (a cycle)");
   expectError("lines.gltf", replaced("\"mode\": 4", "\"mode\": 1"), "no triangles");
   try {
     loadGltf(dir_ / "missing.gltf");
@@ -110,6 +111,62 @@ TEST_F(GltfCorrupt, MalformedFilesGiveClearErrors) {
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("missing.gltf"), std::string::npos);
   }
+}
+
+// Issue 18: a node graph reusing its children stands for exponentially many instances. 40
+// levels of a node whose two children are the same node make 2^40 teapots: refused from the
+// memoized counts at once, instead of being flattened until memory runs out.
+TEST_F(GltfCorrupt, NodeGraphReusingChildrenIsCountedNotWalked) {
+  // Node 0 is the root, node 1 the teapot, nodes 2..41 the levels.
+  std::string nodes =
+      "\"nodes\": [{\"scale\": [0.016, 0.016, 0.016], \"children\": [2]}, "
+      "{\"mesh\": 0}";
+  for (int level = 2; level < 42; ++level) {
+    const std::string child = level == 41 ? "1" : std::to_string(level + 1);
+    nodes += ", {\"children\": [" + child + ", " + child + "]}";
+  }
+  std::string text = good_;
+  const size_t from = text.find("\"nodes\": [\n  {\n   \"name\": \"metres\"");
+  const size_t to = text.find("\"meshes\"");
+  ASSERT_NE(from, std::string::npos);
+  text.replace(from, to - from, nodes + "],\n ");
+  const auto start = std::chrono::steady_clock::now();
+  expectError("dag.gltf", text, "nodes: the scene instances ");
+  expectError("dag.gltf", text, " nodes, more than the 65536 a model may have");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+}
+
+// Issue 18: an image uri that is a folder ("/", ".."), a device or a file outside the
+// model's folder is refused by name; tinygltf's own reader asked for 2^63 bytes.
+TEST_F(GltfCorrupt, ImageUriMustBeARegularFileBesideTheModel) {
+  const std::string png = "\"uri\": \"data:image/png;base64,";
+  const std::string image =
+      good_.substr(good_.find(png), good_.find("\"", good_.find(png) + 8) - good_.find(png) + 1);
+  expectError("root.gltf", replaced(image, "\"uri\": \"/\""), "uri \"");
+  // tinygltf joins every uri onto the model's folder: "/" names the folder itself.
+  expectError("root.gltf", replaced(image, "\"uri\": \"/\""), "is not a regular file");
+  expectError("up.gltf", replaced(image, "\"uri\": \"..\""), "is outside the model's folder");
+  expectError("zero.gltf", replaced(image, "\"uri\": \"/dev/zero\""), "no such file");
+  fs::create_symlink("/dev/zero", dir_ / "zero.png");
+  expectError("link.gltf", replaced(image, "\"uri\": \"zero.png\""),
+              "is outside the model's folder");
+  fs::create_directories(dir_ / "textures");
+  expectError("folder.gltf", replaced(image, "\"uri\": \"textures\""), "is not a regular file");
+  expectError("absent.gltf", replaced(image, "\"uri\": \"absent.png\""), "no such file");
+  std::ofstream(dir_ / "fake.png") << "not an image";
+  expectError("fake.gltf", replaced(image, "\"uri\": \"fake.png\""),
+              "images[0]: not a PNG or JPEG image");
+  // A valid PNG header announcing 65535 x 65535 pixels: refused before it is decoded.
+  std::string bomb("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\xff\xff\0\0\xff\xff\x08\x02\0\0\0", 29);
+  std::ofstream(dir_ / "bomb.png", std::ios::binary) << bomb;
+  expectError("bomb.gltf", replaced(image, "\"uri\": \"bomb.png\""),
+              "images[0]: 65535 x 65535 pixels, expected 1 to 8192 per side");
+}
+
+// Positions are bounded in model units (mesh_io.h), after the node transforms.
+TEST_F(GltfCorrupt, PositionsOutsideTheCoordinateRangeAreRefused) {
+  expectError("huge.gltf", replaced("0.016,\n    0.016,\n    0.016", "1e12,\n    1e12,\n    1e12"),
+              "POSITION: position outside [-1e6, 1e6]");
 }
 #endif
 

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/json_reader.h"
 #include "scene/gltf_io.h"
 
 namespace penumbra::scene {
@@ -32,11 +33,13 @@ std::string lineRef(size_t line) {
   return "line " + std::to_string(line);
 }
 
-// Whitespace-separated tokens of one line.
-std::vector<std::string_view> tokenize(std::string_view line) {
+// Whitespace-separated tokens of one line, at most `maxTokens` + 1 of them: a caller that
+// gets more than maxTokens refuses the line, so a 200 MB line of numbers costs no more than
+// a short one.
+std::vector<std::string_view> tokenize(std::string_view line, size_t maxTokens) {
   std::vector<std::string_view> out;
   size_t i = 0;
-  while (i < line.size()) {
+  while (i < line.size() && out.size() <= maxTokens) {
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\v' ||
                                line[i] == '\f' || line[i] == '\r')) {
       ++i;
@@ -81,9 +84,38 @@ void forEachLine(std::string_view text, F&& f) {
   }
 }
 
-void checkVertexCount(size_t count, const std::string& name) {
-  if (count > std::numeric_limits<uint32_t>::max()) {
-    fail(name, "", "more than 2^32 - 1 vertices");
+// A coordinate within the limits of mesh_io.h (the message prints the value as written).
+void checkCoordinate(double v, const std::string& name, const std::string& where) {
+  if (!std::isfinite(v)) fail(name, where, "non-finite coordinate '" + core::formatNumber(v) + "'");
+  if (std::abs(v) > kMaxModelCoordinate) {
+    fail(name, where,
+         "coordinate " + core::formatNumber(v) +
+             " is outside [-1e6, 1e6] (model units: a kilometre in millimetres is the largest " +
+             "model read)");
+  }
+}
+
+void checkVertexCount(size_t count, const std::string& name, const std::string& where) {
+  if (count > kMaxMeshVertices) {
+    fail(name, where,
+         std::to_string(count) + " vertices, more than the " + std::to_string(kMaxMeshVertices) +
+             " a model may have");
+  }
+}
+
+void checkTriangleCount(size_t count, const std::string& name, const std::string& where) {
+  if (count > kMaxMeshTriangles) {
+    fail(name, where,
+         "more than " + std::to_string(kMaxMeshTriangles) +
+             " triangles (the most a product model may have)");
+  }
+}
+
+void checkFaceCorners(size_t corners, const std::string& name, const std::string& where) {
+  if (corners > kMaxFaceCorners) {
+    fail(name, where,
+         "face with more than the " + std::to_string(kMaxFaceCorners) +
+             " corners a polygon may have");
   }
 }
 
@@ -99,7 +131,7 @@ TriangleMesh parseObj(std::string_view text, const std::string& name) {
     if (const size_t hash = line.find('#'); hash != std::string_view::npos) {
       line = line.substr(0, hash);
     }
-    const std::vector<std::string_view> tok = tokenize(line);
+    const std::vector<std::string_view> tok = tokenize(line, kMaxFaceCorners + 1);
     if (tok.empty()) return;
     if (tok[0] == "v") {
       // x y z, optionally w or an r g b vertex colour: all must be numbers.
@@ -108,17 +140,17 @@ TriangleMesh parseObj(std::string_view text, const std::string& name) {
       for (size_t k = 1; k < tok.size(); ++k) {
         const std::optional<double> v = parseDouble(tok[k]);
         if (!v) fail(name, lineRef(lineNo), "bad number '" + std::string(tok[k]) + "'");
-        if (!std::isfinite(*v)) {
-          fail(name, lineRef(lineNo), "non-finite coordinate '" + std::string(tok[k]) + "'");
-        }
+        checkCoordinate(*v, name, lineRef(lineNo));
         if (k <= 3) p[static_cast<int>(k - 1)] = *v;
       }
       mesh.positions.push_back(p);
+      checkVertexCount(mesh.positions.size(), name, lineRef(lineNo));
     } else if (tok[0] == "f") {
       if (tok.size() < 4) {
         fail(name, lineRef(lineNo),
              "face needs at least 3 vertices, has " + std::to_string(tok.size() - 1));
       }
+      checkFaceCorners(tok.size() - 1, name, lineRef(lineNo));
       corners.clear();
       const int64_t count = static_cast<int64_t>(mesh.positions.size());
       for (size_t k = 1; k < tok.size(); ++k) {
@@ -135,13 +167,13 @@ TriangleMesh parseObj(std::string_view text, const std::string& name) {
         }
         corners.push_back(static_cast<uint32_t>(resolved));
       }
+      checkTriangleCount(mesh.triangleCount() + corners.size() - 2, name, lineRef(lineNo));
       for (size_t k = 1; k + 1 < corners.size(); ++k) {
         mesh.indices.insert(mesh.indices.end(), {corners[0], corners[k], corners[k + 1]});
       }
     }
     // Everything else (vt, vn, g, o, s, usemtl, mtllib, l, p, ...) carries no geometry the
     // shadow pipeline uses.
-    checkVertexCount(mesh.positions.size(), name);
   });
   if (mesh.indices.empty()) fail(name, "", "no faces");
   return mesh;
@@ -199,7 +231,47 @@ struct PlyElement {
   std::string name;
   size_t count = 0;
   std::vector<PlyProperty> properties;
+  size_t headerLine = 0;  // of its `element` line, for messages
+
+  // The fewest bytes one record can take: binary, a scalar's size and a list's count (the
+  // list may be empty); ASCII, a line of one character and its newline.
+  size_t minimumRecordBytes(bool binary) const {
+    if (!binary) return 2;
+    size_t bytes = 0;
+    for (const PlyProperty& p : properties) bytes += plySize(p.isList ? p.countType : p.type);
+    return bytes;
+  }
 };
+
+// One ASCII line holds one record: its scalars and lists of at most kMaxFaceCorners values.
+constexpr size_t kMaxPlyLineValues = 4 * kMaxFaceCorners;
+
+// Every element's count is bounded before a record is read: by the stated limits (vertices,
+// faces, and kMaxMeshVertices for any other element, which the reader only skips) and by
+// the bytes actually present, since each record takes at least minimumRecordBytes(). A
+// header announcing 10^12 records of an element without properties is refused here
+// instead of being looped over.
+void checkElementCounts(const std::vector<PlyElement>& elements, bool binary, size_t bodyBytes,
+                        const std::string& name) {
+  // ASCII: the last line may lack its newline.
+  size_t remaining = binary ? bodyBytes : bodyBytes + 1;
+  for (const PlyElement& e : elements) {
+    const std::string where = lineRef(e.headerLine) + ": element " + e.name;
+    const size_t limit = e.name == "face" ? kMaxMeshTriangles : kMaxMeshVertices;
+    if (e.count > limit) {
+      fail(name, where,
+           std::to_string(e.count) + " records, more than the " + std::to_string(limit) +
+               " a model may have");
+    }
+    const size_t record = e.minimumRecordBytes(binary);
+    if (record > 0 && e.count > remaining / record) {
+      fail(name, where,
+           std::to_string(e.count) + " records of at least " + std::to_string(record) +
+               " bytes do not fit in the " + std::to_string(remaining) + " bytes left in the file");
+    }
+    remaining -= e.count * record;
+  }
+}
 
 template <typename T>
 T loadLittleEndian(const char* p) {
@@ -231,9 +303,13 @@ class PlyReader {
     while (pos_ < body_.size() && tokens_.empty()) {
       size_t end = body_.find('\n', pos_);
       if (end == std::string_view::npos) end = body_.size();
-      tokens_ = tokenize(body_.substr(pos_, end - pos_));
+      tokens_ = tokenize(body_.substr(pos_, end - pos_), kMaxPlyLineValues);
       pos_ = end + 1;
       ++line_;
+    }
+    if (tokens_.size() > kMaxPlyLineValues) {
+      fail(name_, location(),
+           "more than " + std::to_string(kMaxPlyLineValues) + " values on one line");
     }
     if (tokens_.empty()) fail(name_, where_, "unexpected end of file");
   }
@@ -333,7 +409,8 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
     const std::string_view line = bytes.substr(pos, end - pos);
     pos = std::min(end + 1, bytes.size());
     ++lineNo;
-    const std::vector<std::string_view> tok = tokenize(line);
+    // A header line has at most 5 tokens; comments may be longer and are skipped.
+    const std::vector<std::string_view> tok = tokenize(line, 8);
     const std::string where = lineRef(lineNo);
     if (lineNo == 1) {
       if (tok.size() != 1 || tok[0] != "ply") fail(name, where, "not a PLY file (no 'ply' magic)");
@@ -354,7 +431,7 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
     } else if (tok[0] == "element") {
       const std::optional<int64_t> count = tok.size() == 3 ? parseInt(tok[2]) : std::nullopt;
       if (!count || *count < 0) fail(name, where, "bad element line");
-      elements.push_back(PlyElement{std::string(tok[1]), static_cast<size_t>(*count), {}});
+      elements.push_back(PlyElement{std::string(tok[1]), static_cast<size_t>(*count), {}, lineNo});
     } else if (tok[0] == "property") {
       if (elements.empty()) fail(name, where, "property before any element");
       PlyProperty prop;
@@ -419,7 +496,7 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
   }
   if (!vertexElem) fail(name, "", "no vertex element");
   if (!faceElem) fail(name, "", "no face element");
-  checkVertexCount(vertexElem->count, name);
+  checkElementCounts(elements, *binary, bytes.size() - pos, name);
 
   TriangleMesh mesh;
   // Faces may precede the vertices in PLY, so indices are checked after reading.
@@ -431,10 +508,11 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
   std::vector<Face> faces;
   PlyReader reader(bytes.substr(pos), *binary, name);
   reader.setHeaderLines(lineNo);
-  const size_t maxReserve = bytes.size();  // a lying count must not allocate gigabytes
+  size_t triangles = 0;
   for (const PlyElement& e : elements) {
     const bool isVertex = &e == vertexElem, isFace = &e == faceElem;
-    if (isVertex) mesh.positions.reserve(std::min(e.count, maxReserve));
+    // The count was bounded by checkElementCounts().
+    if (isVertex) mesh.positions.reserve(e.count);
     for (size_t i = 0; i < e.count; ++i) {
       reader.beginInstance(e.name, i);
       glm::dvec3 p(0.0);
@@ -450,6 +528,9 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
                   name, reader.location(),
                   "face needs at least 3 vertices, has " + std::to_string(static_cast<int64_t>(n)));
             }
+            checkFaceCorners(static_cast<size_t>(n), name, reader.location());
+            triangles += static_cast<size_t>(n) - 2;
+            checkTriangleCount(triangles, name, reader.location());
             faces.push_back(Face{faceIndices.size(), static_cast<size_t>(n), reader.location()});
           }
           for (size_t j = 0; j < static_cast<size_t>(n); ++j) {
@@ -461,7 +542,7 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
           if (isVertex) {
             for (int c = 0; c < 3; ++c) {
               if (static_cast<int>(k) != xyz[c]) continue;
-              if (!std::isfinite(v)) fail(name, reader.location(), "non-finite coordinate");
+              checkCoordinate(v, name, reader.location());
               p[c] = v;
             }
           }
@@ -512,10 +593,9 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
   if (ext != ".obj" && ext != ".ply") {
     fail(name, "", "unknown mesh format '" + ext + "' (expected .obj, .ply, .gltf or .glb)");
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(name, "", "cannot open file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(name, "", "read error");
+  // Regular files of bounded size only: a product path pointing at /dev/zero or a folder is
+  // refused before a byte is read.
+  const std::string bytes = core::readTextFile(path, core::throwAs<MeshError>, kMaxModelFileBytes);
   return ext == ".obj" ? parseObj(bytes, name) : parsePly(bytes, name);
 }
 

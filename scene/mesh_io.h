@@ -36,9 +36,30 @@ class MeshError : public core::Error {
   using core::Error::Error;
 };
 
+// Limits by design (docs/input-limits.md, "Models"): a model is a showroom product, and a
+// file beyond these is refused before its size can cost time or memory. Each loader checks
+// them while it reads, so a lying count or a huge face fails after bounded work.
+//
+// Triangles: a product scan (the Stanford bunny has 69k triangles, the dragon 871k) fits
+// in a million; the frame loop only ever draws the simplified proxy (100-500 triangles,
+// Gibson 2003 §7.2), and a million triangles keep a loaded mesh under 100 MB.
+constexpr size_t kMaxMeshTriangles = 1'000'000;
+// Vertices: three per triangle, what an unwelded glTF primitive has.
+constexpr size_t kMaxMeshVertices = 3 * kMaxMeshTriangles;
+// Corners of one polygon (OBJ `f`, PLY face list): modelling tools write triangles, quads
+// and the caps of cylinders; anything longer is a corrupt line, not a face.
+constexpr size_t kMaxFaceCorners = 1024;
+// Coordinates in model units: a kilometre in millimetres. A finite but absurd vertex
+// (1e308) would overflow once scaled or converted to the float meshes of a bundle.
+constexpr double kMaxModelCoordinate = 1e6;
+// File size (OBJ, PLY, glTF and its buffers and images): a million-triangle ASCII OBJ is
+// about 60 MB.
+constexpr uintmax_t kMaxModelFileBytes = uintmax_t{256} << 20;
+
 // Loads by extension (.obj, .ply, or .gltf/.glb with PENUMBRA_WITH_GLTF, any case). Throws
-// MeshError for an unreadable file, an unknown extension, malformed content or a mesh without
-// triangles.
+// MeshError for an unreadable file or one that is not a regular file (a directory,
+// /dev/zero), an unknown extension, malformed content, a mesh without triangles or one
+// beyond the limits above.
 TriangleMesh loadMesh(const std::filesystem::path& path);
 
 // Wavefront OBJ: `v x y z [w]` and `f` with 1-based or negative (relative) indices in

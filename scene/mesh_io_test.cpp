@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -225,8 +226,10 @@ TEST_F(MeshIo, BinaryPlyErrors) {
   const std::string good = h + verts.data + face.data;
   expectError([&] { loadMesh(write("t.ply", good.substr(0, good.size() - 2))); },
               {"t.ply", "face 0", "truncated binary data"});
+  // Counts are checked against the bytes present before any record is read.
   expectError([&] { loadMesh(write("tv.ply", h + verts.data.substr(0, 20))); },
-              {"vertex 1", "truncated binary data"});
+              {"tv.ply: line 3: element vertex: 3 records of at least 12 bytes do not fit in the "
+               "20 bytes left in the file"});
   expectError([&] { loadMesh(write("x.ply", good + "junk")); },
               {"x.ply", "4 unexpected bytes after the last element"});
   Bytes bad;
@@ -244,6 +247,67 @@ TEST_F(MeshIo, BinaryPlyErrors) {
       {"z.ply", "no faces"});
   expectError([&] { loadMesh(write("lf.ply", binaryHeader(0, 0, "float", "float int"))); },
               {"line 8", "list count type must be an integer"});
+}
+
+// Issue 18: a 230-byte binary PLY announcing 10^12 records of an element without
+// properties hung the kiosk (the parser looped that many times). Element counts are
+// bounded by the stated limits and by the bytes present before any record is read.
+TEST_F(MeshIo, PlyElementCountsAreBoundedBeforeReading) {
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement foo 1000000000000\n"
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto start = std::chrono::steady_clock::now();
+  expectError([&] { loadMesh(write("foo.ply", header)); },
+              {"foo.ply: line 3: element foo: 1000000000000 records, more than the 3000000 a model "
+               "may have"});
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  // Within the limit but more than the bytes can hold: 2,000,000 vertices of 12 bytes.
+  expectError([&] { loadMesh(write("lie.ply", binaryHeader(2000000, 1, "float", "uchar int"))); },
+              {"lie.ply: line 3: element vertex: 2000000 records of at least 12 bytes do not fit "
+               "in the 0 bytes left in the file"});
+  expectError([&] { loadMesh(write("ascii.ply", std::string(kAsciiHeader) + "0")); },
+              {"ascii.ply: line 4: element vertex: 4 records of at least 2 bytes do not fit"});
+  // A face list longer than kMaxFaceCorners.
+  Bytes verts, face;
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) verts.put(v);
+  face.put<uint16_t>(2000);
+  for (int i = 0; i < 2000; ++i) face.put<int32_t>(i % 3);
+  expectError(
+      [&] {
+        loadMesh(
+            write("big.ply", binaryHeader(3, 1, "float", "ushort int") + verts.data + face.data));
+      },
+      {"big.ply: face 0: face with more than the 1024 corners a polygon may have"});
+  Bytes far;
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 3e9f, 0.f}) far.put(v);
+  face = Bytes();
+  face.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
+  expectError(
+      [&] {
+        loadMesh(write("far.ply", binaryHeader(3, 1, "float", "uchar int") + far.data + face.data));
+      },
+      {"far.ply: vertex 2: coordinate 3e+09 is outside [-1e6, 1e6]"});
+}
+
+// Issue 18: an OBJ vertex of 1e308 passed `precompute` and was refused only by `render`;
+// huge faces and counts drove precompute to 24 GB. Refused by the loader now.
+TEST_F(MeshIo, ObjLimits) {
+  expectError([&] { parseObj("v 0 0 0\nv 1 0 0\nv 1e308 1 0\nf 1 2 3\n", "big.obj"); },
+              {"big.obj: line 3: coordinate 1e+308 is outside [-1e6, 1e6]"});
+  std::string face = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+  for (int i = 0; i < 5000; ++i) face.append({' ', static_cast<char>('1' + i % 3)});
+  expectError([&] { parseObj(face, "face.obj"); },
+              {"face.obj: line 4: face with more than the 1024 corners a polygon may have"});
+  std::string many = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  many.reserve(many.size() + 8 * (kMaxMeshTriangles + 1));
+  for (size_t i = 0; i <= kMaxMeshTriangles; ++i) many += "f 1 2 3\n";
+  expectError([&] { parseObj(many, "many.obj"); },
+              {"many.obj: line 1000004: more than 1000000 triangles"});
+  fs::create_directories(dir_ / "folder.obj");
+  expectError([&] { loadMesh(dir_ / "folder.obj"); }, {"folder.obj: is a directory"});
+  fs::create_symlink("/dev/zero", dir_ / "zero.ply");
+  expectError([&] { loadMesh(dir_ / "zero.ply"); }, {"zero.ply: is not a regular file"});
 }
 
 TEST_F(MeshIo, SaveObjRoundTripsExactly) {

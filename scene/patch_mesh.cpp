@@ -152,12 +152,17 @@ bool RoomDescription::segmentBlocked(const glm::dvec3& a, const glm::dvec3& b) c
 
 namespace {
 
-// Grid coordinates along one quad edge: every region boundary is a grid line, and each
-// interval between boundaries is cut into ceil(length / size) equal steps, where size is
-// the smallest patch size of the regions spanning that interval (else the target).
-std::vector<double> gridLines(const std::vector<std::pair<double, double>>& spans,
-                              const std::vector<double>& spanSizes, double edgeLength,
-                              double targetSize) {
+// The intervals between region boundaries along one quad edge (fractions a < b of the
+// edge) and the steps each is cut into: ceil(length / size), where size is the smallest
+// patch size of the regions spanning the interval (else the target). Steps are kept as a
+// double so a hostile extent is counted (patchCount) without overflowing an int.
+struct GridInterval {
+  double a, b, steps;
+};
+
+std::vector<GridInterval> gridIntervals(const std::vector<std::pair<double, double>>& spans,
+                                        const std::vector<double>& spanSizes, double edgeLength,
+                                        double targetSize) {
   std::vector<double> breaks{0.0, 1.0};
   for (const auto& [a, b] : spans) {
     breaks.push_back(std::clamp(a, 0.0, 1.0));
@@ -165,7 +170,7 @@ std::vector<double> gridLines(const std::vector<std::pair<double, double>>& span
   }
   std::sort(breaks.begin(), breaks.end());
   breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
-  std::vector<double> lines{0.0};
+  std::vector<GridInterval> out;
   for (size_t i = 0; i + 1 < breaks.size(); ++i) {
     const double a = breaks[i], b = breaks[i + 1];
     const double mid = 0.5 * (a + b);
@@ -177,15 +182,58 @@ std::vector<double> gridLines(const std::vector<std::pair<double, double>>& span
     }
     const double len = (b - a) * edgeLength;
     // The small tolerance keeps an exact multiple (3 m / 0.5 m) from gaining a sliver.
-    const int n = std::max(1, static_cast<int>(std::ceil(len / size - 1e-9)));
-    for (int k = 1; k < n; ++k) lines.push_back(a + (b - a) * k / n);
-    lines.push_back(b);
+    out.push_back({a, b, std::max(1.0, std::ceil(len / size - 1e-9))});
+  }
+  return out;
+}
+
+// Grid coordinates along one quad edge: every region boundary is a grid line, and each
+// interval between boundaries is cut into its steps of equal length.
+std::vector<double> gridLines(const std::vector<std::pair<double, double>>& spans,
+                              const std::vector<double>& spanSizes, double edgeLength,
+                              double targetSize) {
+  std::vector<double> lines{0.0};
+  for (const GridInterval& g : gridIntervals(spans, spanSizes, edgeLength, targetSize)) {
+    const int n = static_cast<int>(g.steps);
+    for (int k = 1; k < n; ++k) lines.push_back(g.a + (g.b - g.a) * k / n);
+    lines.push_back(g.b);
   }
   lines.back() = 1.0;
   return lines;
 }
 
+// Region spans and patch sizes of a quad, along u (s) and v (t).
+struct QuadSpans {
+  std::vector<std::pair<double, double>> s, t;
+  std::vector<double> sizes;
+  explicit QuadSpans(const Quad& q) {
+    for (const Region& r : q.regions) {
+      s.emplace_back(r.s0, r.s1);
+      t.emplace_back(r.t0, r.t1);
+      sizes.push_back(r.patchSize);
+    }
+  }
+};
+
 }  // namespace
+
+double patchCount(const RoomDescription& room, double targetPatchSize) {
+  double patches = 0;
+  for (const Quad& q : room.quads) {
+    const QuadSpans spans(q);
+    double ns = 0, nt = 0;
+    for (const GridInterval& g :
+         gridIntervals(spans.s, spans.sizes, glm::length(q.edgeU), targetPatchSize)) {
+      ns += g.steps;
+    }
+    for (const GridInterval& g :
+         gridIntervals(spans.t, spans.sizes, glm::length(q.edgeV), targetPatchSize)) {
+      nt += g.steps;
+    }
+    patches += ns * nt;
+  }
+  return patches;
+}
 
 PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
   if (!(targetPatchSize > 0)) {
@@ -194,15 +242,11 @@ PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
   PatchMesh mesh;
   for (uint32_t qi = 0; qi < room.quads.size(); ++qi) {
     const Quad& q = room.quads[qi];
-    std::vector<std::pair<double, double>> sSpans, tSpans;
-    std::vector<double> sizes;
-    for (const Region& r : q.regions) {
-      sSpans.emplace_back(r.s0, r.s1);
-      tSpans.emplace_back(r.t0, r.t1);
-      sizes.push_back(r.patchSize);
-    }
-    const std::vector<double> ss = gridLines(sSpans, sizes, glm::length(q.edgeU), targetPatchSize);
-    const std::vector<double> ts = gridLines(tSpans, sizes, glm::length(q.edgeV), targetPatchSize);
+    const QuadSpans spans(q);
+    const std::vector<double> ss =
+        gridLines(spans.s, spans.sizes, glm::length(q.edgeU), targetPatchSize);
+    const std::vector<double> ts =
+        gridLines(spans.t, spans.sizes, glm::length(q.edgeV), targetPatchSize);
     const glm::dvec3 n = q.normal();
     const double quadArea = q.area();
     const uint32_t base = static_cast<uint32_t>(mesh.positions.size());

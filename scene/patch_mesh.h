@@ -131,6 +131,10 @@ struct PatchMesh {
 // across its whole quad as strips, which keeps the grid conforming (no T-junctions).
 PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize);
 
+// The number of patches buildPatchMesh() would make, counted without building them (in
+// double: a hostile room or patch size gives a huge or infinite count, never an overflow).
+double patchCount(const RoomDescription& room, double targetPatchSize);
+
 // Point-to-patch form factor from a receiver point `x` with unit normal `nx` to a
 // patch (centre, unit normal, area): cos_i cos_j A / (pi r^2 + A), each cosine clamped at
 // 0 (Gibson 2003 §5). The "+ A" is the disc approximation of Wallace et al. 1989: it

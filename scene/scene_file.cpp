@@ -38,6 +38,49 @@ glm::dvec3 colour(const JsonValue& v) {
   const std::vector<JsonValue> c = v.array();
   return glm::dvec3(c[0].number(0, 1), c[1].number(0, 1), c[2].number(0, 1));
 }
+// A point of the room: finite, and within kMaxRoomCoordinate of the origin on every axis
+// (checked before any arithmetic: a corner of 3e20 m aborted Embree inside precompute).
+glm::dvec3 roomPoint(const JsonValue& v) {
+  const glm::dvec3 p = vec3(v);
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::abs(p[k]) <= kMaxRoomCoordinate)) {
+      v.fail(core::formatNumber(p[k]) + " m is not a room (every coordinate of the room lies " +
+             "within ±" + core::formatNumber(kMaxRoomCoordinate) + " m of the origin)");
+    }
+  }
+  return p;
+}
+// A quad edge: any vector that keeps the quad inside the room's coordinate range.
+glm::dvec3 roomEdge(const JsonValue& v, const glm::dvec3& origin) {
+  const glm::dvec3 e = vec3(v);
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::abs(origin[k] + e[k]) <= kMaxRoomCoordinate)) {
+      v.fail("reaches " + core::formatNumber(origin[k] + e[k]) +
+             " m, which is not a room (every coordinate of the room lies within ±" +
+             core::formatNumber(kMaxRoomCoordinate) + " m of the origin)");
+    }
+  }
+  return e;
+}
+// A patch size in metres within [kMinPatchSize, kMaxPatchSize].
+double patchSize(const JsonValue& v) {
+  return v.number(kMinPatchSize, kMaxPatchSize);
+}
+// The distance from `p` to the box (0 inside).
+double distanceToBox(const glm::dvec3& p, const Aabb& b) {
+  return glm::length(glm::max(glm::max(b.min - p, p - b.max), glm::dvec3(0.0)));
+}
+Aabb roomBounds(const RoomDescription& room) {
+  Aabb b = Aabb::emptyBox();
+  for (const Quad& q : room.quads) {
+    for (const glm::dvec3& c :
+         {q.origin, q.origin + q.edgeU, q.origin + q.edgeV, q.origin + q.edgeU + q.edgeV}) {
+      b.extend(c);
+    }
+  }
+  return b;
+}
+
 // Two increasing numbers [a, b].
 std::pair<double, double> range(const JsonValue& v) {
   const std::vector<double> ab = v.numbers(2);
@@ -73,7 +116,21 @@ class SceneParser {
     s.camera = parseCamera(doc["camera"], static_cast<double>(s.width) / s.height);
     if (const auto m = doc.find("materials")) parseMaterials(*m);
     s.room = parseRoom(doc["room"]);
-    s.patchSize = positive(doc["patch_size"]);
+    s.patchSize = patchSize(doc["patch_size"]);
+    const double patches = patchCount(s.room, s.patchSize);
+    if (patches > kMaxPatches) {
+      doc["patch_size"].fail(core::formatNumber(s.patchSize) + " m cuts the room into " +
+                             core::formatNumber(patches) + " patches, more than the " +
+                             core::formatNumber(kMaxPatches) +
+                             " precompute handles: use a larger patch_size");
+    }
+    const Aabb bounds = roomBounds(s.room);
+    const double eyeDistance = distanceToBox(s.camera.eye, bounds);
+    if (eyeDistance > kMaxCameraDistanceFromRoom) {
+      doc["camera"]["eye"].fail("is " + core::formatNumber(std::round(eyeDistance)) +
+                                " m from the room, expected " + "within " +
+                                core::formatNumber(kMaxCameraDistanceFromRoom) + " m of it");
+    }
     if (const auto share = doc.find("power_share")) {
       s.powerShare = positive(*share);
       if (s.powerShare > 1.0) share->fail("must be in (0, 1]");
@@ -83,14 +140,18 @@ class SceneParser {
     s.tone.exposure = positive(tone["exposure"]);
     s.tone.gamma = positive(tone["gamma"]);
 
-    for (const JsonValue& product : doc["products"].array(1)) {
-      s.products.push_back(parseProduct(product));
+    const std::vector<JsonValue> products = doc["products"].array(1);
+    if (products.size() > kMaxProducts) {
+      doc["products"].fail(std::to_string(products.size()) + " products, more than the " +
+                           std::to_string(kMaxProducts) + " a scene may have");
     }
+    for (const JsonValue& product : products) s.products.push_back(parseProduct(product));
 
     const JsonValue pose = doc["start_pose"].object({"product", "x", "z", "yaw_deg"});
     s.startPose.product = count(pose["product"], 0, static_cast<int64_t>(s.products.size()) - 1);
-    s.startPose.x = pose["x"].number();
-    s.startPose.z = pose["z"].number();
+    // On the floor of the room (its bounding box's footprint).
+    s.startPose.x = pose["x"].number(bounds.min.x, bounds.max.x);
+    s.startPose.z = pose["z"].number(bounds.min.z, bounds.max.z);
     s.startPose.yawDegrees = 0;
     if (const auto yaw = pose.find("yaw_deg")) s.startPose.yawDegrees = yaw->number();
     return s;
@@ -106,8 +167,8 @@ class SceneParser {
     if (const auto up = v.find("up")) c.up = vec3(*up);
     c.fovYDegrees = v["fov_y_deg"].number();
     if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180)) v["fov_y_deg"].fail("must be in (0, 180)");
-    c.zNear = positive(v["near"]);
-    c.zFar = v["far"].number();
+    c.zNear = v["near"].number(kMinCameraNear, kMaxCameraFar);
+    c.zFar = v["far"].number(kMinCameraNear, kMaxCameraFar);
     if (!(c.zFar > c.zNear)) v["far"].fail("must be greater than camera.near");
     c.aspect = aspect;
     try {
@@ -137,7 +198,12 @@ class SceneParser {
     if (emis) {
       m.emission = vec3(*emis);
       for (int k = 0; k < 3; ++k) {
-        if (m.emission[k] < 0) emis->array()[static_cast<size_t>(k)].fail("must not be negative");
+        const JsonValue channel = emis->array()[static_cast<size_t>(k)];
+        if (m.emission[k] < 0) channel.fail("must not be negative");
+        if (m.emission[k] > kMaxEmission) {
+          channel.fail(core::formatNumber(m.emission[k]) + " is not a lamp (at most " +
+                       core::formatNumber(kMaxEmission) + ")");
+        }
       }
     }
     return m;
@@ -156,7 +222,7 @@ class SceneParser {
   }
 
   static Aabb box(const JsonValue& obj) {
-    const Aabb b{vec3(obj["min"]), vec3(obj["max"])};
+    const Aabb b{roomPoint(obj["min"]), roomPoint(obj["max"])};
     if (!(b.min.x < b.max.x && b.min.y < b.max.y && b.min.z < b.max.z)) {
       obj["max"].fail("must exceed min on every axis");
     }
@@ -177,9 +243,9 @@ class SceneParser {
         q.object({"name", "origin", "edge_u", "edge_v", "material"});
         Quad quad;
         quad.name = q["name"].nonEmptyString();
-        quad.origin = vec3(q["origin"]);
-        quad.edgeU = vec3(q["edge_u"]);
-        quad.edgeV = vec3(q["edge_v"]);
+        quad.origin = roomPoint(q["origin"]);
+        quad.edgeU = roomEdge(q["edge_u"], quad.origin);
+        quad.edgeV = roomEdge(q["edge_v"], quad.origin);
         quad.material = material(q["material"]);
         try {
           room.addQuad(std::move(quad));
@@ -234,7 +300,11 @@ class SceneParser {
     region.t0 = v0 / lv;
     region.t1 = v1 / lv;
     region.material = material(v["material"]);
-    if (const auto ps = v.find("patch_size")) region.patchSize = positive(*ps);
+    if (const auto ps = v.find("patch_size")) region.patchSize = patchSize(*ps);
+    if (q.regions.size() >= kMaxRegionsPerQuad) {
+      v.fail("quad \"" + quadName + "\" has more than " + std::to_string(kMaxRegionsPerQuad) +
+             " regions");
+    }
     // The patch mesh gives each cell one material; overlapping regions would make that
     // depend on their order.
     for (const Region& other : q.regions) {
@@ -288,6 +358,13 @@ class SceneParser {
     if (const auto c = v.find("specular")) p.specular = colour(*c);
     if (const auto e = v.find("specular_exponent")) p.specularExponent = e->number(0, 1e6);
     placeInProductSpace(p);
+    const glm::dvec3 size = p.mesh.bounds().size();
+    const double largest = std::max({size.x, size.y, size.z});
+    if (!(largest <= kMaxProductSize)) {
+      v["model"].fail("is " + core::formatNumber(largest) + " m across once scaled, more than " +
+                      "the " + core::formatNumber(kMaxProductSize) +
+                      " m a product may measure (check scale)");
+    }
     p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles);
     return p;
   }

@@ -32,6 +32,34 @@ class SceneFileError : public core::Error {
   using core::Error::Error;
 };
 
+// Limits by design (docs/input-limits.md, "Scene files"). A scene is typed by a technician,
+// and a typo must get a message naming the field, not an Embree assertion, a precompute
+// that runs for hours or one that exhausts memory (issue 18):
+//
+// Every room point (shell and box corners, quad corners) lies within ±100 m of the origin:
+// a showroom, a shop floor or a hall, measured in metres from a corner of it.
+constexpr double kMaxRoomCoordinate = 100;
+// Patch sizes (patch_size, regions' patch_size) in metres, as `precompute --patch-size`.
+constexpr double kMinPatchSize = 0.02, kMaxPatchSize = 10;
+// The room's patch count (Gibson 2003 §4) bounds precompute's time and memory: sources x
+// receivers visibility rays and transfer entries grow with its square. Measured (2 threads):
+// the bundled 6 x 3 x 5 m showroom, 1,118 patches, 1.3 s and 72 MB; a 34 x 3 x 34 m hall at
+// 0.4 m with an all-emitting ceiling, 18,298 patches (7,969 sources), 93 s and 600 MB. A
+// larger room needs a larger patch_size.
+constexpr double kMaxPatches = 20000;
+// The camera's eye lies within 10 m of the room's bounding box (a kiosk camera looks at
+// the room from inside it or through its open side), and its far plane within 1 km.
+constexpr double kMaxCameraDistanceFromRoom = 10;
+constexpr double kMinCameraNear = 1e-3, kMaxCameraFar = 1000;
+// Emitted radiance per channel: a bright ceiling panel is tens; above a million is a typo.
+constexpr double kMaxEmission = 1e6;
+// Regions per quad (their overlap check is quadratic) and products per scene.
+constexpr size_t kMaxRegionsPerQuad = 256;
+constexpr size_t kMaxProducts = 64;
+// A product, once scaled, measures at most 10 m along each axis (furniture, not a building;
+// the kiosk's product files have the same bound).
+constexpr double kMaxProductSize = 10;
+
 // Display response parameters: value = 255 * min(1, exposure * L)^(1 / gamma)
 // (shadow::ToneCurve::gamma).
 struct ToneParameters {

@@ -141,7 +141,7 @@ TEST(SceneFile, BadValuesAreNamed) {
   expectError([](json& d) { d["camera"]["far"] = 0.01; }, {"camera.far: must be greater"});
   expectError([](json& d) { d["camera"]["target"] = d["camera"]["eye"]; }, {"camera: "});
   expectError([](json& d) { d["camera"]["fov_y_deg"] = 180; }, {"camera.fov_y_deg"});
-  expectError([](json& d) { d["patch_size"] = 0; }, {"patch_size: must be positive"});
+  expectError([](json& d) { d["patch_size"] = 0; }, {"patch_size: 0 is not in [0.02, 10]"});
   expectError([](json& d) { d["tone"]["exposure"] = -1; }, {"tone.exposure: must be positive"});
   expectError([](json& d) { d["products"][2]["scale"] = "big"; },
               {"products[2].scale: expected a number, got a string"});
@@ -191,6 +191,83 @@ TEST(SceneFile, ModelProblemsNameTheProduct) {
               {"products[1].model: ", "missing.ply", "cannot open"});
   expectError([](json& d) { d["products"][1]["model"] = "../showroom/README.md"; },
               {"products[1].model: ", "unknown mesh format"});
+}
+
+// Issue 18: scene files without limits aborted precompute inside Embree (a room max of
+// 3e20), ran it past 20 s (a 4,096 m shell) or exhausted memory (a 1e6 m box); a camera eye
+// thousands of metres away left it with no receiver. Each is refused naming the field, in
+// the technician's words (limits in scene_file.h, docs/input-limits.md).
+TEST(SceneFile, RoomLimits) {
+  expectError(
+      [](json& d) {
+        d["room"]["shell"]["max"] = {3e20, 3, 5};
+      },
+      {"showroom.json: room.shell.max: 3e+20 m is not a room (every coordinate of the "
+       "room lies within ±100 m of the origin)"});
+  expectError(
+      [](json& d) {
+        d["room"]["shell"]["max"] = {4096, 3, 4096};
+      },
+      {"room.shell.max: 4096 m is not a room"});
+  expectError(
+      [](json& d) {
+        d["room"]["boxes"][0]["max"] = {1e6, 0.75, 4.2};
+      },
+      {"room.boxes[0].max: 1e+06 m is not a room"});
+  expectError(
+      [](json& d) {
+        d["room"]["shell"]["min"] = {-1e308, 0, 0};
+      },
+      {"room.shell.min: -1e+308 m is not a room"});
+  expectError(
+      [](json& d) {
+        d["room"]["quads"] = json::array({{{"name", "panel"},
+                                           {"origin", {1, 1, 1}},
+                                           {"edge_u", {500, 0, 0}},
+                                           {"edge_v", {0, 1, 0}},
+                                           {"material", "wall"}}});
+      },
+      {"room.quads[0].edge_u: reaches 501 m, which is not a room"});
+  // Within the coordinate range, but too many patches for precompute's time and memory.
+  expectError(
+      [](json& d) {
+        d["room"]["shell"]["max"] = {60, 3, 60};
+      },
+      {"patch_size: 0.4 m cuts the room into 51708 patches, more than the 20000 "
+       "precompute handles: use a larger patch_size"});
+  expectError([](json& d) { d["patch_size"] = 0.001; }, {"patch_size: 0.001 is not in [0.02, 10]"});
+  expectError([](json& d) { d["room"]["regions"][0]["patch_size"] = 1e-9; },
+              {"room.regions[0].patch_size: 1e-09 is not in [0.02, 10]"});
+  expectError([](json& d) { d["materials"]["window"]["emission"][1] = 1e30; },
+              {"materials.window.emission[1]: 1e+30 is not a lamp (at most 1e+06)"});
+}
+
+TEST(SceneFile, CameraAndProductLimits) {
+  expectError(
+      [](json& d) {
+        d["camera"]["eye"] = {3000, 1.6, 3000};
+      },
+      {"camera.eye: is 4235 m from the room, expected within 10 m of it"});
+  expectError([](json& d) { d["camera"]["far"] = 1e9; },
+              {"camera.far: 1e+09 is not in [0.001, 1000]"});
+  expectError([](json& d) { d["camera"]["near"] = 1e-9; },
+              {"camera.near: 1e-09 is not in [0.001, 1000]"});
+  expectError([](json& d) { d["products"][0]["scale"] = 1000; },
+              {"products[0].model: is ",
+               " m across once scaled, more than the 10 m a product may "
+               "measure (check scale)"});
+  expectError([](json& d) { d["start_pose"]["x"] = 1e308; },
+              {"start_pose.x: 1e+308 is not in [0, 6]"});
+  expectError(
+      [](json& d) {
+        for (int i = 0; i < 70; ++i) d["products"].push_back(d["products"][0]);
+      },
+      {"products: 73 products, more than the 64 a scene may have"});
+  // A camera near the room is fine: 10 m outside its bounding box.
+  json doc = showroomJson();
+  doc["camera"]["eye"] = {-9.9, 1.6, 2.5};
+  doc["camera"]["target"] = {3, 1.5, 2.5};
+  EXPECT_EQ(parse(doc).camera.eye.x, -9.9);
 }
 
 TEST(SceneFile, FileLevelErrors) {

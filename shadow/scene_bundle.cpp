@@ -219,6 +219,13 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
 
   // Cross-checks: every index the per-frame path follows must be in range.
   const size_t triangles = b.view.staticMesh.triangleCount();
+  // What `penumbra precompute` refuses to write (lighting/precompute.h), refused here too:
+  // the frame path has nothing to shade without a room or without a receiver the camera
+  // sees, and a kiosk must fall back to its last good bundle instead of crashing (issue 18).
+  if (triangles == 0) r.fail("view.static_mesh", "no triangles (a bundle needs a room)");
+  if (b.sets.receivers.empty()) {
+    r.fail("sets.receivers", "none (the camera sees no surface of the room)");
+  }
   if (b.background.size() != size_t{b.view.width} * b.view.height * 4) {
     r.fail("background", "size does not match the view");
   }

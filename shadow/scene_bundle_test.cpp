@@ -78,6 +78,33 @@ TEST(SceneBundle, InconsistentContentIsNamed) {
   fs::remove(path);
 }
 
+// Issue 18: a bundle whose camera sees no receiver, or without a room, made `render` and
+// the kiosk segfault while building the compositor. Refused at load, as precompute refuses
+// to write it, so the kiosk falls back to its last good bundle.
+TEST(SceneBundle, BundleWithNothingToShadeIsRefused) {
+  const fs::path path = tempPath("penumbra-scene-bundle-empty.bundle");
+  const auto refusal = [&](const SceneBundle& b) -> std::string {
+    saveBundle(b, path);
+    try {
+      loadBundle(path);
+    } catch (const scene::BundleError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  SceneBundle b = smallBundle();
+  b.sets.receivers.clear();
+  EXPECT_EQ(
+      refusal(b),
+      path.string() + ": section 'sets.receivers': none (the camera sees no surface of the room)");
+  b = smallBundle();
+  b.view.staticMesh.indices.clear();
+  b.trianglePatch.clear();
+  EXPECT_EQ(refusal(b),
+            path.string() + ": section 'view.static_mesh': no triangles (a bundle needs a room)");
+  fs::remove(path);
+}
+
 // v4: the irradiance volume, per-patch radiance and the products' specular terms.
 TEST(SceneBundle, IrradianceVolumeAndSpecularRoundTripAndAreValidated) {
   SceneBundle b = smallBundle();

@@ -87,5 +87,35 @@ if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
   "${run[@]}" precompute "$tmp/absent.json" -o "$tmp/x.bundle" >/dev/null 2>"$tmp/stderr"
   [[ $? == 1 ]] && grep -q "absent.json" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
   check "precompute: a missing scene file is named" $?
+
+  # Issue 18: precompute refuses what render would refuse, naming the file and the field,
+  # with exit 1 and no bundle left behind.
+  python3 - "$data" "$tmp" <<'PY'
+import json, os, sys
+data, tmp = sys.argv[1], sys.argv[2]
+doc = json.load(open(os.path.join(data, "showroom", "showroom.json")))
+for p in doc["products"]:
+    p["model"] = os.path.join(data, "models", os.path.basename(p["model"]))
+def write(name, mutate):
+    x = json.loads(json.dumps(doc)); mutate(x)
+    json.dump(x, open(os.path.join(tmp, name), "w"))
+write("away.json", lambda x: x["camera"].update(eye=[-5, 1.6, 2], target=[-10, 1.6, 2]))
+write("huge-room.json", lambda x: x["room"]["shell"].__setitem__("max", [3e20, 3, 5]))
+open(os.path.join(tmp, "far.obj"), "w").write("v 0 0 0\nv 1 0 0\nv 1e308 1 0\nf 1 2 3\n")
+write("far-vertex.json", lambda x: x["products"][0].__setitem__("model", os.path.join(tmp, "far.obj")))
+PY
+  # expect_scene_error NAME SCENE TEXT: exit 1, TEXT in the message, no bundle.
+  expect_scene_error() {
+    "${run[@]}" precompute "$2" -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/stderr"
+    local rc=$?
+    [[ $rc == 1 ]] && grep -qF -- "$3" "$tmp/stderr" && [[ ! -e "$tmp/refused.bundle" ]]
+    check "precompute: $1 is refused (exit $rc: $(head -c 200 "$tmp/stderr"))" $?
+  }
+  expect_scene_error "a camera seeing no receiver" "$tmp/away.json" \
+    "away.json: camera: sees no surface of the room (0 receivers)"
+  expect_scene_error "a room of 3e20 m" "$tmp/huge-room.json" \
+    "huge-room.json: room.shell.max: 3e+20 m is not a room"
+  expect_scene_error "an OBJ vertex of 1e308" "$tmp/far-vertex.json" \
+    "far.obj: line 3: coordinate 1e+308 is outside [-1e6, 1e6]"
 fi
 finish
