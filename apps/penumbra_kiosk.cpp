@@ -209,6 +209,7 @@ int main(int argc, char** argv) {
         nextPollNs = time.nowNanoseconds() + 1'000'000'000;
       }
       const kiosk::FrameReport r = loop.step();
+      kiosk::noteFrameRendered(guarded, log, time.nowNanoseconds());
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;
     }
