@@ -213,6 +213,7 @@ int main(int argc, char** argv) {
         tell(productFiles.collect(guarded.bundle, log, time.nowNanoseconds()));
       }
       const kiosk::FrameReport r = loop.step();
+      kiosk::noteFrameRendered(guarded, log, time.nowNanoseconds());
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;
     }

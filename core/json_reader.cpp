@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <limits>
 
 namespace penumbra::core {
@@ -162,27 +160,8 @@ std::string formatNumber(double v) {
 
 std::string readTextFile(const std::filesystem::path& path, ErrorThrower raise,
                          uintmax_t maxBytes) {
-  const std::string file = path.string();
-  const auto fail = [&](const std::string& problem) {
-    raise(file + ": " + problem);
-    throw Error(file + ": " + problem);
-  };
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) fail("cannot open file (no such file)");
-  if (std::filesystem::is_directory(status)) fail("is a directory, not a file");
-  if (!std::filesystem::is_regular_file(status)) fail("is not a regular file");
-  const uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) fail("cannot read its size: " + ec.message());
-  if (size > maxBytes) {
-    fail("is " + std::to_string(size) + " bytes, more than the " + std::to_string(maxBytes) +
-         " this reader accepts");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot open file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail("read error");
-  return text;
+  const std::vector<uint8_t> bytes = readRegularFile(path, maxBytes, "a JSON input file", raise);
+  return std::string(bytes.begin(), bytes.end());
 }
 
 JsonDocument::JsonDocument(const std::filesystem::path& path, ErrorThrower raise,

@@ -34,6 +34,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/regular_file.h"
 
 namespace penumbra::core {
 
@@ -41,13 +42,6 @@ namespace penumbra::core {
 // reads is a description written by hand or by a tool (the largest, a capture manifest,
 // is a few kilobytes), so a bigger one is the wrong file.
 inline constexpr uintmax_t kMaxJsonFileBytes = uintmax_t{16} << 20;
-
-// Throws a finished message as the loader's own error type.
-using ErrorThrower = void (*)(const std::string& message);
-template <class E>
-[[noreturn]] void throwAs(const std::string& message) {
-  throw E(message);
-}
 
 class JsonDocument;
 
@@ -138,8 +132,9 @@ class JsonDocument {
   nlohmann::json doc_;
 };
 
-// The text of a file of at most maxBytes, refusing directories and non-regular files
-// (`file: is a directory`); used by JsonDocument, and by loaders that read other text.
+// The text of a file of at most maxBytes (core::readRegularFile: refuses directories and
+// non-regular files, `file: is a directory`); used by JsonDocument, and by loaders that
+// read other text.
 std::string readTextFile(const std::filesystem::path& path, ErrorThrower raise,
                          uintmax_t maxBytes = kMaxJsonFileBytes);
 

@@ -120,13 +120,15 @@ TEST(JsonReader, FilesAreBoundedAndRegular) {
     }
     return "no error";
   };
-  EXPECT_EQ(messageOf(dir, 100), dir.string() + ": is a directory, not a file");
-  EXPECT_EQ(messageOf("/dev/null", 100), "/dev/null: is not a regular file");
+  EXPECT_EQ(messageOf(dir, 100), dir.string() + ": is a directory");
+  EXPECT_EQ(messageOf("/dev/null", 100),
+            "/dev/null: is not a regular file (a device, fifo or socket)");
   EXPECT_EQ(messageOf(dir / "absent.json", 100),
             (dir / "absent.json").string() + ": cannot open file (no such file)");
   const std::filesystem::path big = dir / "big.json";
   std::ofstream(big) << R"({"a": "0123456789"})";
-  EXPECT_EQ(messageOf(big, 8), big.string() + ": is 19 bytes, more than the 8 this reader accepts");
+  EXPECT_EQ(messageOf(big, 8),
+            big.string() + ": is 19 bytes, more than the 8 a JSON input file may have");
   EXPECT_EQ(messageOf(big, 100), "no error");
 }
 

@@ -350,6 +350,28 @@ TEST(KioskFootage, SimulatedCameraFilmsTheFootage) {
 }
 #endif
 
+// docs/input-limits.md, "Sessions": the session's bundle must be a regular file within the
+// bundle limit, refused naming the session and the field (issue 18: /dev/zero was read
+// until memory ran out).
+TEST(KioskSession, BundleMustBeARegularFile) {
+  const fs::path dir = test::scratchPath("kiosk-session");
+  fs::create_directories(dir / "folder.bundle");
+  for (const auto& [bundle, problem] :
+       {std::pair<std::string, std::string>{"folder.bundle",
+                                            (dir / "folder.bundle").string() + ": is a directory"},
+        {"/dev/zero", "/dev/zero: is not a regular file (a device, fifo or socket)"}}) {
+    std::ofstream(dir / "s.json") << R"({"format": "penumbra-session", "version": 1, "bundle": ")"
+                                  << bundle << R"("})";
+    try {
+      loadSession(dir / "s.json");
+      ADD_FAILURE() << bundle << " was accepted";
+    } catch (const SessionError& e) {
+      EXPECT_EQ(std::string(e.what()), (dir / "s.json").string() + ": bundle: " + problem);
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(KioskSession, StrictLoading) {
   EXPECT_THROW(session("unknown", R"("kiosk": {"fps": 30, "fsp": 1})", 10), SessionError);
   try {

@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "core/json_reader.h"
+#include "core/regular_file.h"
+#include "scene/bundle_io.h"
 
 namespace penumbra::firmware_sim {
 namespace {
@@ -168,6 +170,9 @@ Session loadSession(const std::filesystem::path& path) {
   const std::string bundle = root["bundle"].string();
   if (bundle.empty()) root["bundle"].fail("must name a bundle file");
   s.bundle = dir / bundle;
+  // Refused here, naming the session, rather than by the bundle reader (sim_run.cpp).
+  core::requireRegularFile(s.bundle, scene::kMaxBundleBytes, "a scene bundle",
+                           core::throwAs<SessionError>, path.string() + ": bundle: ");
   const std::string lastGood = root.stringOr("last_good_bundle", "");
   if (!lastGood.empty()) s.lastGood = dir / lastGood;
   s.frames = static_cast<uint32_t>(root.integerOr("frames", 600, 1, 1'000'000));

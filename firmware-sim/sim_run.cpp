@@ -2,7 +2,9 @@
 
 #include "kiosk/product_files.h"
 #ifdef PENUMBRA_HAVE_FOOTAGE
+#include "core/regular_file.h"
 #include "firmware-sim/footage.h"
+#include "scene/bundle_io.h"
 #endif
 
 #include <unistd.h>
@@ -34,17 +36,16 @@ namespace {
 // The start-up faults of a session: a corrupted copy of the bundle (bytes flipped in the
 // middle, as a failing SD card would), written next to the system's temporary files.
 std::filesystem::path corruptedCopy(const std::filesystem::path& bundle) {
-  std::ifstream in(bundle, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw SessionError(bundle.string() + ": cannot read");
+  std::vector<uint8_t> bytes = core::readRegularFile(bundle, scene::kMaxBundleBytes,
+                                                     "a scene bundle", core::throwAs<SessionError>);
   for (size_t i = bytes.size() / 2; i < bytes.size() && i < bytes.size() / 2 + 64; ++i) {
-    bytes[i] = static_cast<char>(bytes[i] ^ 0x5A);
+    bytes[i] = static_cast<uint8_t>(bytes[i] ^ 0x5A);
   }
   const std::filesystem::path out =
       std::filesystem::temp_directory_path() /
       ("penumbra-sim-corrupt-" + std::to_string(::getpid()) + ".bundle");
   std::ofstream o(out, std::ios::binary);
-  o.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  o.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (!o) throw SessionError(out.string() + ": cannot write the corrupted bundle copy");
   return out;
 }
@@ -152,7 +153,9 @@ kiosk::FrameReport SimRun::step() {
       }
     }
   }
-  return loop_->step();
+  const kiosk::FrameReport report = loop_->step();
+  kiosk::noteFrameRendered(*bundle_, log_, time_.nowNanoseconds());
+  return report;
 }
 
 SimRun::~SimRun() = default;

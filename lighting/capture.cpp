@@ -7,6 +7,7 @@
 
 #include "core/colour.h"
 #include "core/json_reader.h"
+#include "core/regular_file.h"
 #include "lighting/camera_response.h"
 #include "lighting/embree_scene.h"
 #include "lighting/exr_io.h"
@@ -25,10 +26,21 @@ namespace fs = std::filesystem;
 
 // --- manifest ------------------------------------------------------------------------
 
-// A file named by the manifest: relative names are relative to the manifest's folder.
+// Photographs and probe images are decoded by OpenCV and OpenEXR, which read whatever they
+// are given: a file named by the manifest must be a regular file of at most this size
+// (docs/input-limits.md). A 50-megapixel 16-bit RGB TIFF is 300 MB; a float EXR probe of
+// 8192 x 4096 is 400 MB.
+constexpr uintmax_t kMaxCaptureInputBytes = uintmax_t{512} << 20;
+
+// A file named by the manifest: relative names are relative to the manifest's folder; it
+// must be a regular file within kMaxCaptureInputBytes (`manifest: field: path: problem`).
 fs::path filePath(const JsonValue& v, const fs::path& manifest) {
   const fs::path p = v.nonEmptyString();
-  return p.is_absolute() ? p : fs::absolute(manifest).parent_path() / p;
+  const fs::path resolved = p.is_absolute() ? p : fs::absolute(manifest).parent_path() / p;
+  core::requireRegularFile(resolved, kMaxCaptureInputBytes, "a capture input",
+                           core::throwAs<CaptureError>,
+                           manifest.string() + ": " + v.field() + ": ");
+  return resolved;
 }
 
 double positive(const JsonValue& v) {

@@ -365,6 +365,11 @@ TEST(Capture, ManifestErrorsNameFileAndField) {
   const std::string live = R"("live_exposure": {"index": 0}, )";
   const std::string probe =
       R"("probe": {"image": "p.exr", "mapping": "latlong", "position": [1, 1, 1]}})";
+  // The files it names exist (loading checks that they are regular files; their content is
+  // read later, by the steps that use them).
+  for (const char* name : {"s.json", "m.json", "a.png", "b.png", "p.exr", "a", "b", "c"}) {
+    std::ofstream(dir / name) << "";
+  }
   // The valid one loads, with paths resolved against the manifest.
   {
     std::ofstream(dir / "ok.json") << head + cal + ex + live + probe;
@@ -375,6 +380,14 @@ TEST(Capture, ManifestErrorsNameFileAndField) {
     EXPECT_FALSE(m.probeScale.has_value());
   }
   expectError("{", "line 1: ");
+  // A path to a folder or a device (OpenCV would read /dev/zero until memory runs out).
+  fs::create_directories(dir / "folder.png");
+  expectError(head + cal + R"("exposures": [{"image": "folder.png", "seconds": 1}, )" +
+                  R"({"image": "/dev/zero", "seconds": 4}], )" + live + probe,
+              "exposures[0].image: " + (dir / "folder.png").string() + ": is a directory");
+  expectError(head + cal + R"("exposures": [{"image": "a.png", "seconds": 1}, )" +
+                  R"({"image": "/dev/zero", "seconds": 4}], )" + live + probe,
+              "exposures[1].image: /dev/zero: is not a regular file");
   expectError(head + cal + ex + live + probe.substr(0, probe.size() - 1) + R"(, "colour": 1})",
               "colour: unknown field");
   expectError(head + R"("calibration": {}, )" + ex + live + probe, "calibration: exactly one");

@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "core/json_reader.h"
+#include "core/regular_file.h"
+#include "raster/matrix4d.h"
 
 namespace penumbra::raster {
 namespace {
@@ -76,6 +78,7 @@ using core::JsonValue;
 // The JSON part of a trace names views into the binary sidecar `blob`.
 struct Reader {
   const std::vector<uint8_t>* blob;
+  uint64_t copied = 0;  // bytes of all views read so far (views may overlap)
 
   // Views and sizes are below 2^53 in any real file; larger counts are refused.
   template <class T>
@@ -94,7 +97,7 @@ struct Reader {
   // Reads a view of `components`-element items of T into `out` (resized to
   // count*components).
   template <class T>
-  void view(const JsonValue& v, size_t components, std::vector<T>& out) const {
+  void view(const JsonValue& v, size_t components, std::vector<T>& out) {
     const auto offset = count<uint64_t>(v["offset"]);
     const auto n = count<uint64_t>(v["count"]);
     const uint64_t bytes = n * components * sizeof(T);
@@ -102,11 +105,18 @@ struct Reader {
       v.fail("view [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
              ") runs past the end of the buffer (" + std::to_string(blob->size()) + " bytes)");
     }
+    // Views may overlap, so a small sidecar named by many views could still ask for any
+    // amount of memory: what all views copy together is bounded too.
+    copied += bytes;
+    if (copied > kMaxSidecarBytes) {
+      v.fail("the views read so far copy " + std::to_string(copied) + " bytes, more than the " +
+             std::to_string(kMaxSidecarBytes) + " a frame trace may hold");
+    }
     out.resize(n * components);
     if (bytes > 0) std::memcpy(out.data(), blob->data() + offset, bytes);
   }
 
-  void vec3s(const JsonValue& v, std::vector<core::Vec3>& out) const {
+  void vec3s(const JsonValue& v, std::vector<core::Vec3>& out) {
     std::vector<float> flat;
     view(v, 3, flat);
     out.resize(flat.size() / 3);
@@ -114,7 +124,7 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  void rgbs(const JsonValue& v, std::vector<core::Rgb8>& out) const {
+  void rgbs(const JsonValue& v, std::vector<core::Rgb8>& out) {
     std::vector<uint8_t> flat;
     view(v, 3, flat);
     out.resize(flat.size() / 3);
@@ -122,7 +132,7 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
-  core::Mesh mesh(const JsonValue& v) const {
+  core::Mesh mesh(const JsonValue& v) {
     core::Mesh m;
     vec3s(v["positions"], m.positions);
     view(v["indices"], 1, m.indices);
@@ -172,9 +182,16 @@ void validateTrace(const FrameTrace& trace, const std::string& where) {
   if (view.height < 1 || view.height > kMaxImageSide)
     throw TraceError(where, "height", "must be in 1..4096");
   validateMatrix(view.cameraViewProj, where, "camera_view_proj");
+  // The renderer maps window positions back to the world through its inverse (spec §7).
+  Mat4d inverse;
+  if (!invert(toDouble(view.cameraViewProj), inverse)) {
+    throw TraceError(where, "camera_view_proj", "matrix is singular");
+  }
   validateMesh(view.staticMesh, where, "static_mesh");
   if (view.staticMesh.triangleCount() > kMaxStaticTriangles) {
-    throw TraceError(where, "static_mesh.indices", "more than 2^31 triangles");
+    throw TraceError(where, "static_mesh.indices",
+                     std::to_string(view.staticMesh.triangleCount()) + " triangles, at most " +
+                         std::to_string(kMaxStaticTriangles) + " are allowed");
   }
   validateFrame(trace.frame, view.width, view.height, view.staticMesh.triangleCount(), where);
 }
@@ -196,13 +213,21 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
   }
   size_t objectTriangles = 0;
   for (const ShadedMesh& o : frame.objects) objectTriangles += o.mesh.triangleCount();
-  if (objectTriangles > kMaxObjectTriangles)
-    throw TraceError(where, "objects", "too many triangles");
+  if (objectTriangles > kMaxObjectTriangles) {
+    throw TraceError(where, "objects",
+                     std::to_string(objectTriangles) + " triangles in all, at most " +
+                         std::to_string(kMaxObjectTriangles) + " are allowed");
+  }
+  size_t occluderTriangles = 0;
   for (size_t i = 0; i < frame.occluders.size(); ++i) {
     validateMesh(frame.occluders[i], where, "occluders[" + std::to_string(i) + "]");
+    occluderTriangles += frame.occluders[i].triangleCount();
   }
-  // Each pass subtracts at most 255 per channel and the renderer sums them in 16 bits
-  // (spec §8): 257 * 255 = 65535.
+  if (occluderTriangles > kMaxOccluderTriangles) {
+    throw TraceError(where, "occluders",
+                     std::to_string(occluderTriangles) + " triangles in all, at most " +
+                         std::to_string(kMaxOccluderTriangles) + " are allowed");
+  }
   if (frame.passes.size() > kMaxPasses) {
     throw TraceError(where, "passes",
                      std::to_string(frame.passes.size()) + " passes, at most " +
@@ -251,15 +276,11 @@ FrameTrace loadTrace(const std::filesystem::path& path) {
     doc.fail("format", "must be \"penumbra-frame-trace\"");
   }
   if (!root.has("version") || root["version"].json() != 1) doc.fail("version", "must be 1");
-  const std::filesystem::path blobPath = path.parent_path() / root["buffer"].string();
-  std::vector<uint8_t> blob;
-  {
-    std::ifstream bin(blobPath, std::ios::binary);
-    if (!bin) doc.fail("buffer", "cannot open " + blobPath.string());
-    blob.assign(std::istreambuf_iterator<char>(bin), std::istreambuf_iterator<char>());
-  }
+  const std::vector<uint8_t> blob = core::readRegularFile(
+      core::resolveAgainst(path, root["buffer"].nonEmptyString()), kMaxSidecarBytes,
+      "a frame trace's sidecar", core::throwAs<TraceError>, where + ": buffer: ");
 
-  const Reader r{&blob};
+  Reader r{&blob};
   FrameTrace t;
   t.view.width = Reader::count<uint32_t>(root["width"]);
   t.view.height = Reader::count<uint32_t>(root["height"]);
@@ -280,7 +301,7 @@ FrameTrace loadTrace(const std::filesystem::path& path) {
     t.frame.accumulation = accumulation->oneOf<Accumulation>(
         {{"u8", Accumulation::kU8}, {"fixed8_8", Accumulation::kFixed8_8}});
   }
-  for (const JsonValue& pj : root["passes"].array()) {
+  for (const JsonValue& pj : root["passes"].array(0, kMaxPasses)) {
     ShadowPass pass;
     pass.lightViewProj = Reader::matrix(pj["light_view_proj"]);
     pass.shadowMapSize = Reader::count<uint32_t>(pj["shadow_map_size"]);

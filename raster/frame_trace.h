@@ -88,13 +88,27 @@ class TraceError : public core::Error {
   using core::Error::Error;
 };
 
-// Limits a valid trace respects (docs/trace-format.md §Limits).
+// Limits a valid trace respects (docs/trace-format.md §Limits, docs/input-limits.md), each
+// with its reason. Together they bound what a hostile trace can make the loader and the
+// renderer allocate.
+// Snapped coordinates stay below 2^22 only up to this side (docs/pipeline-spec.md §3).
 inline constexpr uint32_t kMaxImageSide = 4096;
 inline constexpr uint32_t kMaxShadowMapSize = 4096;
+// Each pass subtracts at most 255 per channel and the renderer sums them in 16 bits (spec
+// §8): 257 * 255 = 65535.
 inline constexpr size_t kMaxPasses = 257;
-// Triangle ids share one 32-bit id buffer (raster/span_kernels.h).
-inline constexpr size_t kMaxStaticTriangles = size_t{1} << 31;
-inline constexpr size_t kMaxObjectTriangles = (size_t{1} << 31) - 2;
+// The renderer keeps a setup triangle (~150 bytes) and a span list per static and object
+// triangle: 2^22 of each is ~1.3 GB at most, the memory of the board. A showroom's patch
+// mesh has a few thousand triangles, a product model (after scene/mesh_simplify) at most
+// a few hundred thousand. (The 32-bit id buffer of raster/span_kernels.h would allow 2^31.)
+inline constexpr size_t kMaxStaticTriangles = size_t{1} << 22;
+inline constexpr size_t kMaxObjectTriangles = size_t{1} << 22;
+// Occluder proxies have 100-500 triangles (Gibson 2003 §7.2); all of them together at most:
+inline constexpr size_t kMaxOccluderTriangles = size_t{1} << 20;
+// The binary sidecar, and all views of it together (views may overlap): a 4096 x 4096
+// background is 64 MiB and the triangle limits above need ~200 MiB more; 1 GiB leaves room
+// and stops /dev/zero-like files long before memory runs out.
+inline constexpr uint64_t kMaxSidecarBytes = uint64_t{1} << 30;
 
 // Checks sizes, indices and finiteness; throws TraceError naming `where` and the field.
 void validateTrace(const FrameTrace& trace, const std::string& where);

@@ -59,18 +59,31 @@ ClippedVertex intersect(const ClippedVertex& in, float dIn, const ClippedVertex&
   return r;
 }
 
-SnappedVertex snap(const ClippedVertex& v, uint32_t width, uint32_t height) {
+// Spec §3, "Snapping range": the window coordinates, depth and weights of a vertex are
+// checked as binary32 values before any of them is converted to an integer, so that a
+// vertex binary32 could not keep inside the guard band (overflow to Inf, 0 * Inf = NaN in
+// the intersection, a w cancelled to ~0 on the w plane) never reaches the integer setup.
+// False: the vertex is outside the range the integer arithmetic of §4–5 is proved for.
+bool snap(const ClippedVertex& v, uint32_t width, uint32_t height, SnappedVertex& s) {
   const float sx = 128.0f * static_cast<float>(width);   // 256 * hw, exact
   const float sy = 128.0f * static_cast<float>(height);  // 256 * hh, exact
-  SnappedVertex s;
-  s.x = static_cast<int32_t>(std::nearbyint((v.clip.x / v.clip.w) * sx + sx));
-  s.y = static_cast<int32_t>(std::nearbyint(-(v.clip.y / v.clip.w) * sy + sy));
+  const float xw = (v.clip.x / v.clip.w) * sx + sx;
+  const float yw = -(v.clip.y / v.clip.w) * sy + sy;
   // Clipped vertices can land a rounding step outside [-w, w]; GL clamps window depth too.
-  s.z = std::clamp((v.clip.z / v.clip.w) * 0.5f + 0.5f, 0.0f, 1.0f);
+  const float zw = std::clamp((v.clip.z / v.clip.w) * 0.5f + 0.5f, 0.0f, 1.0f);
+  // Written so that NaN fails every test.
+  const bool inRange = std::fabs(xw) <= kMaxSnappedCoordinate &&
+                       std::fabs(yw) <= kMaxSnappedCoordinate && zw >= 0.0f && zw <= 1.0f &&
+                       v.bary[1] >= kMinClippedWeight && v.bary[1] <= kMaxClippedWeight &&
+                       v.bary[2] >= kMinClippedWeight && v.bary[2] <= kMaxClippedWeight;
+  if (!inRange) return false;
+  s.x = static_cast<int32_t>(std::nearbyint(xw));
+  s.y = static_cast<int32_t>(std::nearbyint(yw));
+  s.z = zw;
   s.w[1] = static_cast<int32_t>(std::nearbyint(v.bary[1] * 65536.0f));
   s.w[2] = static_cast<int32_t>(std::nearbyint(v.bary[2] * 65536.0f));
   s.w[0] = 65536 - s.w[1] - s.w[2];
-  return s;
+  return true;
 }
 
 }  // namespace
@@ -87,7 +100,9 @@ SnappedVertex snapVertex(const ClipVertex& v, uint32_t width, uint32_t height,
   ClippedVertex c;
   c.clip = v;
   c.bary = {0.0f, 0.0f, 0.0f};
-  SnappedVertex s = snap(c, width, height);
+  SnappedVertex s;
+  // A vertex inside the clip volume is inside the guard band: snap() cannot refuse it.
+  snap(c, width, height, s);
   s.w = weights;
   return s;
 }
@@ -137,7 +152,9 @@ void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, u
     if (n < 3) return;
   }
   std::array<SnappedVertex, 10> snapped;
-  for (int i = 0; i < n; ++i) snapped[i] = snap(poly[i], width, height);
+  for (int i = 0; i < n; ++i) {
+    if (!snap(poly[i], width, height, snapped[i])) return;  // spec §3: the whole polygon
+  }
   for (int i = 1; i + 1 < n; ++i) out.push_back({snapped[0], snapped[i], snapped[i + 1]});
 }
 

@@ -17,6 +17,14 @@ namespace penumbra::raster {
 inline constexpr int kSubPixelBits = 8;
 inline constexpr int32_t kSubPixelOne = 1 << kSubPixelBits;  // 256
 inline constexpr float kGuardBand = 4.0f;                    // spec §3
+// The snapping range (spec §3): a vertex whose window coordinate in 1/256 pixel lies beyond
+// +-2^22, whose window depth is NaN, or whose clipped corner weight b1 or b2 lies outside
+// [-1, 2] is refused before conversion to integers. The guard band keeps every vertex of a
+// viewport up to 4096 px within +-2 621 440 (< 2^22) and its weights in [0, 1]; only
+// binary32 overflow or cancellation on extreme input leaves the range.
+inline constexpr float kMaxSnappedCoordinate = 4194304.0f;  // 2^22
+inline constexpr float kMinClippedWeight = -1.0f;
+inline constexpr float kMaxClippedWeight = 2.0f;
 
 struct ClipVertex {
   float x, y, z, w;
@@ -43,12 +51,14 @@ ClipVertex transformPoint(const core::Mat4& m, const core::Vec3& p);
 bool insideClipVolume(const ClipVertex& v);
 
 // Snaps a clip-space vertex to a `width` x `height` viewport (spec §2), with `weights` as
-// its corner weights.
+// its corner weights. `v` must be inside the clip volume (insideClipVolume): then it is
+// inside the snapping range; a vertex outside it snaps to (0, 0).
 SnappedVertex snapVertex(const ClipVertex& v, uint32_t width, uint32_t height,
                          const std::array<int32_t, 3>& weights);
 
 // Clips one triangle (spec §3) and snaps the resulting fan to a `width` x `height`
-// viewport (spec §2). Appends 0, 1 or up to 5 triangles (3 vertices each) to `out`.
+// viewport (spec §2). Appends 0, 1 or up to 5 triangles (3 vertices each) to `out`; none
+// when a vertex of the clipped polygon is outside the snapping range (spec §3).
 void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, uint32_t height,
                          std::vector<std::array<SnappedVertex, 3>>& out);
 

@@ -365,6 +365,67 @@ TEST(Clipping, GuardBandBoundsSnappedCoordinates) {
   }
 }
 
+// Spec §3, snapping range: whatever binary32 values a triangle has (extreme, Inf, NaN), every
+// vertex that reaches the integer setup is inside the range §4-5 are proved for. Before the
+// check, a clipped vertex of a matrix with an element of 2^31 or 1e9 (issue 18) snapped to
+// INT32_MIN and setupTriangle overflowed.
+void expectEveryVertexInSnappingRange(const std::vector<std::array<SnappedVertex, 3>>& out) {
+  constexpr int32_t kLimit = 1 << 22;
+  for (const auto& tri : out) {
+    for (const SnappedVertex& v : tri) {
+      ASSERT_LE(std::abs(v.x), kLimit);
+      ASSERT_LE(std::abs(v.y), kLimit);
+      ASSERT_TRUE(v.z >= 0.0f && v.z <= 1.0f);
+      ASSERT_EQ(v.w[0] + v.w[1] + v.w[2], 65536);
+      for (int32_t w : v.w) ASSERT_LE(std::abs(w), 3 * 65536);
+    }
+    SetupTriangle t;
+    setupTriangle(tri, 4096, 4096, t);  // UBSan: no overflow in the setup either
+  }
+}
+
+TEST(Clipping, ExtremeValuesNeverLeaveTheSnappingRange) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr float kMax = std::numeric_limits<float>::max();
+  const float extremes[] = {0.0f,  1.0f,   -1.0f, 1e-5f, -1e-5f, 1e9f,  -1e9f,        2147483647.0f,
+                            3e38f, -3e38f, kMax,  -kMax, kInf,   -kInf, std::nanf("")};
+  // One vertex takes every combination of one extreme x, w and z; the two others are an
+  // ordinary visible edge, so the triangle is clipped rather than rejected.
+  size_t drawn = 0;
+  for (float x : extremes) {
+    for (float w : extremes) {
+      for (float z : {0.0f, 1e9f, -kInf}) {
+        std::vector<std::array<SnappedVertex, 3>> out;
+        clipAndSnapTriangle(
+            {cv(-0.5f, -0.5f, 0.5f, 1.0f), cv(0.5f, -0.5f, 0.5f, 1.0f), cv(x, x, z, w)}, 4096, 4096,
+            out);
+        expectEveryVertexInSnappingRange(out);
+        drawn += out.size();
+      }
+    }
+  }
+  EXPECT_GT(drawn, 0u);  // the ordinary combinations are still drawn
+}
+
+TEST(Clipping, LargeMatrixElementsOfIssue18AreDrawnOrDiscardedWithinRange) {
+  // A camera matrix with m[14] = 2^31 - 1 and a light matrix with an element of 1e9, applied
+  // to a triangle crossing the near plane.
+  core::Mat4 camera{};
+  camera.m = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 2147483647.0f, 0};
+  core::Mat4 light{};
+  light.m = {1, 0, 0, 0, 0, 1e9f, 0, 0, 0, 0, 1, 0, 0, 0, -1, 1};
+  const core::Vec3 corners[] = {{-1, -1, 1e-3f}, {1, -1, -1}, {0, 1e-12f, 1e30f}};
+  for (const core::Mat4& m : {camera, light}) {
+    for (uint32_t size : {16u, 256u, 4096u}) {
+      std::vector<std::array<SnappedVertex, 3>> out;
+      clipAndSnapTriangle({transformPoint(m, corners[0]), transformPoint(m, corners[1]),
+                           transformPoint(m, corners[2])},
+                          size, size, out);
+      expectEveryVertexInSnappingRange(out);
+    }
+  }
+}
+
 TEST(Attributes, PlaneReproducesVertexValuesAndStaysInRange) {
   std::mt19937 rng(3);
   std::uniform_int_distribution<int32_t> coord(0, 40 * 256);

@@ -4,6 +4,7 @@
 #include <bit>
 #include <fstream>
 
+#include "core/regular_file.h"
 #include "scene/sha256.h"
 
 namespace penumbra::scene {
@@ -56,9 +57,8 @@ void BundleWriter::write(const std::filesystem::path& path) const {
 
 BundleReader::BundleReader(const std::filesystem::path& path, uint32_t expectedVersion)
     : path_(path.string()) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw BundleError(path_ + ": cannot open scene bundle");
-  data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  data_ =
+      core::readRegularFile(path, kMaxBundleBytes, "a scene bundle", core::throwAs<BundleError>);
   if (data_.size() < kHeaderSize || std::memcmp(data_.data(), kMagic, 16) != 0) {
     throw BundleError(path_ + ": not a Penumbra scene bundle (bad magic)");
   }

@@ -23,6 +23,12 @@
 
 namespace penumbra::scene {
 
+// A bundle larger than this is refused before it is read (docs/input-limits.md): the
+// bundled showroom is 2.4 MB, a fine showroom some tens of MB; the board must hold the
+// bundle together with its frame buffers, and a path to a device or a huge file must not
+// take the kiosk's memory.
+inline constexpr uintmax_t kMaxBundleBytes = uintmax_t{512} << 20;
+
 class BundleError : public core::Error {
  public:
   using core::Error::Error;

@@ -157,5 +157,68 @@ TEST_F(TraceFiles, NotJsonAndMissingFilesAreRefused) {
   EXPECT_NE(errorFor(d).find("buffer"), std::string::npos);
 }
 
+// docs/input-limits.md, "Frame traces": each kind of bad value gets `file: field: what was
+// expected` (issue 18: these came out as nlohmann's or libstdc++'s messages, or without
+// the file).
+TEST_F(TraceFiles, WrongTypesAreNamedWithTheValue) {
+  json d = doc_;
+  d["format"] = 7;
+  EXPECT_EQ(errorFor(d), (dir_ / "bad.json").string() + ": format: expected a string, got 7");
+  d = doc_;
+  d["passes"][1]["pcf2x2"] = "yes";
+  EXPECT_EQ(errorFor(d), (dir_ / "bad.json").string() +
+                             ": passes[1].pcf2x2: expected true or false, got a string");
+}
+
+TEST_F(TraceFiles, NumbersBeyondDoubleAreNamedByField) {
+  json d = doc_;
+  d["passes"][0]["depth_bias"] = 0.125;
+  std::string text = d.dump();
+  text.replace(text.find("0.125"), 5, "1e400");
+  std::ofstream(dir_ / "bad.json") << text;
+  try {
+    raster::loadTrace(dir_ / "bad.json");
+    FAIL() << "1e400 was accepted";
+  } catch (const raster::TraceError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir_ / "bad.json").string() +
+                  ": passes[0].depth_bias: expected a number within double's range, got 1e400");
+  }
+}
+
+TEST_F(TraceFiles, TooManyPassesAreRefusedBeforeTheyAreRead) {
+  json d = doc_;
+  while (d["passes"].size() <= raster::kMaxPasses) d["passes"].push_back(d["passes"][0]);
+  EXPECT_EQ(errorFor(d), (dir_ / "bad.json").string() +
+                             ": passes: expected an array of 0 to 257 elements, got 258");
+}
+
+TEST_F(TraceFiles, ASingularCameraIsNamedWithTheFile) {
+  json d = doc_;
+  d["camera_view_proj"] = json::array();
+  for (int i = 0; i < 16; ++i) d["camera_view_proj"].push_back(0.0);
+  EXPECT_EQ(errorFor(d), (dir_ / "bad.json").string() + ": camera_view_proj: matrix is singular");
+}
+
+// The trace and its sidecar must be regular files within their limits: a directory used to
+// give "basic_filebuf::underflow", /dev/zero was read until memory ran out.
+TEST_F(TraceFiles, PathsToDirectoriesAndDevicesAreRefused) {
+  try {
+    raster::loadTrace(dir_);
+    FAIL() << "a directory was read as a trace";
+  } catch (const raster::TraceError& e) {
+    EXPECT_EQ(std::string(e.what()), dir_.string() + ": is a directory");
+  }
+  fs::create_directories(dir_ / "folder.bin");
+  json d = doc_;
+  d["buffer"] = "folder.bin";
+  EXPECT_EQ(errorFor(d), (dir_ / "bad.json").string() +
+                             ": buffer: " + (dir_ / "folder.bin").string() + ": is a directory");
+  d["buffer"] = "/dev/zero";
+  EXPECT_EQ(errorFor(d),
+            (dir_ / "bad.json").string() +
+                ": buffer: /dev/zero: is not a regular file (a device, fifo or socket)");
+}
+
 }  // namespace
 }  // namespace penumbra
