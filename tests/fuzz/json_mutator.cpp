@@ -197,7 +197,9 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
   if (doc.is_discarded()) return LLVMFuzzerMutate(data, size, maxSize);
   const int mutations = 1 + int(pick(rng, 2));
   for (int m = 0; m < mutations; ++m) mutateOnce(doc, rng);
-  const std::string text = doc.dump();
+  // Byte-mutated strings may not be UTF-8, which dump() would throw on: such bytes become
+  // U+FFFD (raw invalid bytes still reach the loaders through the byte mutations).
+  const std::string text = doc.dump(-1, ' ', false, json::error_handler_t::replace);
   const std::vector<uint8_t> tail(data + tailStart, data + size);
   const size_t total = text.size() + (nul != nullptr ? 1 + tail.size() : 0);
   if (total > maxSize) return LLVMFuzzerMutate(data, size, maxSize);
