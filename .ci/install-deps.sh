@@ -40,6 +40,7 @@ apt_opts=(-y -q -o Dpkg::Use-Pty=0 -o DPkg::Lock::Timeout=300 -o Acquire::Retrie
 
 native=(
   build-essential cmake ninja-build pkg-config git file clang-format
+  clang libclang-rt-14-dev
   libhwy-dev libglm-dev nlohmann-json3-dev libcli11-dev
   libpng-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
@@ -49,6 +50,7 @@ native=(
   libcamera-dev libgpiod-dev libsdl2-dev libdrm-dev
   blender-data opencv-doc
 )
+# clang, libclang-rt-14-dev: the asan preset (clang's sanitizers, libFuzzer: tests/fuzz).
 # blender-data: the CC0 lat-long HDR light probes (studiolights/world/*.exr);
 # opencv-doc: real 640x480 chessboard photographs (examples/data/left*.jpg).
 # Both are test inputs of the capture pipeline (issue 4).
