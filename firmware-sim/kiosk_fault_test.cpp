@@ -226,6 +226,36 @@ TEST(KioskFaults, OverrunDropsPassesWithinTwoFrames) {
   EXPECT_LT(after, before) << "passes did not drop within two frames of the overrun";
 }
 
+TEST(KioskFaults, RecoversFromALongHeavyOverload) {
+  // Issue 18: 100× the board's pass cost for 4 s drives the kiosk down to 4 passes on the
+  // smallest map; once the load is gone it must climb back (it used to stay at 128² and
+  // 4 passes for the rest of the session: the larger map's cost kept the overload).
+  const Session s = session("overload", R"("board": {"fixed_us": 7000, "per_pass_us": 0,
+      "per_texel_ps": 2000, "per_pixel_ps": 14000,
+      "load_steps": [{"at_ms": 1000, "permille": 100000}, {"at_ms": 5000, "permille": 1000}]})",
+                            240);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  size_t loadOn = 0, loadOff = 0;
+  while (p.frames[loadOn].startNs < 1'000'000'000) ++loadOn;
+  while (p.frames[loadOff].startNs < 5'000'000'000) ++loadOff;
+  const FrameReport& before = p.frames[loadOn - 1];
+  ASSERT_EQ(before.shadowMapSize, 256u);
+  uint32_t smallest = 256;
+  for (size_t i = loadOn; i < loadOff; ++i)
+    smallest = std::min(smallest, p.frames[i].shadowMapSize);
+  ASSERT_LT(smallest, 256u) << "the overload did not engage the shadow-map ladder";
+  size_t back = loadOff;
+  while (back < p.frames.size() && !(p.frames[back].shadowMapSize == 256 &&
+                                     p.frames[back].passesAsked >= before.passesAsked)) {
+    ++back;
+  }
+  ASSERT_LT(back, p.frames.size()) << "never back to 256² and " << before.passesAsked << " passes";
+  // Two map crossings (a frame each to measure), then passes regrow by ≤ 8 a frame.
+  EXPECT_LE(back - loadOff, 2u * 2 + (before.passesAsked - 4 + 7) / 8 + 2);
+  EXPECT_EQ(p.frames.back().shadowMapSize, 256u);
+}
+
 TEST(KioskFaults, CorruptBundleFallsBackToLastGood) {
   const Session s = session("corrupt", R"("startup": {"corrupt_bundle": true})", 10);
   SimRun run(s, {});
