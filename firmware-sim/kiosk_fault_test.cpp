@@ -185,8 +185,9 @@ TEST(KioskFaults, BouncingButtonActsOnce) {
     changes += p.frames[i].pose.product != p.frames[i - 1].pose.product;
   }
   EXPECT_EQ(changes, 1);
+  const std::vector<kiosk::LogLine> lines = run.log().lines();
   EXPECT_EQ(
-      std::count_if(run.log().lines().begin(), run.log().lines().end(),
+      std::count_if(lines.begin(), lines.end(),
                     [](const kiosk::LogLine& l) { return l.text.rfind("product: ", 0) == 0; }),
       1);
 }
