@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -252,6 +253,11 @@ TEST(KioskFaults, RecoversFromALongHeavyOverload) {
     ++back;
   }
   ASSERT_LT(back, p.frames.size()) << "never back to 256² and " << before.passesAsked << " passes";
+  std::printf(
+      "[ measured ] 100x load for 4 s: back to 256² and %u passes %zu frames (%.0f ms) "
+      "after the load ended\n",
+      before.passesAsked, back - loadOff,
+      static_cast<double>(p.frames[back].startNs - p.frames[loadOff].startNs) * 1e-6);
   // Two map crossings (a frame each to measure), then passes regrow by ≤ 8 a frame.
   EXPECT_LE(back - loadOff, 2u * 2 + (before.passesAsked - 4 + 7) / 8 + 2);
   EXPECT_EQ(p.frames.back().shadowMapSize, 256u);

@@ -39,10 +39,12 @@
 // A probe measures ρ_r afresh (a failed probe measures it twice, going up and coming back,
 // and costs one frame over budget). P_r starts at Options::probeAfterFrames, doubles after
 // each failed probe up to Options::maxProbeAfterFrames (P_max) and returns to the start
-// after a climb that holds. Proof sketch: let the load settle at frame f0 at a level where
-// the larger map truly fits the band at min passes. Every ratio is at most P_max frames
-// old by f0 + P_max, or expired and taken as 1 ≤ the true ratio; either way the prediction
-// for the larger map is ≤ its true cost or was measured after f0 (exact), so the condition
+// after a climb that holds. Frames are counted as reports with passes > 0 (a frame without
+// passes tells nothing about their cost, and costs none). Proof sketch: let the load settle
+// at frame f0 at a level where the larger maps truly fit the band at min passes. Ages run
+// for all boundaries at once, so by f0 + P_max every ratio was either measured after f0
+// (two adjacent frames at the settled load: exact) or has expired and counts as 1 ≤ the
+// true ratio; either way the prediction for the larger map is ≤ its true cost, so the condition
 // to climb holds at the first decision where the current rung's p̂ has settled (≤ the
 // EMA's finite settling time of proof step 1 below, and at once after a load step since a
 // step replaces p̂). Each climb is then measured to fit and is kept, so with R rungs the
