@@ -4,6 +4,7 @@
 // displayed frame — HUD included — is a pure function of the session: `--hashes` writes one
 // `sha256 <64 hex>` line per frame (of the displayed RGBA8 frame, HUD included), the same
 // for any --threads, --isa or machine.
+#include <malloc.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -36,13 +37,19 @@ double ms(int64_t ns) {
   return static_cast<double>(ns) * 1e-6;
 }
 
-// VmRSS and VmHWM of this process in kB, from /proc/self/status (-1 where unavailable): the
-// soak's memory check (docs/kiosk.md, "Soak").
+// VmRSS and VmHWM of this process in kB, from /proc/self/status, and the bytes the C
+// allocator holds for live blocks (glibc mallinfo2), -1 where unavailable: the soak's memory
+// check (docs/kiosk.md, "Soak"). RSS also moves with the allocator's free lists and arenas;
+// the heap in use is what a leak would grow.
 struct Memory {
-  long rssKb = -1, hwmKb = -1;
+  long rssKb = -1, hwmKb = -1, heapKb = -1;
 };
 Memory memoryNow() {
   Memory m;
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 info = mallinfo2();
+  m.heapKb = static_cast<long>((info.uordblks + info.hblkhd) / 1024);
+#endif
   std::ifstream status("/proc/self/status");
   std::string line;
   while (std::getline(status, line)) {
@@ -219,10 +226,11 @@ int main(int argc, char** argv) {
         writer.write(bgr);
       }
 #endif
-      if (soakFrames != 0 && (f + 1 == warmUpFrame || (f + 1) % 10'000 == 0 || f + 1 == n)) {
+      if (soakFrames != 0 && (f + 1 == warmUpFrame || (f + 1) % 1000 == 0 || f + 1 == n)) {
         const Memory m = memoryNow();
         if (f + 1 == warmUpFrame) atWarmUp = m;
-        std::printf("memory frame %u: VmRSS %ld kB VmHWM %ld kB\n", f + 1, m.rssKb, m.hwmKb);
+        std::printf("memory frame %u: VmRSS %ld kB VmHWM %ld kB heap %ld kB\n", f + 1, m.rssKb,
+                    m.hwmKb, m.heapKb);
         std::fflush(stdout);
       }
       if (strip && stripCount > 0) {
@@ -263,8 +271,11 @@ int main(int argc, char** argv) {
     if (soakFrames != 0) {
       const Memory end = memoryNow();
       const size_t window = std::min<size_t>(n / 2, 1000);
-      std::printf("soak memory: VmRSS %ld kB at frame %u, %ld kB at frame %u (growth %ld kB)\n",
-                  atWarmUp.rssKb, warmUpFrame, end.rssKb, n, end.rssKb - atWarmUp.rssKb);
+      std::printf(
+          "soak memory: VmRSS %ld kB at frame %u, %ld kB at frame %u (growth %ld kB); "
+          "heap in use %ld kB, %ld kB (growth %ld kB)\n",
+          atWarmUp.rssKb, warmUpFrame, end.rssKb, n, end.rssKb - atWarmUp.rssKb, atWarmUp.heapKb,
+          end.heapKb, end.heapKb - atWarmUp.heapKb);
       if (window > 0) {
         std::printf("soak wall ms/frame: median first %zu frames %.3f, last %zu frames %.3f\n",
                     window, ms(medianOf(wallNs, 0, window)), window,
