@@ -4,17 +4,23 @@
 // displayed frame — HUD included — is a pure function of the session: `--hashes` writes one
 // `sha256 <64 hex>` line per frame (of the displayed RGBA8 frame, HUD included), the same
 // for any --threads, --isa or machine.
+#include <malloc.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <string>
 
 #include "apps/render_flags.h"
 #include "firmware-sim/session.h"
+#include "firmware-sim/session_stats.h"
 #include "firmware-sim/sim_run.h"
+#include "firmware-sim/soak.h"
 #include "scene/image_io.h"
 #include "scene/sha256.h"
 #ifdef PENUMBRA_HAVE_OPENCV
@@ -23,20 +29,42 @@
 #endif
 
 using namespace penumbra;
+using firmware_sim::percentile;
 
 namespace {
 
-int64_t percentile(std::vector<int64_t> v, int pct) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  // Nearest rank: the smallest value with at least pct % of the samples at or below it.
-  size_t rank = (v.size() * static_cast<size_t>(pct) + 99) / 100;
-  if (rank == 0) rank = 1;
-  return v[rank - 1];
-}
-
 double ms(int64_t ns) {
   return static_cast<double>(ns) * 1e-6;
+}
+
+// VmRSS and VmHWM of this process in kB, from /proc/self/status, and the bytes the C
+// allocator holds for live blocks (glibc mallinfo2), -1 where unavailable: the soak's memory
+// check (docs/kiosk.md, "Soak"). RSS also moves with the allocator's free lists and arenas;
+// the heap in use is what a leak would grow.
+struct Memory {
+  long rssKb = -1, hwmKb = -1, heapKb = -1;
+};
+Memory memoryNow() {
+  Memory m;
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 info = mallinfo2();
+  m.heapKb = static_cast<long>((info.uordblks + info.hblkhd) / 1024);
+#endif
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    // "VmRSS:\t  109312 kB"
+    if (line.rfind("VmRSS:", 0) == 0) m.rssKb = std::atol(line.c_str() + 6);
+    if (line.rfind("VmHWM:", 0) == 0) m.hwmKb = std::atol(line.c_str() + 6);
+  }
+  return m;
+}
+
+// The median of v[from, to).
+int64_t medianOf(const std::vector<int64_t>& v, size_t from, size_t to) {
+  return percentile(std::vector<int64_t>(v.begin() + static_cast<std::ptrdiff_t>(from),
+                                         v.begin() + static_cast<std::ptrdiff_t>(to)),
+                    50);
 }
 
 // A strip of `count` frames side by side in two rows, each reduced 4× by a 4×4 box average
@@ -80,7 +108,7 @@ class Strip {
 int main(int argc, char** argv) {
   CLI::App app{"penumbra-sim: replay a kiosk session on the simulated board (docs/kiosk.md)"};
   std::string sessionPath, hashesPath, videoPath, framesDir, stripPath;
-  uint32_t frames = 0, stripCount = 6;
+  uint32_t frames = 0, stripCount = 6, soakFrames = 0;
   bool bench = false, echoLog = false;
   apps::RenderFlags flags;
   app.add_option("SESSION", sessionPath, "session file (.json)")->required();
@@ -99,20 +127,43 @@ int main(int argc, char** argv) {
   app.add_option("--strip-frames", stripCount, "frames in the strip")->check(CLI::Range(2, 12));
   app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
   app.add_flag("--log", echoLog, "echo the kiosk log to stderr");
+  app.add_option("--soak", soakFrames,
+                 "soak: N frames of generated presses, camera faults and load steps on top of "
+                 "SESSION (docs/kiosk.md, Soak); prints memory and frame-time drift")
+      ->check(CLI::Range(1, 10'000'000));
   CLI11_PARSE(app, argc, argv);
 
   try {
-    const firmware_sim::Session session = firmware_sim::loadSession(sessionPath);
+    const firmware_sim::Session session =
+        soakFrames != 0
+            ? firmware_sim::soakSession(firmware_sim::loadSession(sessionPath), soakFrames)
+            : firmware_sim::loadSession(sessionPath);
     const uint32_t n = frames ? frames : session.frames;
     firmware_sim::SimOptions options;
     options.render = apps::toOptions(flags);
     options.logEcho = echoLog ? stderr : nullptr;
 
+    // The hashes go to a temporary file beside the target, renamed over it only when the
+    // whole run succeeded: a failed run leaves no partial (or empty) hash file behind.
     std::ofstream hashes;
+    std::string hashesTemp;
     if (!hashesPath.empty()) {
-      hashes.open(hashesPath);
+      // A device or pipe (/dev/null, /dev/stdout) is written as it is: nothing to rename.
+      const bool special =
+          std::filesystem::exists(hashesPath) && !std::filesystem::is_regular_file(hashesPath);
+      if (!special) hashesTemp = hashesPath + ".tmp-" + std::to_string(::getpid());
+      hashes.open(special ? hashesPath : hashesTemp);
       if (!hashes) throw std::runtime_error(hashesPath + ": cannot write");
     }
+    struct RemoveTemp {
+      const std::string& path;
+      ~RemoveTemp() {
+        if (!path.empty()) {
+          std::error_code ignored;
+          std::filesystem::remove(path, ignored);
+        }
+      }
+    } removeTemp{hashesTemp};
     if (!framesDir.empty()) std::filesystem::create_directories(framesDir);
 #ifdef PENUMBRA_HAVE_OPENCV
     cv::VideoWriter writer;
@@ -137,20 +188,25 @@ int main(int argc, char** argv) {
     std::unique_ptr<Strip> strip;
     if (!stripPath.empty()) strip = std::make_unique<Strip>(w, h, stripCount);
 
-    std::vector<int64_t> latency, wallNs;
-    std::vector<uint32_t> passes;
+    // Per-frame statistics, allocated and touched before the first frame, so that the
+    // process's memory after warm-up is the kiosk's alone (the soak's RSS check).
+    std::vector<int64_t> wallNs(n, 0);
+    std::vector<uint32_t> passes(n, 0);
+    firmware_sim::SessionStats stats(n);
+    Memory atWarmUp;
+    const uint32_t warmUpFrame = std::min<uint32_t>(n, 1000);
     uint32_t degraded = 0, stale = 0, attract = 0;
     int64_t firstStart = 0, lastEnd = 0;
     for (uint32_t f = 0; f < n; ++f) {
       const auto t0 = std::chrono::steady_clock::now();
       const kiosk::FrameReport r = run.step();
-      wallNs.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                           std::chrono::steady_clock::now() - t0)
-                           .count());
+      wallNs[f] = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::steady_clock::now() - t0)
+                      .count();
       if (f == 0) firstStart = r.startNs;
       lastEnd = r.endNs;
-      if (r.latencyNs >= 0) latency.push_back(r.latencyNs);
-      passes.push_back(r.passes);
+      stats.add(r);
+      passes[f] = r.passes;
       degraded += r.led != kiosk::LedState::kReady;
       stale += r.stale;
       attract += r.attract;
@@ -170,6 +226,13 @@ int main(int argc, char** argv) {
         writer.write(bgr);
       }
 #endif
+      if (soakFrames != 0 && (f + 1 == warmUpFrame || (f + 1) % 1000 == 0 || f + 1 == n)) {
+        const Memory m = memoryNow();
+        if (f + 1 == warmUpFrame) atWarmUp = m;
+        std::printf("memory frame %u: VmRSS %ld kB VmHWM %ld kB heap %ld kB\n", f + 1, m.rssKb,
+                    m.hwmKb, m.heapKb);
+        std::fflush(stdout);
+      }
       if (strip && stripCount > 0) {
         // Evenly spaced, the last frame included.
         for (uint32_t k = 0; k < stripCount; ++k) {
@@ -180,7 +243,10 @@ int main(int argc, char** argv) {
     if (hashes) {
       hashes.close();
       if (!hashes) throw std::runtime_error(hashesPath + ": write failed");
+      if (!hashesTemp.empty()) std::filesystem::rename(hashesTemp, hashesPath);
     }
+    stats.finish();
+    const std::vector<int64_t>& latency = stats.liveLatencyNs();
     if (strip) strip->write(stripPath);
 
     const int64_t span = lastEnd - firstStart;
@@ -193,10 +259,31 @@ int main(int argc, char** argv) {
     std::printf("passes median %u min %u max %u\n", sorted[sorted.size() / 2], sorted.front(),
                 sorted.back());
     std::printf(
-        "latency camera->screen median %.2f ms p99 %.2f ms (%zu frames with a camera frame)\n",
+        "latency camera->screen median %.2f ms p99 %.2f ms (%zu frames with a live camera "
+        "frame)\n",
         ms(percentile(latency, 50)), ms(percentile(latency, 99)), latency.size());
+    std::printf(
+        "camera outages %u, total %.2f s, longest %.2f s (frozen or lost picture; not "
+        "in the latency)\n",
+        stats.outages(), ms(stats.outageTotalNs()) * 1e-3, ms(stats.longestOutageNs()) * 1e-3);
     std::printf("led degraded %u frames, stale camera %u frames, attract %u frames\n", degraded,
                 stale, attract);
+    if (soakFrames != 0) {
+      const Memory end = memoryNow();
+      const size_t window = std::min<size_t>(n / 2, 1000);
+      std::printf(
+          "soak memory: VmRSS %ld kB at frame %u, %ld kB at frame %u (growth %ld kB); "
+          "heap in use %ld kB, %ld kB (growth %ld kB)\n",
+          atWarmUp.rssKb, warmUpFrame, end.rssKb, n, end.rssKb - atWarmUp.rssKb, atWarmUp.heapKb,
+          end.heapKb, end.heapKb - atWarmUp.heapKb);
+      if (window > 0) {
+        std::printf("soak wall ms/frame: median first %zu frames %.3f, last %zu frames %.3f\n",
+                    window, ms(medianOf(wallNs, 0, window)), window,
+                    ms(medianOf(wallNs, n - window, n)));
+      }
+      std::printf("soak log: %zu lines kept, %llu dropped\n", run.log().size(),
+                  static_cast<unsigned long long>(run.log().dropped()));
+    }
     if (bench) {
       std::printf("wall ms/frame on this machine: median %.2f p99 %.2f (%d threads, %s)\n",
                   ms(percentile(wallNs, 50)), ms(percentile(wallNs, 99)), flags.threads,

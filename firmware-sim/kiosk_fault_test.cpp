@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -185,8 +186,9 @@ TEST(KioskFaults, BouncingButtonActsOnce) {
     changes += p.frames[i].pose.product != p.frames[i - 1].pose.product;
   }
   EXPECT_EQ(changes, 1);
+  const std::vector<kiosk::LogLine> lines = run.log().lines();
   EXPECT_EQ(
-      std::count_if(run.log().lines().begin(), run.log().lines().end(),
+      std::count_if(lines.begin(), lines.end(),
                     [](const kiosk::LogLine& l) { return l.text.rfind("product: ", 0) == 0; }),
       1);
 }
@@ -224,6 +226,41 @@ TEST(KioskFaults, OverrunDropsPassesWithinTwoFrames) {
   ASSERT_GE(before, 8u);
   const uint32_t after = std::min(p.frames[80].passes, p.frames[81].passes);  // frames 81, 82
   EXPECT_LT(after, before) << "passes did not drop within two frames of the overrun";
+}
+
+TEST(KioskFaults, RecoversFromALongHeavyOverload) {
+  // Issue 18: 100× the board's pass cost for 4 s drives the kiosk down to 4 passes on the
+  // smallest map; once the load is gone it must climb back (it used to stay at 128² and
+  // 4 passes for the rest of the session: the larger map's cost kept the overload).
+  const Session s = session("overload", R"("board": {"fixed_us": 7000, "per_pass_us": 0,
+      "per_texel_ps": 2000, "per_pixel_ps": 14000,
+      "load_steps": [{"at_ms": 1000, "permille": 100000}, {"at_ms": 5000, "permille": 1000}]})",
+                            240);
+  SimRun run(s, {});
+  const Played p = play(run, s.frames, kStale);
+  size_t loadOn = 0, loadOff = 0;
+  while (p.frames[loadOn].startNs < 1'000'000'000) ++loadOn;
+  while (p.frames[loadOff].startNs < 5'000'000'000) ++loadOff;
+  const FrameReport& before = p.frames[loadOn - 1];
+  ASSERT_EQ(before.shadowMapSize, 256u);
+  uint32_t smallest = 256;
+  for (size_t i = loadOn; i < loadOff; ++i)
+    smallest = std::min(smallest, p.frames[i].shadowMapSize);
+  ASSERT_LT(smallest, 256u) << "the overload did not engage the shadow-map ladder";
+  size_t back = loadOff;
+  while (back < p.frames.size() && !(p.frames[back].shadowMapSize == 256 &&
+                                     p.frames[back].passesAsked >= before.passesAsked)) {
+    ++back;
+  }
+  ASSERT_LT(back, p.frames.size()) << "never back to 256² and " << before.passesAsked << " passes";
+  std::printf(
+      "[ measured ] 100x load for 4 s: back to 256² and %u passes %zu frames (%.0f ms) "
+      "after the load ended\n",
+      before.passesAsked, back - loadOff,
+      static_cast<double>(p.frames[back].startNs - p.frames[loadOff].startNs) * 1e-6);
+  // Two map crossings (a frame each to measure), then passes regrow by ≤ 8 a frame.
+  EXPECT_LE(back - loadOff, 2u * 2 + (before.passesAsked - 4 + 7) / 8 + 2);
+  EXPECT_EQ(p.frames.back().shadowMapSize, 256u);
 }
 
 TEST(KioskFaults, CorruptBundleFallsBackToLastGood) {

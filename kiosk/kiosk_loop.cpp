@@ -298,8 +298,11 @@ void KioskLoop::handleCamera(int64_t now) {
   }
   if (st != GrabStatus::kFrame) return;
   if (s.haveSequence && s.grabbed.sequence <= s.lastSequence) {
-    warn(now, "camera: frame " + std::to_string(s.grabbed.sequence) +
-                  " delivered again (already shown), ignored");
+    // Keyed: a camera stuck repeating a frame says so once per log window, not per frame.
+    io_.log->write(now, LogLevel::kWarning,
+                   "camera: frame " + std::to_string(s.grabbed.sequence) +
+                       " delivered again (already shown), ignored",
+                   "camera: frame delivered again");
     return;
   }
   s.haveSequence = true;
@@ -307,8 +310,10 @@ void KioskLoop::handleCamera(int64_t now) {
   std::string why;
   if (!toRgba(s.grabbed, bundle_.view.width, bundle_.view.height, s.converted, why)) {
     s.lastBadFrameNs = now;
-    warn(now, "camera: frame " + std::to_string(s.grabbed.sequence) + " refused: " + why +
-                  "; keeping the last good frame");
+    io_.log->write(now, LogLevel::kWarning,
+                   "camera: frame " + std::to_string(s.grabbed.sequence) + " refused: " + why +
+                       "; keeping the last good frame",
+                   "camera: frame refused");
     return;
   }
   s.background.swap(s.converted);

@@ -40,6 +40,7 @@ class RecordingLed final : public StatusLed {
 };
 
 enum class LogLevel : uint8_t { kInfo, kWarning, kError };
+const char* logLevelName(LogLevel level);
 
 struct LogLine {
   int64_t timeNs;
@@ -47,20 +48,58 @@ struct LogLine {
   std::string text;
 };
 
-// Kiosk log: timestamped on the kiosk clock (virtual in the simulator, so logs replay too).
-// Keeps every line (tests read them) and optionally echoes to a stdio stream (journald
-// takes the kiosk's stderr under systemd).
+// Kiosk log: timestamped on the kiosk clock (virtual in the simulator, so logs replay too),
+// optionally echoed to a stdio stream (journald takes the kiosk's stderr under systemd).
+// A kiosk runs for months, so the log's memory is fixed (issue 18):
+//  - a ring of `capacity` lines: the oldest line goes when a new one comes (dropped() counts
+//    them), and a line's text is cut at kMaxLineBytes;
+//  - lines below `minLevel` are neither kept nor echoed;
+//  - a line of the same level and the same repeat key as the one before is counted, not
+//    kept. The key is the text itself, or what the writer names: a message that carries a
+//    changing number every frame ("camera: frame 31 refused: ...", "... frame 32 ...") is
+//    written with a fixed key, so it repeats even though its text differs. The count goes out as
+//    one line "last message repeated N times (latest: ...)" when another line comes or
+//    `repeatWindowNs` after the last line written, so a camera that sends a wrong frame every frame
+//    costs one line per window, not per frame.
 class KioskLog {
  public:
-  explicit KioskLog(std::FILE* echo = nullptr) : echo_(echo) {}
-  void write(int64_t timeNs, LogLevel level, const std::string& text);
-  const std::vector<LogLine>& lines() const { return lines_; }
-  // True when a line at or before `untilNs` contains `needle`.
+  static constexpr size_t kMaxLineBytes = 512;
+  struct Options {
+    size_t capacity = 1024;
+    LogLevel minLevel = LogLevel::kInfo;
+    int64_t repeatWindowNs = 10'000'000'000;  // 10 s
+  };
+  explicit KioskLog(std::FILE* echo = nullptr) : KioskLog(echo, Options{}) {}
+  // Throws std::invalid_argument for a zero capacity or a negative window.
+  KioskLog(std::FILE* echo, Options options);
+  void write(int64_t timeNs, LogLevel level, const std::string& text,
+             const std::string& repeatKey = {});
+  // The kept lines, oldest first (at most `capacity`; a pending repeat count is not a line
+  // until it is written out).
+  std::vector<LogLine> lines() const;
+  size_t size() const { return count_; }
+  uint64_t dropped() const { return dropped_; }
+  // True when a kept line at or before `untilNs` contains `needle`.
   bool contains(const std::string& needle, int64_t untilNs = INT64_MAX) const;
 
  private:
+  void keep(int64_t timeNs, LogLevel level, std::string text);
+  void flushRepeats();
+  const LogLine& at(size_t i) const { return ring_[(head_ + i) % ring_.size()]; }
+
   std::FILE* echo_;
-  std::vector<LogLine> lines_;
+  Options options_;
+  std::vector<LogLine> ring_;  // capacity slots, allocated once
+  size_t head_ = 0, count_ = 0;
+  uint64_t dropped_ = 0;
+  // The run of repeats of the last kept line: its key, how many were counted, the
+  // latest one, and when a line of the run was last written out.
+  std::string lastKey_;
+  LogLevel lastLevel_ = LogLevel::kInfo;
+  bool haveLast_ = false;
+  uint64_t repeats_ = 0;
+  LogLine latest_{0, LogLevel::kInfo, {}};
+  int64_t lastWrittenNs_ = 0;
 };
 
 }  // namespace penumbra::kiosk

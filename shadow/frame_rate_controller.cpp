@@ -75,6 +75,11 @@ FrameRateController::Options validated(FrameRateController::Options o) {
     bad("smoothing must be in (0, 1] (got " + std::to_string(o.smoothing.num) + "/" +
         std::to_string(o.smoothing.den) + ")");
   }
+  if (o.probeAfterFrames == 0) bad("probeAfterFrames must be >= 1");
+  if (o.maxProbeAfterFrames < o.probeAfterFrames) {
+    bad("maxProbeAfterFrames (" + std::to_string(o.maxProbeAfterFrames) +
+        ") must be >= probeAfterFrames (" + std::to_string(o.probeAfterFrames) + ")");
+  }
   if (o.shadowMapSizes.empty()) bad("shadowMapSizes must hold at least one size");
   for (size_t i = 0; i < o.shadowMapSizes.size(); ++i) {
     if (o.shadowMapSizes[i] == 0) bad("shadowMapSizes must be > 0");
@@ -90,8 +95,9 @@ FrameRateController::Options validated(FrameRateController::Options o) {
 FrameRateController::FrameRateController(Options options)
     : options_(validated(std::move(options))),
       passes_(options_.initialPasses != 0 ? options_.initialPasses : options_.minPasses),
-      rungEntryQ8_(options_.shadowMapSizes.size(), 0),
-      rungLeaveQ8_(options_.shadowMapSizes.size(), 0) {}
+      ratioQ8_(options_.shadowMapSizes.size(), 0),
+      ratioFrame_(options_.shadowMapSizes.size(), 0),
+      probeAfter_(options_.shadowMapSizes.size(), options_.probeAfterFrames) {}
 
 int64_t FrameRateController::predictedQ8(uint32_t passes, int64_t perPassQ8) const {
   return options_.fixedCostNs * kOne + static_cast<int64_t>(passes) * perPassQ8;
@@ -112,12 +118,13 @@ void FrameRateController::report(int64_t frameNs, uint32_t passes, uint64_t shad
   const int64_t t = std::min(frameNs, kOverrunClamp * target);
   overran_ = t > target + target / 2;
   if (passes == 0) return;  // says nothing about the cost of a pass
+  ++frames_;
 
   const int64_t excess = std::max<int64_t>(t - options_.fixedCostNs, 0);
   const int64_t s = std::max<int64_t>(excess * kOne / passes, 1);
   if (perPassQ8_ == 0 || resetEstimate_) {
+    if (resetEstimate_) measureRatio(s);
     perPassQ8_ = s;
-    if (resetEstimate_) rungEntryQ8_[rung_] = s;
     resetEstimate_ = false;
     return;
   }
@@ -138,6 +145,23 @@ void FrameRateController::report(int64_t frameNs, uint32_t passes, uint64_t shad
     if (step == 0) step = d > 0 ? 1 : (d < 0 ? -1 : 0);
     perPassQ8_ += step;
   }
+}
+
+void FrameRateController::measureRatio(int64_t firstSampleQ8) {
+  // The crossing's two adjacent frames: the last p̂ at the rung left and the first sample at
+  // the rung entered. ρ = larger map / smaller map, clamped to [1, texel ratio] (see the .h).
+  const size_t boundary = std::max(rung_, crossedFrom_);
+  const bool down = crossedFrom_ < rung_;
+  const int64_t largerQ8 = down ? crossedFromQ8_ : firstSampleQ8;
+  const int64_t smallerQ8 = down ? firstSampleQ8 : crossedFromQ8_;
+  const int64_t big = options_.shadowMapSizes[boundary - 1];
+  const int64_t small = options_.shadowMapSizes[boundary];
+  const int64_t maxRatioQ8 = mulDiv(big * big, kOne, small * small);
+  ratioQ8_[boundary] = std::clamp<int64_t>(mulDiv(largerQ8, kOne, std::max<int64_t>(smallerQ8, 1)),
+                                           kOne, maxRatioQ8);
+  ratioFrame_[boundary] = frames_;
+  probeArrived_ = probing_;
+  probing_ = false;
 }
 
 FrameRateController::Decision FrameRateController::next() {
@@ -164,18 +188,25 @@ FrameRateController::Decision FrameRateController::next() {
 
   uint32_t n = passes_;
   size_t rung = rung_;
+  bool probe = false;
+  // A probe measured at its first frame (a failed one goes straight back down below).
+  const bool judgeProbe = probeArrived_;
+  probeArrived_ = false;
   if (rung > 0) {
     // Reduced map: passes are pinned at min; only the map size moves.
     n = minP;
     if (!minFits) {
       if (rung + 1 < sizes.size()) ++rung;
     } else {
-      // Predict the larger map's pass cost from the cost it had when we left it, scaled by
-      // how the current map's cost has changed since we arrived (a load change since then
-      // applies to both sizes alike).
-      const int64_t upQ8 = std::max<int64_t>(
-          mulDiv(rungLeaveQ8_[rung - 1], perPassQ8_, std::max<int64_t>(rungEntryQ8_[rung], 1)), 1);
-      if (predictedQ8(minP, upQ8) <= lowQ8) --rung;
+      // The larger map costs ρ·p̂ per pass; an expired ρ counts as 1, its optimistic bound,
+      // so a wrong estimate is re-measured by a probe within P_r frames (the bound in the .h).
+      const bool expired = ratioQ8_[rung] == 0 || frames_ - ratioFrame_[rung] >= probeAfter_[rung];
+      const int64_t ratioQ8 = expired ? kOne : ratioQ8_[rung];
+      const int64_t upQ8 = std::max<int64_t>(mulDiv(perPassQ8_, ratioQ8, kOne), 1);
+      if (predictedQ8(minP, upQ8) <= lowQ8) {
+        --rung;
+        probe = expired;
+      }
     }
   } else {
     const int64_t nStar = budgetQ8 / perPassQ8_;  // floor(B / p̂)
@@ -200,8 +231,18 @@ FrameRateController::Decision FrameRateController::next() {
     }
   }
 
+  if (judgeProbe) {
+    // Failed: back down, and the next probe of this boundary waits twice as long (≤ P_max).
+    // Held: the expiry returns to its start.
+    uint32_t& after = probeAfter_[rung_ + 1];
+    after = rung > rung_ ? static_cast<uint32_t>(std::min<uint64_t>(uint64_t{after} * 2,
+                                                                    options_.maxProbeAfterFrames))
+                         : options_.probeAfterFrames;
+  }
   if (rung != rung_) {
-    if (rung > rung_) rungLeaveQ8_[rung_] = perPassQ8_;
+    crossedFrom_ = rung_;
+    crossedFromQ8_ = perPassQ8_;
+    probing_ = probe;
     rung_ = rung;
     resetEstimate_ = true;  // the pass cost at the new size is unknown until measured
   }

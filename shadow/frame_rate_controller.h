@@ -20,6 +20,41 @@
 //     rung only if the larger map is predicted to cost ≤ T·(1−h) at min passes. Passes stay
 //     at min while any rung below the first is in use.
 //
+// THE LARGER MAP'S COST (ladder, climbing back). A load change scales the pass cost of every
+// map size alike (it is the scene that got heavier), so what carries over from one size to
+// the next is their RATIO ρ_r = p(size_{r−1}) / p(size_r), not either cost. ρ_r is measured
+// at every crossing of the boundary r, in either direction, from the last p̂ at the rung left
+// and the first sample at the rung entered (two adjacent frames, so one load), and clamped
+// to [1, (size_{r−1}/size_r)²]: a larger map never costs less per pass, and at most its
+// texel count more (pass = shadow-map render + masked subtraction, Gibson 2003 §8). The
+// larger map is predicted to cost ρ_r·p̂ per pass. (Keeping the larger map's absolute cost
+// from the moment it was left, as an earlier version did, kept an overload's cost forever:
+// after a 4 s 100× load the kiosk stayed at 128² and 4 passes for the rest of the session.)
+//
+// WHY IT ALWAYS RECOVERS (the bound). ρ_r can still be wrong: a one-frame spike or a load
+// change that falls exactly between the two frames of a crossing. A wrong-high ρ_r would keep
+// the small map forever, so an estimate EXPIRES: ρ_r measured more than P_r frames ago
+// counts as 1, its optimistic bound, and the controller climbs (probes) as soon as the
+// larger map at ratio 1 is predicted to fit the band — i.e. whenever it could possibly fit.
+// A probe measures ρ_r afresh (a failed probe measures it twice, going up and coming back,
+// and costs one frame over budget). P_r starts at Options::probeAfterFrames, doubles after
+// each failed probe up to Options::maxProbeAfterFrames (P_max) and returns to the start
+// after a climb that holds. Frames are counted as reports with passes > 0 (a frame without
+// passes tells nothing about their cost, and costs none). Proof sketch: let the load settle
+// at frame f0 at a level where the larger maps truly fit the band at min passes. Ages run
+// for all boundaries at once, so by f0 + P_max every ratio was either measured after f0
+// (two adjacent frames at the settled load: exact) or has expired and counts as 1 ≤ the
+// true ratio; either way the prediction for the larger map is ≤ its true cost, so the condition
+// to climb holds at the first decision where the current rung's p̂ has settled (≤ the
+// EMA's finite settling time of proof step 1 below, and at once after a load step since a
+// step replaces p̂). Each climb is then measured to fit and is kept, so with R rungs the
+// kiosk is back on the largest map within P_max + R·(settle + 1) frames of f0, after which
+// passes grow again at ≤ maxStepPerFrame per frame. With defaults (P_max = 2400 frames,
+// 80 s at 30 fps) that bound is reached only when every estimate was wrong; an overload that
+// ended cleanly is left as soon as its end is measured (a few frames: the tests measure it).
+// UNDER A STEADY LOAD that the larger map does not fit, probes are the only moves, one
+// frame each, spaced by P_r frames that double up to P_max: the ladder does not oscillate.
+//
 // WHY IT CANNOT OSCILLATE UNDER A CONSTANT COST (proof sketch, F̂ = F, integer p):
 //  1. s = ((p·n)·256)/n = 256·p exactly for every n, so all samples are equal. The EMA step
 //     is d·w rounded toward zero but at least one unit, with w ≤ 1, so |p̂ − s| shrinks by
@@ -76,6 +111,10 @@ class FrameRateController {
     // Shadow-map sizes, largest first; the first is the normal size. {256, 128} lets the
     // controller halve the map before it would need fewer than minPasses passes.
     std::vector<uint32_t> shadowMapSizes{256};
+    // The larger map's cost estimate expires after this many frames (then doubling after each
+    // failed probe, up to maxProbeAfterFrames): the recovery bound above.
+    uint32_t probeAfterFrames = 300;
+    uint32_t maxProbeAfterFrames = 2400;
   };
 
   struct Decision {
@@ -106,6 +145,7 @@ class FrameRateController {
 
  private:
   int64_t predictedQ8(uint32_t passes, int64_t perPassQ8) const;
+  void measureRatio(int64_t firstSampleQ8);
 
   Options options_;
   uint32_t passes_;
@@ -115,8 +155,18 @@ class FrameRateController {
   bool overran_ = false;        // the last frame took > 1.5 × target
   bool decided_ = false;
   Decision decision_;
-  std::vector<int64_t> rungEntryQ8_;  // p̂ of the first frame after arriving at a rung
-  std::vector<int64_t> rungLeaveQ8_;  // p̂ when the controller left a rung downwards
+  uint64_t frames_ = 0;  // reports with passes > 0: the clock of the ratios' ages
+  // Per boundary r ≥ 1 (between shadowMapSizes[r − 1] and [r]): ρ_r in Q8 (0: never
+  // measured), the frame it was measured at, and the current expiry P_r.
+  std::vector<int64_t> ratioQ8_;
+  std::vector<uint64_t> ratioFrame_;
+  std::vector<uint32_t> probeAfter_;
+  // The crossing in flight: the rung just left, its p̂, and whether it was a probe (a climb
+  // on an expired ratio); resolved by the first report at the new rung.
+  size_t crossedFrom_ = 0;
+  int64_t crossedFromQ8_ = 0;
+  bool probing_ = false;
+  bool probeArrived_ = false;  // the last crossing was a probe and has been measured
   uint64_t lastShadowedPixels_ = 0;
 };
 

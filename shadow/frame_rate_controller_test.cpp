@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/clock.h"
@@ -359,6 +362,153 @@ TEST(FrameRateController, NextIsStableUntilTheNextReport) {
   EXPECT_EQ(c.perPassEstimateQ8(), 1'000'000 * 256);
 }
 
+// The kiosk of data/sessions/*.json at 30 fps on the simulated board: fixed 7 ms (F̂ 6 ms),
+// 2 ns per shadow-map texel and 14 ns per shadowed pixel, maps 256² → 128² → 64².
+Options boardOptions() {
+  Options o;
+  o.targetFrameNs = 33'333'333;
+  o.fixedCostNs = 6'000'000;
+  o.minPasses = 4;
+  o.maxPasses = 64;
+  o.initialPasses = 8;
+  o.shadowMapSizes = {256, 128, 64};
+  return o;
+}
+CostModel::Params boardCost() {
+  return {7'000'000, 0, 2'000, 14'000};
+}
+
+// Frames from the first frame starting at `fromNs` until the controller is back where it was
+// before the overload: the largest map and at least the passes of the frame before `atNs`
+// (the settled pre-overload choice). SIZE_MAX if never.
+size_t framesToRecover(const Session& s, int64_t beforeNs, int64_t fromNs) {
+  const Decision& before = s.decisions[s.frameAt(beforeNs) - 1];
+  for (size_t i = s.frameAt(fromNs); i < s.decisions.size(); ++i) {
+    if (s.decisions[i].shadowMapSize == before.shadowMapSize &&
+        s.decisions[i].passes >= before.passes) {
+      return i - s.frameAt(fromNs);
+    }
+  }
+  return SIZE_MAX;
+}
+
+TEST(FrameRateController, RecoversFromALongHeavyOverload) {
+  // Issue 18: 100× load from 2 s to 6 s, then nominal for 26 s. The larger maps' cost must
+  // not be remembered from the overload: back on 256² and the pre-overload passes promptly.
+  constexpr int64_t kS = 1'000'000'000;
+  for (const auto& [permille, endNs] : {std::pair{100'000u, 6 * kS}, std::pair{20'000u, 3 * kS}}) {
+    SCOPED_TRACE("load " + std::to_string(permille) + " until " + std::to_string(endNs / kS) +
+                 " s");
+    Session s(boardOptions(), CostModel(boardCost(), {{2 * kS, permille}, {endNs, 1000}}));
+    s.run(960);
+    // The overload did engage the ladder, down to 64² (the situation of the issue).
+    uint32_t smallest = 256;
+    for (size_t i = s.frameAt(2 * kS); i < s.frameAt(endNs); ++i) {
+      smallest = std::min(smallest, s.decisions[i].shadowMapSize);
+    }
+    ASSERT_EQ(smallest, permille == 100'000u ? 64u : 256u);
+    const size_t recover = framesToRecover(s, 2 * kS, endNs);
+    std::printf("[ measured ] load %u‰ until %lld s: back to %u passes at 256² after %zu frames\n",
+                permille, static_cast<long long>(endNs / kS),
+                s.decisions[s.frameAt(2 * kS) - 1].passes, recover);
+    // Two crossings up (two frames each) plus passes growing 4 → 64 by ≤ 8 a frame.
+    EXPECT_LE(recover, 2 * 2 + (64 - 4 + 7) / 8 + 2);
+    // And it stays there: no probe or ping-pong under the now steady load.
+    const size_t settled = s.lastChange(s.frameAt(endNs), s.decisions.size());
+    EXPECT_LT(settled, s.frameAt(endNs) + 30);
+    EXPECT_EQ(s.decisions.back().shadowMapSize, 256u);
+  }
+}
+
+// A one-frame spike exactly on a map change corrupts the ratio measured there (the larger
+// map looks far dearer than it is). It must still recover within the stated bound: the
+// estimate expires after probeAfterFrames and a probe re-measures it.
+TEST(FrameRateController, RecoversWithinTheBoundFromAnyOverload) {
+  constexpr int64_t kS = 1'000'000'000;
+  Options o = boardOptions();
+  o.probeAfterFrames = 90;
+  o.maxProbeAfterFrames = 360;
+  // Every schedule: a random heavy load for a random time, ended by nominal load; the bound
+  // of the .h is P_max + R·(settle + 1) frames for the map, then passes regrow.
+  for (uint64_t seed = 1; seed <= 40; ++seed) {
+    const uint64_t h = Session::splitmix(seed);
+    const uint32_t permille = 2'000 + static_cast<uint32_t>(h % 150'000);
+    const int64_t startNs = kS / 2 + static_cast<int64_t>((h >> 20) % 1000) * kS / 1000;
+    const int64_t endNs = startNs + kS / 10 + static_cast<int64_t>((h >> 32) % 8000) * kS / 1000;
+    SCOPED_TRACE("seed " + std::to_string(seed) + " load " + std::to_string(permille));
+    Session s(o, CostModel(boardCost(), {{startNs, permille}, {endNs, 1000}}));
+    s.jitterPermille = static_cast<uint32_t>(h % 3) * 10;  // 0, ±1 %, ±2 % noise
+    s.run(static_cast<int>(endNs / (kS / 30)) + 600);
+    const size_t bound = 360 + 3 * 8 + (64 - 4 + 7) / 8 + 2;
+    EXPECT_LE(framesToRecover(s, startNs, endNs), bound);
+  }
+}
+
+TEST(FrameRateController, ASpikeOnAMapChangeIsProbedAwayInBoundedTime) {
+  // A heavy scene (33× the board's nominal pass cost): 4 passes at 256² just fit the band,
+  // at 128² they cost about 0.43× as much. One frame 10× dearer still (a kernel hiccup) at
+  // 256² drops the map; the next frame, at 128², is normal again, so the crossing measures
+  // the larger map as ≥ 4× dearer (clamped to the texel ratio), and the prediction alone
+  // would keep 128² for ever.
+  Options o = boardOptions();
+  o.probeAfterFrames = 90;
+  o.maxProbeAfterFrames = 360;
+  o.minPasses = o.maxPasses = o.initialPasses = 4;
+  const CostModel heavy(boardCost(), {{0, 33'000}});
+  FrameRateController c(o);
+  std::vector<Decision> d;
+  for (int i = 0; i < 1000; ++i) {
+    d.push_back(c.next());
+    int64_t ns = heavy.frameNs(0, 4, 4 * 3'000, d.back().shadowMapSize);
+    if (i == 10) ns *= 10;
+    c.report(ns, 4, 0);
+  }
+  ASSERT_EQ(d[10].shadowMapSize, 256u);
+  ASSERT_EQ(d[11].shadowMapSize, 128u) << "the spike did not move the map";
+  EXPECT_EQ(d[12].shadowMapSize, 128u) << "the prediction alone should not climb back";
+  size_t back = 11;
+  while (back < d.size() && d[back].shadowMapSize != 256) ++back;
+  // Measured at 128² from frame 12: the ratio expires 90 frames after it was measured.
+  EXPECT_LE(back, size_t{12 + 90 + 1}) << "not back on 256² within probeAfterFrames";
+  // The probe held (256² fits): no further map change.
+  for (size_t i = back; i < d.size(); ++i) ASSERT_EQ(d[i].shadowMapSize, 256u) << i;
+}
+
+TEST(FrameRateController, UnderASteadyHeavyLoadProbesAreRareAndBackOff) {
+  // 60× for the whole session: 4 passes at 256² never fit (48 ms), at 128² they do (25 ms). The
+  // only moves after settling are probes, one frame each, spaced ≥ P_r which doubles to P_max.
+  Options o = boardOptions();
+  o.probeAfterFrames = 100;
+  o.maxProbeAfterFrames = 400;
+  Session s(o, CostModel(boardCost(), {{0, 60'000}}));
+  s.run(3000);
+  std::vector<size_t> ups;  // frames where the map grew
+  for (size_t i = 1; i < s.decisions.size(); ++i) {
+    if (s.decisions[i].shadowMapSize > s.decisions[i - 1].shadowMapSize) ups.push_back(i);
+    EXPECT_EQ(s.decisions[i].passes, 4u) << i;
+  }
+  const size_t settled = 10;
+  size_t lastUp = 0, probes = 0;
+  for (size_t up : ups) {
+    if (up < settled) continue;
+    ++probes;
+    // A failed probe goes straight back down the next frame.
+    ASSERT_LT(s.decisions[up + 1].shadowMapSize, s.decisions[up].shadowMapSize) << up;
+    if (lastUp != 0) {
+      EXPECT_GE(up - lastUp, 100u);
+    }
+    lastUp = up;
+  }
+  // 3000 frames: at most ~100 + 200 + 400 + 400·k probe spacing → ≤ 9 probes.
+  EXPECT_LE(probes, 9u);
+  EXPECT_GE(probes, 1u) << "the bound needs the probe";
+  // Every frame but the probes fits the target (the dead band holds between them).
+  for (size_t i = 200; i < s.decisions.size(); ++i) {
+    if (std::find(ups.begin(), ups.end(), i) != ups.end()) continue;
+    ASSERT_LE(s.frameNs[i], o.targetFrameNs) << i;
+  }
+}
+
 void expectThrowsWith(const Options& o, const std::string& needle) {
   try {
     FrameRateController c(o);
@@ -405,6 +555,12 @@ TEST(FrameRateController, GarbageOptionsThrowWithClearMessages) {
   o = kioskOptions();
   o.initialPasses = 200;
   expectThrowsWith(o, "initialPasses (200)");
+  o = kioskOptions();
+  o.probeAfterFrames = 0;
+  expectThrowsWith(o, "probeAfterFrames must be >= 1");
+  o = kioskOptions();
+  o.maxProbeAfterFrames = 10;
+  expectThrowsWith(o, "maxProbeAfterFrames (10) must be >= probeAfterFrames (300)");
 
   FrameRateController c(kioskOptions());
   EXPECT_THROW(c.report(-1, 4, 0), std::invalid_argument);
