@@ -13,6 +13,7 @@
 #include <iostream>
 
 #include "apps/render_flags.h"
+#include "core/cli.h"
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
 #include "scene/image_io.h"
@@ -20,6 +21,8 @@
 #ifdef PENUMBRA_HAVE_OPENCV
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+
+#include "apps/video_out.h"
 #endif
 
 using namespace penumbra;
@@ -85,7 +88,7 @@ int main(int argc, char** argv) {
   apps::RenderFlags flags;
   app.add_option("SESSION", sessionPath, "session file (.json)")->required();
   app.add_option("--frames", frames, "frames to run (default: the session's)")
-      ->check(CLI::Range(1, 1'000'000));
+      ->check(cli::NumberRange(1, 1'000'000));
   apps::addRenderFlags(&app, flags);
   app.add_option("--hashes", hashesPath, "write `sha256 <hex>` of each displayed frame");
 #ifdef PENUMBRA_HAVE_OPENCV
@@ -96,12 +99,11 @@ int main(int argc, char** argv) {
   auto* dir = app.add_option("--frames-dir", framesDir, "write every frame as DIR/frame-NNNN.png");
   video->excludes(dir);
   app.add_option("--strip", stripPath, "write a PNG strip of evenly spaced frames");
-  app.add_option("--strip-frames", stripCount, "frames in the strip")->check(CLI::Range(2, 12));
+  app.add_option("--strip-frames", stripCount, "frames in the strip")
+      ->check(cli::NumberRange(2, 12));
   app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
   app.add_flag("--log", echoLog, "echo the kiosk log to stderr");
-  CLI11_PARSE(app, argc, argv);
-
-  try {
+  return cli::run("penumbra-sim", app, argc, argv, [&] {
     const firmware_sim::Session session = firmware_sim::loadSession(sessionPath);
     const uint32_t n = frames ? frames : session.frames;
     firmware_sim::SimOptions options;
@@ -118,7 +120,7 @@ int main(int argc, char** argv) {
     cv::VideoWriter writer;
 #else
     if (!videoPath.empty()) {
-      throw std::invalid_argument(
+      throw cli::UsageError(
           "--video needs a build with OpenCV (PENUMBRA_WITH_OPENCV); "
           "use --frames-dir or --strip");
     }
@@ -129,9 +131,7 @@ int main(int argc, char** argv) {
 #ifdef PENUMBRA_HAVE_OPENCV
     if (!videoPath.empty()) {
       const double fps = 1e9 / static_cast<double>(session.kiosk.fastFrameNs);
-      writer.open(videoPath, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                  cv::Size(static_cast<int>(w), static_cast<int>(h)));
-      if (!writer.isOpened()) throw std::runtime_error(videoPath + ": OpenCV cannot write it");
+      writer = apps::openMp4(videoPath, fps, cv::Size(static_cast<int>(w), static_cast<int>(h)));
     }
 #endif
     std::unique_ptr<Strip> strip;
@@ -203,8 +203,5 @@ int main(int argc, char** argv) {
                   flags.isa.c_str());
     }
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-sim: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
