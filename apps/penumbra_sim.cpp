@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
         writer.write(bgr);
       }
 #endif
-      if (strip && stripCount > 0) {
+      if (strip && stripCount > 1) {
         // Evenly spaced, the last frame included.
         for (uint32_t k = 0; k < stripCount; ++k) {
           if (f == static_cast<uint64_t>(n - 1) * k / (stripCount - 1)) strip->add(rgba, w, k);
