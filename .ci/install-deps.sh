@@ -39,7 +39,7 @@ apt_opts=(-y -q -o Dpkg::Use-Pty=0 -o DPkg::Lock::Timeout=300 -o Acquire::Retrie
           --no-install-recommends)
 
 native=(
-  build-essential cmake ninja-build pkg-config git file clang-format
+  build-essential cmake ninja-build pkg-config git file clang-format clang-tidy cppcheck
   clang libclang-rt-14-dev
   libhwy-dev libglm-dev nlohmann-json3-dev libcli11-dev
   libpng-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
@@ -52,6 +52,7 @@ native=(
 )
 # clang, libclang-rt-14-dev: the asan preset (clang's sanitizers, libFuzzer: tests/fuzz).
 # blender-data: the CC0 lat-long HDR light probes (studiolights/world/*.exr);
+# clang-tidy, cppcheck: .ci/static-analysis.
 # opencv-doc: real 640x480 chessboard photographs (examples/data/left*.jpg).
 # Both are test inputs of the capture pipeline (issue 4).
 cross_pkgs=(

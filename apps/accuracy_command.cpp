@@ -8,6 +8,7 @@
 
 #ifdef PENUMBRA_HAVE_METRICS
 #include "apps/render_flags.h"
+#include "core/cli.h"
 #include "reference/accuracy.h"
 #endif
 
@@ -57,12 +58,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   std::vector<Command> commands;
 #ifdef PENUMBRA_HAVE_METRICS
   auto cmd = std::make_shared<AccuracyCommand>();
-  CLI::App* c = app.add_subcommand(
-      "accuracy", "ms/frame and error against a reference per pass count (issue 5)");
+  CLI::App* c =
+      app.add_subcommand("accuracy", "ms/frame and error against a reference per pass count");
   c->add_option("BUNDLE", cmd->bundlePath, "scene bundle (penumbra precompute)")->required();
   c->add_option("--passes", cmd->options.passes, "pass counts, comma-separated")
       ->delimiter(',')
-      ->check(CLI::Range(0, 100000))
+      ->check(cli::NumberRange::list(0, 100000))
       ->capture_default_str();
   c->add_option("--json", cmd->json, "write the JSON here instead of stdout");
   c->add_option("--reference", cmd->options.referencePath,
@@ -70,16 +71,16 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--mask", cmd->options.maskPath,
                 "shadow-region mask PNG (default: from the reference)");
   c->add_option("--frames", cmd->options.frames, "timed frames per pass count (median)")
-      ->check(CLI::Range(1, 10000))
+      ->check(cli::NumberRange(1, 10000))
       ->capture_default_str();
   c->add_option("--shadow-map", cmd->mapSize, "shadow-map size")
-      ->check(CLI::Range(16, 8192))
+      ->check(cli::NumberRange(16, 8192))
       ->capture_default_str();
   c->add_option("--reference-map", cmd->referenceMap, "map size of the Penumbra stand-in")
-      ->check(CLI::Range(16, 8192))
+      ->check(cli::NumberRange(16, 8192))
       ->capture_default_str();
   c->add_option("--ppd", cmd->options.pixelsPerDegree, "FLIP viewing condition: pixels per degree")
-      ->check(CLI::Range(1.0, 1000.0))
+      ->check(cli::NumberRange(1.0, 1000.0))
       ->capture_default_str();
   c->add_option("--reference-out", cmd->options.referenceOut, "write the reference used as PNG");
   c->add_option("--mask-out", cmd->options.maskOut, "write the shadow region used as PNG");
@@ -89,14 +90,14 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
 #ifdef PENUMBRA_HAVE_REFERENCE
   c->add_option("--spp", cmd->options.rays.samplesPerPixel,
                 "ray-traced reference: samples per pixel")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   c->add_option("--light-samples", cmd->options.rays.lightSamples,
                 "ray-traced reference: shadow rays per point")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   c->add_option("--bounces", cmd->options.rays.bounces, "ray-traced reference: indirect bounces")
-      ->check(CLI::Range(0, 16))
+      ->check(cli::NumberRange(0, 16))
       ->capture_default_str();
   c->add_option("--seed", cmd->options.rays.seed, "ray-traced reference: seed")
       ->capture_default_str();
@@ -109,11 +110,11 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_flag("--single-share", cmd->singleShare,
               "graded transfers with one occluded share per vertex, not one per cluster");
   c->add_option("--depth-bias", cmd->options.depthBias, "receivers' shadow-map depth bias")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(cli::NumberRange(0.0, 1.0))
       ->capture_default_str();
   c->add_option("--contact-radius", cmd->options.contactRadius,
                 "contact band: shadow pixels this close to the product (pixels)")
-      ->check(CLI::Range(1, 256))
+      ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
   addRenderFlags(c, cmd->render);
   commands.push_back({c, [cmd] { return cmd->run(); }});

@@ -7,6 +7,8 @@
 #include <memory>
 #include <string>
 
+#include "core/cli.h"
+#include "core/progress.h"
 #include "lighting/capture.h"
 #include "shadow/scene_bundle.h"
 #endif
@@ -21,32 +23,26 @@ struct CaptureFlags {
   unsigned threads = 2;
 };
 
-// One line on stderr, redrawn per stage: [#####-----] 5/11 light probe
-void drawProgress(const std::string& stage, int index, int count) {
-  constexpr int kWidth = 24;
-  const int filled = count > 0 ? kWidth * index / count : 0;
-  std::string bar(size_t(filled), '#');
-  bar.append(size_t(kWidth - filled), '-');
-  std::fprintf(stderr, "\r[%s] %2d/%d %-24s", bar.c_str(), index + 1, count, stage.c_str());
-  std::fflush(stderr);
-}
-
 int runCaptureCommand(const CaptureFlags& f) {
   const auto t0 = std::chrono::steady_clock::now();
   const lighting::CaptureManifest manifest = lighting::loadCaptureManifest(f.manifest);
   lighting::PrecomputeOptions options;
   options.threads = f.threads;
   lighting::CaptureResult r;
+  core::Progress progress("capture");
   try {
-    r = lighting::runCapture(manifest, options, drawProgress);
+    r = lighting::runCapture(manifest, options,
+                             [&](const std::string& stage, int index, int count) {
+                               progress.stage(stage, index, count);
+                             });
   } catch (...) {
-    std::fprintf(stderr, "\n");
+    progress.finish();
     throw;
   }
   shadow::saveBundle(r.bundle, f.out);
   const double totalMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::fprintf(stderr, "\r[%s] done%-30s\n", std::string(24, '#').c_str(), "");
+  progress.finish();
 
   const lighting::CaptureSummary& s = r.summary;
   std::printf("calibration %s\n", s.calibrationMethod.c_str());
@@ -86,7 +82,7 @@ std::vector<Command> addCaptureCommands([[maybe_unused]] CLI::App& app) {
   cmd->add_option("MANIFEST", flags->manifest, "capture manifest (.json)")->required();
   cmd->add_option("-o,--out", flags->out, "bundle to write")->required();
   cmd->add_option("--threads", flags->threads, "threads")
-      ->check(CLI::Range(1u, 256u))
+      ->check(cli::NumberRange(1u, 256u))
       ->capture_default_str();
   commands.push_back({cmd, [flags] { return runCaptureCommand(*flags); }});
 #endif

@@ -3,10 +3,10 @@
 // (lighting/capture_synth.h, docs/capture.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <vector>
 
+#include "core/cli.h"
 #include "lighting/capture_synth.h"
 
 int main(int argc, char** argv) {
@@ -25,20 +25,16 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_flag("--chessboard", chessboard,
                "calibrate from chessboard photos and room corners instead of vanishing marks");
-  CLI11_PARSE(app, argc, argv);
-  penumbra::lighting::SyntheticCaptureOptions options;
-  if (!gains.empty()) options.gains = {gains[0], gains[1], gains[2]};
-  if (!offset.empty()) options.principalOffsetPx = {offset[0], offset[1]};
-  options.chessboard = chessboard;
-  try {
+  return penumbra::cli::run("penumbra-capture-synth", app, argc, argv, [&] {
+    penumbra::lighting::SyntheticCaptureOptions options;
+    if (!gains.empty()) options.gains = {gains[0], gains[1], gains[2]};
+    if (!offset.empty()) options.principalOffsetPx = {offset[0], offset[1]};
+    options.chessboard = chessboard;
     const penumbra::lighting::SyntheticCapture c =
         penumbra::lighting::writeSyntheticCapture(scenePath, dir, options);
     std::printf("manifest %s\nfocal_px %.3f\nprobe_scale %.5g %.5g %.5g\n",
                 c.manifest.string().c_str(), c.intrinsics.fx, c.probeScale.x, c.probeScale.y,
                 c.probeScale.z);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "penumbra-capture-synth: error: %s\n", e.what());
-    return 1;
-  }
+  });
 }

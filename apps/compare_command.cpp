@@ -10,6 +10,7 @@
 #ifdef PENUMBRA_HAVE_METRICS
 #include <nlohmann/json.hpp>
 
+#include "core/cli.h"
 #include "core/image.h"
 #include "reference/image_metrics.h"
 #endif
@@ -72,7 +73,7 @@ std::vector<Command> addCompareCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--json", cmd->json, "write the JSON here instead of stdout");
   c->add_option("--heatmap", cmd->heatmap, "write the FLIP error map as a colour PNG");
   c->add_option("--ppd", cmd->ppd, "FLIP viewing condition: pixels per degree")
-      ->check(CLI::Range(1.0, 1000.0))
+      ->check(cli::NumberRange(1.0, 1000.0))
       ->capture_default_str();
   commands.push_back({c, [cmd] { return cmd->run(); }});
 #endif

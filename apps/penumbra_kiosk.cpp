@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "apps/render_flags.h"
+#include "core/cli.h"
 #include "firmware-sim/virtual_camera.h"
 #include "kiosk/bundle_guard.h"
 #include "kiosk/exposure_control.h"
@@ -128,12 +129,10 @@ int main(int argc, char** argv) {
   app.add_option("--bracket", bracketDir,
                  "film an exposure bracket into DIR for `penumbra capture` and exit");
   app.add_option("--bracket-stops", stops, "exposures, one stop apart, around camera_controls")
-      ->check(CLI::Range(2, 15));
+      ->check(cli::NumberRange(2, 15));
   apps::addRenderFlags(&app, flags);
-  CLI11_PARSE(app, argc, argv);
-
   kiosk::KioskLog log(stderr);
-  try {
+  return cli::run("penumbra-kiosk", app, argc, argv, [&] {
     const kiosk::KioskConfig config = kiosk::loadKioskConfig(configPath);
     kiosk::SteadyTimebase time;
     kiosk::GuardedBundle guarded = kiosk::loadBundleKeepingLastGood(config.bundle, config.lastGood,
@@ -219,8 +218,5 @@ int main(int argc, char** argv) {
     }
     std::cout << "penumbra-kiosk: " << shown << " frames\n";
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-kiosk: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

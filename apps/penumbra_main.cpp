@@ -24,6 +24,7 @@
 #include "apps/reference_commands.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
+#include "core/cli.h"
 #include "raster/frame_trace.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
@@ -152,7 +153,7 @@ int main(int argc, char** argv) {
   addRenderFlags(benchCmd, benchFlags);
   addAccumulationFlag(benchCmd, benchAccumulation);
   benchCmd->add_option("--frames", benchFrames, "timed frames")
-      ->check(CLI::Range(1, 100000))
+      ->check(cli::NumberRange(1, 100000))
       ->capture_default_str();
 
   const std::vector<apps::Command> sceneCommands = apps::addSceneCommands(app);
@@ -162,8 +163,7 @@ int main(int argc, char** argv) {
   const std::vector<apps::Command> captureCommands = apps::addCaptureCommands(app);
   const std::vector<apps::Command> referenceCommands = apps::addReferenceCommands(app);
 
-  CLI11_PARSE(app, argc, argv);
-  try {
+  return cli::run("penumbra", app, argc, argv, [&] {
     for (const apps::Command& c : sceneCommands) {
       if (c.app->parsed()) return c.run();
     }
@@ -192,8 +192,5 @@ int main(int argc, char** argv) {
                 << (simd::isSupported(isa) ? "" : " (not supported by this CPU)") << "\n";
     }
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "apps/render_flags.h"
+#include "core/cli.h"
 #include "firmware-sim/session.h"
 #include "firmware-sim/session_stats.h"
 #include "firmware-sim/sim_run.h"
@@ -26,6 +27,8 @@
 #ifdef PENUMBRA_HAVE_OPENCV
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+
+#include "apps/video_out.h"
 #endif
 
 using namespace penumbra;
@@ -113,7 +116,7 @@ int main(int argc, char** argv) {
   apps::RenderFlags flags;
   app.add_option("SESSION", sessionPath, "session file (.json)")->required();
   app.add_option("--frames", frames, "frames to run (default: the session's)")
-      ->check(CLI::Range(1, 1'000'000));
+      ->check(cli::NumberRange(1, 1'000'000));
   apps::addRenderFlags(&app, flags);
   app.add_option("--hashes", hashesPath, "write `sha256 <hex>` of each displayed frame");
 #ifdef PENUMBRA_HAVE_OPENCV
@@ -124,16 +127,15 @@ int main(int argc, char** argv) {
   auto* dir = app.add_option("--frames-dir", framesDir, "write every frame as DIR/frame-NNNN.png");
   video->excludes(dir);
   app.add_option("--strip", stripPath, "write a PNG strip of evenly spaced frames");
-  app.add_option("--strip-frames", stripCount, "frames in the strip")->check(CLI::Range(2, 12));
+  app.add_option("--strip-frames", stripCount, "frames in the strip")
+      ->check(cli::NumberRange(2, 12));
   app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
   app.add_flag("--log", echoLog, "echo the kiosk log to stderr");
   app.add_option("--soak", soakFrames,
                  "soak: N frames of generated presses, camera faults and load steps on top of "
                  "SESSION (docs/kiosk.md, Soak); prints memory and frame-time drift")
-      ->check(CLI::Range(1, 10'000'000));
-  CLI11_PARSE(app, argc, argv);
-
-  try {
+      ->check(cli::NumberRange(1, 10'000'000));
+  return cli::run("penumbra-sim", app, argc, argv, [&] {
     const firmware_sim::Session session =
         soakFrames != 0
             ? firmware_sim::soakSession(firmware_sim::loadSession(sessionPath), soakFrames)
@@ -169,7 +171,7 @@ int main(int argc, char** argv) {
     cv::VideoWriter writer;
 #else
     if (!videoPath.empty()) {
-      throw std::invalid_argument(
+      throw cli::UsageError(
           "--video needs a build with OpenCV (PENUMBRA_WITH_OPENCV); "
           "use --frames-dir or --strip");
     }
@@ -180,9 +182,7 @@ int main(int argc, char** argv) {
 #ifdef PENUMBRA_HAVE_OPENCV
     if (!videoPath.empty()) {
       const double fps = 1e9 / static_cast<double>(session.kiosk.fastFrameNs);
-      writer.open(videoPath, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                  cv::Size(static_cast<int>(w), static_cast<int>(h)));
-      if (!writer.isOpened()) throw std::runtime_error(videoPath + ": OpenCV cannot write it");
+      writer = apps::openMp4(videoPath, fps, cv::Size(static_cast<int>(w), static_cast<int>(h)));
     }
 #endif
     std::unique_ptr<Strip> strip;
@@ -233,7 +233,7 @@ int main(int argc, char** argv) {
                     m.hwmKb, m.heapKb);
         std::fflush(stdout);
       }
-      if (strip && stripCount > 0) {
+      if (strip && stripCount > 1) {
         // Evenly spaced, the last frame included.
         for (uint32_t k = 0; k < stripCount; ++k) {
           if (f == static_cast<uint64_t>(n - 1) * k / (stripCount - 1)) strip->add(rgba, w, k);
@@ -290,8 +290,5 @@ int main(int argc, char** argv) {
                   flags.isa.c_str());
     }
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-sim: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -1,4 +1,7 @@
 #include "apps/reference_commands.h"
+
+#include "core/cli.h"
+#include "core/progress.h"
 #include "core/random.h"
 
 #ifdef PENUMBRA_HAVE_REFERENCE
@@ -27,20 +30,10 @@ namespace penumbra::apps {
 #ifdef PENUMBRA_HAVE_REFERENCE
 namespace {
 
-// A one-line progress bar on stderr, redrawn when the percentage changes.
+// Progress on stderr (core/progress.h: redrawn on a terminal, plain lines in a log).
 reference::ReferenceProgress progressBar(const char* label) {
-  auto last = std::make_shared<int>(-1);
-  return [label, last](uint32_t done, uint32_t total) {
-    const int percent = static_cast<int>(100ull * done / total);
-    if (percent == *last) return;
-    *last = percent;
-    char bar[41];
-    for (int i = 0; i < 40; ++i) bar[i] = i < percent * 40 / 100 ? '#' : '.';
-    bar[40] = 0;
-    std::fprintf(stderr, "\r%s [%s] %3d%%", label, bar, percent);
-    if (done == total) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
+  auto progress = std::make_shared<core::Progress>(label);
+  return [progress](uint32_t done, uint32_t total) { progress->fraction(done, total); };
 }
 
 struct ReferenceCommand {
@@ -57,8 +50,8 @@ struct ReferenceCommand {
       if (!pose.empty()) p = parsePose(pose, p.product);
       if (product >= 0) p.product = static_cast<uint32_t>(product);
       if (p.product >= b.products.size()) {
-        throw std::invalid_argument("--product " + std::to_string(p.product) + ": the bundle has " +
-                                    std::to_string(b.products.size()) + " products");
+        throw cli::UsageError("--product " + std::to_string(p.product) + ": the bundle has " +
+                              std::to_string(b.products.size()) + " products");
       }
       placed = p;
     }
@@ -86,7 +79,7 @@ struct ReferenceCommand {
       reference::ReferenceOptions other = options;
       other.seed = core::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
       const reference::DifferentialFrame second = reference::composeDifferential(
-          reference::renderReference(scene, other, progressBar("noise    ")), b.background, b.tone);
+          reference::renderReference(scene, other, progressBar("noise")), b.background, b.tone);
       size_t count = 0;
       const double rms = reference::shadowNoiseRms(frame, second, &count);
       std::printf("noise_rms_lsb_shadow %.3f (over %zu channel values)\n", rms, count);
@@ -107,7 +100,7 @@ struct ReferenceCommand {
       lighting::writeExr(sibling("obj"),
                          reference::hdrImageOf(image.width, image.height, image.withObject));
 #else
-      throw std::invalid_argument("--exr: this build has no OpenEXR (PENUMBRA_WITH_OPENEXR=OFF)");
+      throw cli::UsageError("--exr: this build has no OpenEXR (PENUMBRA_WITH_OPENEXR=OFF)");
 #endif
     }
     scene::writePng(out, image.width, image.height, frame.rgba);
@@ -162,18 +155,18 @@ std::vector<Command> addReferenceCommands([[maybe_unused]] CLI::App& app) {
   r->add_option("--product", ref->product, "product index (default: the start pose's)");
   r->add_flag("--no-product", ref->noProduct, "render the empty room (I_final = background)");
   r->add_option("--spp", ref->options.samplesPerPixel, "jittered camera samples per pixel")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   r->add_option("--light-samples", ref->options.lightSamples,
                 "shadow rays per surface point, over all emitting patches")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   r->add_option("--bounces", ref->options.bounces, "indirect bounces (path tracing)")
-      ->check(CLI::Range(0, 16))
+      ->check(cli::NumberRange(0, 16))
       ->capture_default_str();
   ref->options.threads = 2;
   r->add_option("--threads", ref->options.threads, "threads (the bytes do not depend on it)")
-      ->check(CLI::Range(1, 256))
+      ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
   r->add_option("--seed", ref->options.seed, "random seed")->capture_default_str();
   r->add_option("--out", ref->out, "I_final as PNG")->required();
@@ -197,16 +190,16 @@ std::vector<Command> addReferenceCommands([[maybe_unused]] CLI::App& app) {
   sy->add_option("--pose", syn->pose, "product in the object-present photograph: X,Y,Z[,YAW]");
   sy->add_option("--product", syn->product, "product index (default: the start pose's)");
   sy->add_option("--spp", syn->options.render.samplesPerPixel, "camera samples per pixel")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   sy->add_option("--light-samples", syn->options.render.lightSamples, "shadow rays per point")
-      ->check(CLI::Range(1, 65536))
+      ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
   sy->add_option("--bounces", syn->options.render.bounces, "indirect bounces")
-      ->check(CLI::Range(0, 16))
+      ->check(cli::NumberRange(0, 16))
       ->capture_default_str();
   sy->add_option("--threads", syn->options.render.threads, "threads (same bytes for any)")
-      ->check(CLI::Range(1, 256))
+      ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
   sy->add_option("--seed", syn->options.render.seed, "random seed")->capture_default_str();
   sy->add_option("--exposures", syn->options.exposures, "bracketed photographs (5..15)")

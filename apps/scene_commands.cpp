@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "apps/render_flags.h"
+#include "core/cli.h"
 #include "core/clock.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
@@ -31,11 +32,11 @@ shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
       values.push_back(std::stof(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
-      throw std::invalid_argument("--pose: '" + item + "' is not a number");
+      throw cli::UsageError("--pose: '" + item + "' is not a number");
     }
   }
   if (values.size() < 3 || values.size() > 4) {
-    throw std::invalid_argument("--pose needs X,Y,Z or X,Y,Z,YAW (got '" + text + "')");
+    throw cli::UsageError("--pose needs X,Y,Z or X,Y,Z,YAW (got '" + text + "')");
   }
   return {product, values[0], values[2], values.size() == 4 ? values[3] : 0.0f, values[1]};
 }
@@ -62,8 +63,8 @@ shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
   if (!f.pose.empty()) pose = parsePose(f.pose, pose.product);
   if (f.product >= 0) pose.product = static_cast<uint32_t>(f.product);
   if (pose.product >= b.products.size()) {
-    throw std::invalid_argument("--product " + std::to_string(pose.product) + ": the bundle has " +
-                                std::to_string(b.products.size()) + " products");
+    throw cli::UsageError("--product " + std::to_string(pose.product) + ": the bundle has " +
+                          std::to_string(b.products.size()) + " products");
   }
   return pose;
 }
@@ -194,16 +195,16 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   pre->add_option("--power-share", precomputeOptions->powerShare,
                   "share of emitted power in the source set (§4); default: the scene file's "
                   "power_share, else 0.7")
-      ->check(CLI::Range(0.01, 1.0));
+      ->check(cli::NumberRange(0.01, 1.0));
   pre->add_option("--samples", precomputeOptions->samplesPerSide,
                   "visibility samples per source patch side (§5)")
-      ->check(CLI::Range(1, 16))
+      ->check(cli::NumberRange(1, 16))
       ->capture_default_str();
   pre->add_option("--patch-size", precomputeOptions->patchSize,
                   "patch size in metres (default: the scene file's)")
-      ->check(CLI::Range(0.02, 10.0));
+      ->check(cli::NumberRange(0.02, 10.0));
   pre->add_option("--threads", precomputeOptions->threads, "threads")
-      ->check(CLI::Range(1, 256))
+      ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
   commands.push_back(
       {pre, [precompute, precomputeOptions] {
@@ -231,16 +232,16 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   CLI::App* r = app.add_subcommand("render", "One frame of a product in the showroom");
   addSceneFlags(r, render->scene);
   auto* passOpt = r->add_option("--passes", render->passes, "blending passes (source clusters)")
-                      ->check(CLI::Range(1, 257));
+                      ->check(cli::NumberRange(1, 257));
   auto* fpsOpt = r->add_option("--fps", render->fps, "let the frame-rate controller pick passes")
-                     ->check(CLI::Range(1.0, 1000.0));
+                     ->check(cli::NumberRange(1.0, 1000.0));
   passOpt->excludes(fpsOpt);
   r->add_option("--out", render->out, "write the frame as PNG");
   r->add_option("--trace", render->trace, "write the frame trace (docs/trace-format.md)");
   r->add_flag("--hash", render->hash, "print `sha256 <hex>` of the RGBA8 frame");
   commands.push_back({r, [render, passOpt, fpsOpt] {
                         if (passOpt->count() == 0 && fpsOpt->count() == 0) {
-                          throw std::invalid_argument("render needs --passes N or --fps F");
+                          throw cli::UsageError("render needs --passes N or --fps F");
                         }
                         return render->run();
                       }});
@@ -250,9 +251,9 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   addSceneFlags(p, profile->scene);
   p->add_option("--passes", profile->passes, "pass counts, comma-separated")
       ->delimiter(',')
-      ->check(CLI::Range(1, 257));
+      ->check(cli::NumberRange::list(1, 257));
   p->add_option("--frames", profile->frames, "timed frames per pass count")
-      ->check(CLI::Range(1, 10000))
+      ->check(cli::NumberRange(1, 10000))
       ->capture_default_str();
   p->add_option("--csv", profile->csv, "CSV output")->required();
   p->add_option("--plot", profile->plot, "PNG chart (matplotlib)");

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/cli.h"
 #include "raster/frame_trace.h"
 #include "shadow/synthetic_traces.h"
 
@@ -41,18 +42,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-o,--out", outDir, "Output directory (created if missing)")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-
-  try {
+  return penumbra::cli::run("penumbra-synth-trace", app, argc, argv, [&] {
     std::filesystem::create_directories(outDir);
     for (const std::string& key : shadow::syntheticTraceKeys()) {
       if (sceneName != "all" && sceneName != key) continue;
       const shadow::SyntheticTrace t = shadow::synthesizeTrace(key);
       writeTrace(t.trace, outDir, t.name, t.receiverTriangles);
     }
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-synth-trace: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

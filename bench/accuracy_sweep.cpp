@@ -18,6 +18,7 @@
 #include <iostream>
 #include <set>
 
+#include "core/cli.h"
 #include "core/image.h"
 #include "lighting/precompute.h"
 #include "raster/renderer.h"
@@ -65,13 +66,12 @@ int main(int argc, char** argv) {
   app.add_option("--reference-map", refMap, "map size of the Penumbra reference")
       ->capture_default_str();
   app.add_option("--frames", frames, "timed frames per configuration (median)")
-      ->check(CLI::Range(1, 1000))
+      ->check(cli::NumberRange(1, 1000))
       ->capture_default_str();
   app.add_option("--threads", threads, "render threads")
-      ->check(CLI::Range(1, 256))
+      ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  try {
+  return penumbra::cli::run("penumbra-accuracy-sweep", app, argc, argv, [&] {
     raster::RenderOptions ro;
     ro.isa = simd::bestIsa();
     ro.threads = threads;
@@ -163,9 +163,7 @@ int main(int argc, char** argv) {
         }
       }
     }
-    return out ? 0 : 1;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-accuracy-sweep: error: " << e.what() << "\n";
-    return 1;
-  }
+    if (!out) throw std::runtime_error(csvPath + ": write failed");
+    return 0;
+  });
 }

@@ -13,6 +13,7 @@
 #include <numeric>
 #include <random>
 
+#include "core/cli.h"
 #include "lighting/precompute.h"
 #include "scene/scene_file.h"
 #include "shadow/intensity_transfer.h"
@@ -40,8 +41,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--min-sources", minSources, "vertices with at least this many sources")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  try {
+  return penumbra::cli::run("penumbra-fig3", app, argc, argv, [&] {
     const scene::SceneDescription scene = scene::loadSceneFile(scenePath);
     std::vector<lighting::StageTiming> timings;
     const shadow::SceneBundle b = lighting::precomputeBundle(scene, {}, timings);
@@ -143,8 +143,5 @@ int main(int argc, char** argv) {
     std::printf("vertices %zu (>= %d sources each), trials %d per level\n", vertices, minSources,
                 trials);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "penumbra-fig3: error: %s\n", e.what());
-    return 1;
-  }
+  });
 }

@@ -234,9 +234,14 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
     }
     std::ofstream(dir / "corners.json") << json{{"corners", corners}}.dump(2) << "\n";
   }
+  // Relative to the manifest's folder, which loadCaptureManifest resolves it against, so the
+  // capture can be moved or copied together with its scene. std::filesystem::relative
+  // resolves symbolic links first: a lexical "../" through a linked folder would name
+  // another place than the one the reader reaches.
+  const std::filesystem::path sceneFromManifest = std::filesystem::relative(scenePath, dir);
   const json manifest = {{"format", "penumbra-capture"},
                          {"version", 1},
-                         {"scene", std::filesystem::absolute(scenePath).string()},
+                         {"scene", sceneFromManifest.generic_string()},
                          {"calibration", calibration},
                          {"exposures", exposures},
                          {"live_exposure", {{"index", o.liveIndex}}},

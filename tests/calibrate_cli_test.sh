@@ -26,7 +26,8 @@ if [[ -e "$photos/left01.jpg" ]]; then
     --json "$tmp/few.json" >"$tmp/out" 2>"$tmp/err"
   rc=$?
   [[ $rc == 1 && ! -e "$tmp/few.json" ]] && grep -q "need at least 3" "$tmp/err"
-  check "chessboard: two photos rejected (exit $rc): $(head -c 150 "$tmp/err")" $?
+  status=$?
+  check "chessboard: two photos rejected (exit $rc): $(head -c 150 "$tmp/err")" $status
 
   "${run[@]}" calibrate --chessboard 7x7 "$photos/left01.jpg" "$photos/left02.jpg" \
     "$photos/left03.jpg" >"$tmp/out" 2>"$tmp/err"
@@ -54,7 +55,8 @@ expect_error() {
   "${run[@]}" calibrate "$@" --json "$tmp/bad.json" >"$tmp/out" 2>"$tmp/err"
   local rc=$?
   [[ $rc == 1 && ! -e "$tmp/bad.json" ]] && grep -q -- "$text" "$tmp/err"
-  check "error ($name): exit $rc, $(head -c 200 "$tmp/err")" $?
+  status=$?
+  check "error ($name): exit $rc, $(head -c 200 "$tmp/err")" $status
 }
 python3 - "$data/calibration/vanishing-marks.json" "$tmp" <<'PY'
 import json, sys, os

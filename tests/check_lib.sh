@@ -2,7 +2,9 @@
 # removed on exit, named checks that count failures instead of stopping at the first, and
 # readers for the commands' "key value" output lines.
 #   source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
-#   check NAME $?        after a command or a [[ ]] condition
+#   check NAME $?        after a command or a [[ ]] condition; when NAME holds a $(...),
+#                        save $? first (status=$?; check "... $(...)" $status): the
+#                        substitution runs before $? is expanded and resets it to its own.
 #   finish               prints the tally; exit status 1 when any check failed
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT

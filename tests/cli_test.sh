@@ -26,7 +26,8 @@ expect_error() {
   local rc=$?
   [[ $rc == 1 ]] && grep -q "$(basename "$trace")" "$tmp/stderr" && grep -q -- "$field" "$tmp/stderr" \
     && [[ ! -e "$tmp/out.png" ]]
-  check "malformed ($name): exit $rc, $(head -c 200 "$tmp/stderr")" $?
+  status=$?
+  check "malformed ($name): exit $rc, $(head -c 200 "$tmp/stderr")" $status
 }
 
 cp "$data/traces/tiny.bin" "$tmp/tiny.bin"
@@ -54,11 +55,12 @@ expect_error "unknown accumulation" "$tmp/bad-accumulation.json" "accumulation"
 head -c 1000 "$data/traces/tiny.bin" >"$tmp/tiny.bin"
 expect_error "truncated buffer" "$tmp/tiny.json" "runs past the end"
 printf '{ not json' >"$tmp/garbage.json"
-expect_error "not JSON" "$tmp/garbage.json" "not valid JSON"
+expect_error "not JSON" "$tmp/garbage.json" "line 1"
 
 # --accumulation overrides the trace's field (spec §8): a real choice, and checked.
 "${run[@]}" replay "$data/traces/tiny.json" --accumulation fixed8_8 --hash >"$tmp/fixed" 2>&1
-check "replay --accumulation fixed8_8: $(head -c 200 "$tmp/fixed")" $?
+status=$?
+check "replay --accumulation fixed8_8: $(head -c 200 "$tmp/fixed")" $status
 "${run[@]}" replay "$data/traces/tiny.json" --accumulation wide >/dev/null 2>"$tmp/stderr"
 [[ $? != 0 ]] && grep -q "accumulation" "$tmp/stderr"
 check "unknown --accumulation is refused" $?
@@ -75,15 +77,16 @@ if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
     >"$tmp/stdout" 2>&1 && grep -q "^sha256 " "$tmp/stdout" && [[ -s "$tmp/frame.png" ]]
   check "render 20 passes, PNG and hash" $?
   "${run[@]}" render "$tmp/showroom.bundle" --pose 1,0,nope --passes 5 >/dev/null 2>"$tmp/stderr"
-  [[ $? == 1 ]] && grep -q "nope" "$tmp/stderr"
-  check "render: a bad --pose is named" $?
+  [[ $? == 2 ]] && grep -q "nope" "$tmp/stderr"
+  check "render: a bad --pose is named (a usage error)" $?
   "${run[@]}" render "$tmp/showroom.bundle" >/dev/null 2>"$tmp/stderr"
-  [[ $? == 1 ]] && grep -q -- "--passes" "$tmp/stderr"
-  check "render: --passes or --fps is required" $?
+  [[ $? == 2 ]] && grep -q -- "--passes" "$tmp/stderr"
+  check "render: --passes or --fps is required (a usage error)" $?
   head -c 5000 "$tmp/showroom.bundle" >"$tmp/cut.bundle"
   "${run[@]}" render "$tmp/cut.bundle" --passes 5 --out "$tmp/cut.png" >/dev/null 2>"$tmp/stderr"
   [[ $? == 1 ]] && grep -q "cut.bundle" "$tmp/stderr" && [[ ! -e "$tmp/cut.png" ]]
-  check "render: a truncated bundle is refused, no PNG ($(head -c 150 "$tmp/stderr"))" $?
+  status=$?
+  check "render: a truncated bundle is refused, no PNG ($(head -c 150 "$tmp/stderr"))" $status
   "${run[@]}" precompute "$tmp/absent.json" -o "$tmp/x.bundle" >/dev/null 2>"$tmp/stderr"
   [[ $? == 1 ]] && grep -q "absent.json" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
   check "precompute: a missing scene file is named" $?

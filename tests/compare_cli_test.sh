@@ -39,7 +39,8 @@ expect_fail() {  # expect_fail NAME NEEDLE ARGS...
   "${run[@]}" compare "$@" --json "$tmp/bad.json" --heatmap "$tmp/bad.png" >"$tmp/out" 2>"$tmp/err"
   local rc=$?
   [[ $rc != 0 && ! -e "$tmp/bad.json" && ! -e "$tmp/bad.png" ]] && grep -qF "$needle" "$tmp/err"
-  check "$name (stderr: $(head -c 160 "$tmp/err" | tr '\n' ' '))" $?
+  status=$?
+  check "$name (stderr: $(head -c 160 "$tmp/err" | tr '\n' ' '))" $status
 }
 expect_fail "missing file" "$tmp/nope.png" "$bunny" "$tmp/nope.png"
 echo "not a png" >"$tmp/junk.png"
@@ -70,7 +71,8 @@ assert r[1]['mean_abs_shadow']==0 and r[1]['psnr'] is None and r[1]['ssim']==1 a
     --json "$tmp/bad.json" >"$tmp/out" 2>"$tmp/err"
   rc=$?
   [[ $rc != 0 && ! -e "$tmp/bad.json" ]] && grep -qF "$fig3" "$tmp/err"
-  check "accuracy: reference of the wrong size (stderr: $(head -c 160 "$tmp/err"))" $?
+  status=$?
+  check "accuracy: reference of the wrong size (stderr: $(head -c 160 "$tmp/err"))" $status
   if "${run[@]}" reference --help >/dev/null 2>&1; then
     # Against the ray tracer (a quick, noisy one): errors are finite and the mask non-empty.
     "${run[@]}" accuracy "$tmp/s.bundle" --passes 20 --frames 1 --spp 1 --light-samples 4 \

@@ -16,13 +16,15 @@ ref=("$penumbra" reference "$tmp/s.bundle" --spp 1 --light-samples 4)
 rc=$?
 [[ $rc == 0 && -s "$tmp/far.png" ]] && [[ "$(field changed_pixels "$tmp/far")" == 0 ]] \
   && [[ "$(field shadow_pixels "$tmp/far")" == 0 ]] && grep -q "100%" "$tmp/far.err"
-check "product far away: the background byte for byte ($(grep -o 'changed_pixels [0-9]*' "$tmp/far"))" $?
+status=$?
+check "product far away: the background byte for byte ($(grep -o 'changed_pixels [0-9]*' "$tmp/far"))" $status
 
 "${ref[@]}" --threads 1 --out "$tmp/t1.png" --shadow-mask "$tmp/mask.png" >"$tmp/t1" 2>&1
 rc=$?
 [[ $rc == 0 && -s "$tmp/mask.png" ]] && (($(field shadow_pixels "$tmp/t1") > 500)) \
   && (($(field product_pixels "$tmp/t1") > 500))
-check "product at the start pose: shadow and product ($(grep -o 'shadow_pixels.*' "$tmp/t1"))" $?
+status=$?
+check "product at the start pose: shadow and product ($(grep -o 'shadow_pixels.*' "$tmp/t1"))" $status
 
 "${ref[@]}" --threads 2 --out "$tmp/t2.png" >/dev/null 2>&1
 cmp -s "$tmp/t1.png" "$tmp/t2.png"
@@ -34,7 +36,8 @@ bad() {  # bad NAME EXPECTED-TEXT ARGS...
   "$penumbra" reference "$@" --out "$tmp/bad.png" >"$tmp/out" 2>"$tmp/err"
   local rc=$?
   [[ $rc != 0 && ! -e "$tmp/bad.png" ]] && grep -q -- "$text" "$tmp/err"
-  check "bad: $name (exit $rc): $(head -c 160 "$tmp/err" | tr '\n' ' ')" $?
+  status=$?
+  check "bad: $name (exit $rc): $(head -c 160 "$tmp/err" | tr '\n' ' ')" $status
 }
 bad "missing bundle" "nope.bundle" "$tmp/nope.bundle"
 bad "pose not numbers" "pose" "$tmp/s.bundle" --pose 1,x,2

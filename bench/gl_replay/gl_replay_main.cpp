@@ -28,6 +28,7 @@
 #include "bench/gl_replay/gl_context.h"
 #include "bench/gl_replay/gl_trace_replay.h"
 #include "bench/gl_replay/image_compare.h"
+#include "core/cli.h"
 #include "raster/frame_trace.h"
 #include "raster/renderer.h"
 #include "simd/targets.h"
@@ -103,14 +104,12 @@ int main(int argc, char** argv) {
                  "write the GL frame: PNG if the name ends in .png (and libpng was found), "
                  "else raw RGBA8 (row 0 at the top)");
   app.add_option("--frames", frames, "frames to time (each renders the whole trace)")
-      ->check(CLI::Range(1, 100000));
+      ->check(penumbra::cli::NumberRange(1, 100000));
   app.add_option("--threads", threads, "Renderer threads and llvmpipe threads (LP_NUM_THREADS)")
-      ->check(CLI::Range(1, 256));
+      ->check(penumbra::cli::NumberRange(1, 256));
   app.add_flag("--compare", compare,
                "also render with Penumbra's Renderer (best ISA) and print a JSON comparison");
-  CLI11_PARSE(app, argc, argv);
-
-  try {
+  return penumbra::cli::run("penumbra-gl-replay", app, argc, argv, [&] {
     // Must happen before Mesa creates its screen: llvmpipe reads it once.
     setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
 
@@ -170,8 +169,5 @@ int main(int argc, char** argv) {
     j["gl_renderer"] = context.renderer();
     std::cout << j.dump(2) << "\n";
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "penumbra-gl-replay: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
