@@ -18,13 +18,14 @@ FrameRateController::Options renderControllerOptions(double fps) {
 
 FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose& pose,
                                               const FrameRateController::Options& options,
-                                              uint32_t frames) {
+                                              uint32_t frames, const FrameTimer& frameTimer) {
   FrameRateController controller(options);
   FrameRateController::Decision d;
   for (uint32_t f = 1; f <= frames; ++f) {
     d = controller.next();
     loop.step(pose, d);
-    controller.report(loop.frameNs, d.passes, loop.renderer.lastStats().passPixels);
+    const int64_t frameNs = frameTimer ? frameTimer(loop) : loop.frameNs;
+    controller.report(frameNs, d.passes, loop.renderer.lastStats().passPixels);
   }
   return d;
 }

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "shadow/frame_loop.h"
@@ -19,11 +20,18 @@ namespace penumbra::shadow {
 // passes the 256 map halved to 128 and 64 first.
 FrameRateController::Options renderControllerOptions(double fps);
 
+// The time a frame took, as the controller is told: the loop's measured wall time by
+// default. Tests give a cost model instead, so that what they check does not depend on how
+// busy the machine is.
+using FrameTimer = std::function<int64_t(const FrameLoop&)>;
+
 // Steps `loop` `frames` times at `pose` under a controller with `options`, reporting each
-// frame's measured time; returns the last frame's decision (the frame left in `loop`).
+// frame's time (`frameTimer`, or the measured time when empty); returns the last frame's
+// decision (the frame left in `loop`).
 FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose& pose,
                                               const FrameRateController::Options& options,
-                                              uint32_t frames = 40);
+                                              uint32_t frames = 40,
+                                              const FrameTimer& frameTimer = {});
 
 // One pass count's cost. Counts are the last frame's; times (ms) are medians over the timed
 // frames: the whole frame, traversal, clustering, transfers (with the product's shading),

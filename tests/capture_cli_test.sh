@@ -49,6 +49,6 @@ bad() {  # bad NAME SED-EXPRESSION EXPECTED-TEXT
 bad "live exposure out of range" 's/"index": 4/"index": 9/' "bad.json: live_exposure.index: 9 is not in"
 bad "unknown field" 's/"mapping"/"colour": 1, "mapping"/' "bad.json: probe.colour: unknown field"
 bad "probe outside the room" 's/"position": \[/"position": [-9, 1, 1], "_was": [/' "bad.json: probe: .*sees no patch"
-bad "missing probe file" 's/probe.exr/nope.exr/' "nope.exr: no such file"
+bad "missing probe file" 's/probe.exr/nope.exr/' "nope.exr: cannot open file (no such file)"
 bad "missing photograph" 's/bracket-2.png/nope.png/' "nope.png"
 finish
