@@ -177,7 +177,7 @@ JsonDocument::JsonDocument(std::string_view text, std::string file, ErrorThrower
 void JsonDocument::fail(const std::string& field, const std::string& problem) const {
   const Error e(file_, field, problem);
   raise_(e.what());
-  throw e;  // a thrower that returns still ends the read
+  throw Error(e);  // a thrower that returns still ends the read
 }
 
 // --- JsonValue ---------------------------------------------------------------------------
@@ -329,7 +329,7 @@ JsonValue JsonValue::optionalObject(std::string_view key,
                                     std::initializer_list<std::string_view> allowed) const {
   static const nlohmann::json kEmpty = nlohmann::json::object();
   const std::optional<JsonValue> v = find(key);
-  const JsonValue member = v ? *v : JsonValue(document_, &kEmpty, joinKey(field_, key));
+  JsonValue member = v ? *v : JsonValue(document_, &kEmpty, joinKey(field_, key));
   member.object(allowed);
   return member;
 }
@@ -356,7 +356,7 @@ bool JsonValue::booleanOr(std::string_view key, bool fallback) const {
 
 std::string JsonValue::stringOr(std::string_view key, std::string fallback) const {
   const std::optional<JsonValue> v = find(key);
-  return v ? v->string() : fallback;
+  return v ? v->string() : std::move(fallback);
 }
 
 }  // namespace penumbra::core

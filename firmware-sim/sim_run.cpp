@@ -41,9 +41,8 @@ std::filesystem::path corruptedCopy(const std::filesystem::path& bundle) {
   for (size_t i = bytes.size() / 2; i < bytes.size() && i < bytes.size() / 2 + 64; ++i) {
     bytes[i] = static_cast<uint8_t>(bytes[i] ^ 0x5A);
   }
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() /
-      ("penumbra-sim-corrupt-" + std::to_string(::getpid()) + ".bundle");
+  std::filesystem::path out = std::filesystem::temp_directory_path() /
+                              ("penumbra-sim-corrupt-" + std::to_string(::getpid()) + ".bundle");
   std::ofstream o(out, std::ios::binary);
   o.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (!o) throw SessionError(out.string() + ": cannot write the corrupted bundle copy");
@@ -153,7 +152,7 @@ kiosk::FrameReport SimRun::step() {
       }
     }
   }
-  const kiosk::FrameReport report = loop_->step();
+  kiosk::FrameReport report = loop_->step();
   kiosk::noteFrameRendered(*bundle_, log_, time_.nowNanoseconds());
   return report;
 }

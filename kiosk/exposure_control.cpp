@@ -67,9 +67,10 @@ std::vector<BracketShot> captureBracket(ControllableCamera& camera, Timebase& ti
       std::string why;
       if (!toRgba(frame, o.width, o.height, shot.rgba, why))
         throw std::runtime_error(what + ": " + why);
-      log.write(now, LogLevel::kInfo,
-                what + ": frame " + std::to_string(frame.sequence) + ", applied " +
-                    std::to_string(shot.appliedUs) + " us");
+      std::string line = what;
+      line.append(": frame ").append(std::to_string(frame.sequence));
+      line.append(", applied ").append(std::to_string(shot.appliedUs)).append(" us");
+      log.write(now, LogLevel::kInfo, line);
       shots.push_back(std::move(shot));
       break;
     }

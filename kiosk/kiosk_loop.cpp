@@ -53,16 +53,21 @@ std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
     const shadow::ProductModel& p = bundle.products[i];
     std::string reason;
     // (Built with append: GCC 12's -Wrestrict misfires on "literal" + std::string here.)
-    std::string name = p.name;
-    if (name.empty()) name.append("#").append(std::to_string(i));
+    std::string name = "product ";
+    if (p.name.empty()) {
+      name.append("#").append(std::to_string(i));
+    } else {
+      name.append(p.name);
+    }
+    name.append(": ");
     if (!meshUsable(p.mesh, reason)) {
-      why.push_back("product " + name + ": mesh " + reason);
+      why.push_back(name.append("mesh ").append(reason));
     } else if (!meshUsable(p.proxy, reason)) {
-      why.push_back("product " + name + ": shadow proxy " + reason);
+      why.push_back(name.append("shadow proxy ").append(reason));
     } else if (p.proxy.triangleCount() > 5000) {
-      why.push_back("product " + name + ": shadow proxy has " +
-                    std::to_string(p.proxy.triangleCount()) +
-                    " triangles (Gibson 2003 §7.2 uses 100-500)");
+      why.push_back(name.append("shadow proxy has ")
+                        .append(std::to_string(p.proxy.triangleCount()))
+                        .append(" triangles (Gibson 2003 §7.2 uses 100-500)"));
     } else {
       usable.push_back(i);
     }

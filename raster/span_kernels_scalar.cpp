@@ -41,7 +41,12 @@ uint32_t maskAt(const ShadowLookup& s, float sx, float sy, float z) {
   if (!(up > -1.0f && up < size && vp > -1.0f && vp < size)) return 0;
   const float fu = std::floor(up), fv = std::floor(vp);
   const int32_t i = static_cast<int32_t>(fu), j = static_cast<int32_t>(fv);
+  // The weights are the spec's (docs/pipeline-spec.md): trunc(f * 256 + 0.5) in float for
+  // f = up - fu in [0, 1), which every ISA's kernel computes the same way; lround would be
+  // another rounding (it differs where the float sum rounds up), so the check is silenced.
+  // NOLINTNEXTLINE(bugprone-incorrect-roundings)
   const int32_t wu = static_cast<int32_t>((up - fu) * 256.0f + 0.5f);
+  // NOLINTNEXTLINE(bugprone-incorrect-roundings)
   const int32_t wv = static_cast<int32_t>((vp - fv) * 256.0f + 0.5f);
   const int32_t sum = (occludes(s, i, j, d) ? (256 - wu) * (256 - wv) : 0) +
                       (occludes(s, i + 1, j, d) ? wu * (256 - wv) : 0) +

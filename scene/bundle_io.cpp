@@ -56,9 +56,9 @@ void BundleWriter::write(const std::filesystem::path& path) const {
 }
 
 BundleReader::BundleReader(const std::filesystem::path& path, uint32_t expectedVersion)
-    : path_(path.string()) {
-  data_ =
-      core::readRegularFile(path, kMaxBundleBytes, "a scene bundle", core::throwAs<BundleError>);
+    : path_(path.string()),
+      data_(core::readRegularFile(path, kMaxBundleBytes, "a scene bundle",
+                                  core::throwAs<BundleError>)) {
   if (data_.size() < kHeaderSize || std::memcmp(data_.data(), kMagic, 16) != 0) {
     throw BundleError(path_ + ": not a Penumbra scene bundle (bad magic)");
   }

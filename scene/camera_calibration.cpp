@@ -1,7 +1,7 @@
 #include "scene/camera_calibration.h"
 
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -91,10 +91,15 @@ int ChessboardCalibration::usedCount() const {
 }
 
 ChessboardSize parseChessboardSize(const std::string& text) {
+  // from_chars, not sscanf: "%d" of a number past INT_MAX is undefined behaviour.
   ChessboardSize b;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &b.cols, &x, &b.rows, &extra) != 3 ||
-      (x != 'x' && x != 'X')) {
+  const char* const end = text.data() + text.size();
+  const auto cols = std::from_chars(text.data(), end, b.cols);
+  const bool separator =
+      cols.ec == std::errc() && cols.ptr != end && (*cols.ptr == 'x' || *cols.ptr == 'X');
+  const auto rows = separator ? std::from_chars(cols.ptr + 1, end, b.rows)
+                              : std::from_chars_result{end, std::errc::invalid_argument};
+  if (!separator || rows.ec != std::errc() || rows.ptr != end) {
     throw CalibrationError("chessboard size '" + text +
                            "': expected COLSxROWS inner corners, e.g. 9x6");
   }

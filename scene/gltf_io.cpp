@@ -48,7 +48,7 @@ glm::dmat4 nodeTransform(const tinygltf::Node& n) {
   if (n.matrix.size() == 16) {
     glm::dmat4 m;
     for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) m[c][r] = n.matrix[size_t(c * 4 + r)];  // column-major
+      for (int r = 0; r < 4; ++r) m[c][r] = n.matrix[size_t(c) * 4 + size_t(r)];  // column-major
     }
     return m;
   }
@@ -423,7 +423,8 @@ class SceneFlattener {
       out_.mesh.indices.push_back(base + idx[t + (mirrored ? 1 : 2)]);
     }
     const ProductMaterial pm = material(prim, what);
-    const double w = double(idx.size() / 3);
+    const size_t triangles = idx.size() / 3;  // idx holds whole triangles
+    const double w = double(triangles);
     diffuseSum_ += w * pm.diffuse;
     specularSum_ += w * pm.specular;
     baseSum_ += w * pm.baseColour;

@@ -65,7 +65,7 @@ TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles
   if (targetTriangles < 4) {
     throw std::invalid_argument("simplifyForShadows: target must be at least 4 triangles");
   }
-  const TriangleMesh welded = weldVertices(mesh);
+  TriangleMesh welded = weldVertices(mesh);
   if (welded.triangleCount() <= targetTriangles) return welded;
 
   const std::vector<float> fp = toFloat(welded.positions);

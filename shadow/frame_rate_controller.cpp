@@ -130,14 +130,15 @@ void FrameRateController::report(int64_t frameNs, uint32_t passes, uint64_t shad
   }
   const int64_t d = s - perPassQ8_;
   const int64_t absD = d < 0 ? -d : d;
-  if (t > target && s > perPassQ8_) {
-    // A missed deadline is not noise to average away: the estimate never stays below what
-    // the overrunning frame measured (this is what makes the fast path fit, and it stops a
-    // slow EMA from overrunning frame after frame). It moves p̂ toward s without passing it,
-    // so proof step 1 in the .h still holds.
+  // A missed deadline is not noise to average away: the estimate never stays below what
+  // the overrunning frame measured (this is what makes the fast path fit, and it stops a
+  // slow EMA from overrunning frame after frame). It moves p̂ toward s without passing it,
+  // so proof step 1 in the .h still holds.
+  const bool missedDeadline = t > target && s > perPassQ8_;
+  // A load step: follow it now instead of over ~log(1/w) frames.
+  const bool loadStep = absD * options_.stepDetect.den > perPassQ8_ * options_.stepDetect.num;
+  if (missedDeadline || loadStep) {
     perPassQ8_ = s;
-  } else if (absD * options_.stepDetect.den > perPassQ8_ * options_.stepDetect.num) {
-    perPassQ8_ = s;  // a load step: follow it now instead of over ~log(1/w) frames
   } else {
     // EMA p̂ += w·(s − p̂), truncated toward zero but by at least one unit, so p̂ reaches s
     // exactly and never overshoots it (|step| ≤ |d| because w ≤ 1): proof step 1 in the .h.

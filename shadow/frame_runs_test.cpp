@@ -47,7 +47,11 @@ TEST(FrameRuns, AGenerousBudgetRaisesThePasses) {
   FrameLoop loop(b, 256, {});
   const FrameRateController::Options o = renderControllerOptions(1.0);  // one second a frame
   EXPECT_EQ(o.initialPasses, 8u);
-  const FrameRateController::Decision d = settleFrameRate(loop, b.startPose, o, 6);
+  // 1 ms a frame against a budget of one second: the controller must add passes. A cost
+  // model, not the wall clock, so a loaded machine (a frame can take a second under ASan)
+  // cannot change the outcome.
+  const auto oneMillisecond = [](const FrameLoop&) { return int64_t{1'000'000}; };
+  const FrameRateController::Decision d = settleFrameRate(loop, b.startPose, o, 6, oneMillisecond);
   EXPECT_EQ(loop.frameNumber, 6u);
   EXPECT_GT(d.passes, o.initialPasses);
   EXPECT_EQ(d.shadowMapSize, 256u);

@@ -29,7 +29,7 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
   // homogeneous point inverse(VP) (0, 0, 1, 0).
   glm::dmat4 vp;
   for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) vp[c][r] = bundle.view.cameraViewProj.m[size_t(4 * r + c)];
+    for (int c = 0; c < 4; ++c) vp[c][r] = bundle.view.cameraViewProj.m[4 * size_t(r) + size_t(c)];
   }
   const glm::dvec4 e = glm::inverse(vp) * glm::dvec4(0, 0, 1, 0);
   if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);

@@ -362,6 +362,7 @@ raster::FrameTrace buildLitTrace(const LitScene& s, size_t& receiverTriangles) {
     return a.averageTransfer > b.averageTransfer;
   });
   std::vector<uint8_t> sets;
+  sets.reserve(sources.size());
   for (const Source& src : sources) {
     sets.push_back(static_cast<uint8_t>(shadow::sourceSet(kSetSeed, src.emitter.patch)));
   }
