@@ -1,10 +1,10 @@
 #include "firmware-sim/sim_run.h"
 
-#include "kiosk/product_files.h"
-#ifdef PENUMBRA_HAVE_FOOTAGE
 #include "core/regular_file.h"
-#include "firmware-sim/footage.h"
+#include "kiosk/product_files.h"
 #include "scene/bundle_io.h"
+#ifdef PENUMBRA_HAVE_FOOTAGE
+#include "firmware-sim/footage.h"
 #endif
 
 #include <unistd.h>

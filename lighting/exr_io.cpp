@@ -22,9 +22,9 @@ core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report) {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-    if (w <= 0 || h <= 0 || w > 65536 || h > 65536) {
+    if (w <= 0 || h <= 0 || w > kMaxExrPixels || h > kMaxExrPixels || w * h > kMaxExrPixels) {
       throw HdrError(name + ": data window of " + std::to_string(w) + "x" + std::to_string(h) +
-                     " pixels is empty or too large");
+                     " pixels: expected 1 to " + std::to_string(kMaxExrPixels) + " pixels");
     }
     const Imf::ChannelList& channels = file.header().channels();
     const bool rgb =

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -89,6 +90,30 @@ TEST_F(ExrFiles, BadFilesAndImagesNamed) {
   EXPECT_FALSE(std::filesystem::exists(dir / "nan.exr"));
   img.pixels.resize(10);
   EXPECT_THROW(writeExr(dir / "short.exr", img), HdrError);
+  // A header that announces more pixels than the limit is refused before any allocation:
+  // an 8x6 file's data window rewritten in place to 6,000,000 x 6 (36 Mpx; the same six
+  // lines, so OpenEXR's line-offset table still reads).
+  writeExr(dir / "window.exr", testutil::gradientField(8, 6));
+  std::string bytes;
+  {
+    std::ifstream in(dir / "window.exr", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string key("dataWindow\0box2i\0", 17);
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const int32_t box[4] = {0, 0, 5'999'999, 5};  // xMin yMin xMax yMax, after the 4-byte size
+  std::memcpy(bytes.data() + at + key.size() + 4, box, sizeof box);
+  std::ofstream(dir / "window.exr", std::ios::binary) << bytes;
+  try {
+    readExr(dir / "window.exr");
+    FAIL();
+  } catch (const HdrError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "window.exr: data window of 6000000x6 pixels: expected 1 to 33554432 pixels"),
+              std::string::npos)
+        << e.what();
+  }
   // Large but finite values pass through.
   img = testutil::gradientField(8, 8);
   img.pixels[4] = 1e30f;
