@@ -27,8 +27,8 @@ std::string outcome(const std::filesystem::path& p, uintmax_t maxBytes,
                     const std::string& context = {}) {
   try {
     return "read " +
-           std::to_string(readRegularFile(p, maxBytes, "a test file", throwAs<LoaderError>, context)
-                              .size()) +
+           std::to_string(
+               readRegularFile(p, maxBytes, "a test file", throwAs<LoaderError>, context).size()) +
            " bytes";
   } catch (const LoaderError& e) {
     return e.what();
@@ -52,12 +52,15 @@ TEST(RegularFile, RefusesWhatIsNotARegularFile) {
   const std::filesystem::path fifo = dir / "fifo";
   std::filesystem::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  EXPECT_EQ(outcome(fifo, 100), fifo.string() + ": is not a regular file (a device, fifo or socket)");
+  EXPECT_EQ(outcome(fifo, 100),
+            fifo.string() + ": is not a regular file (a device, fifo or socket)");
   const std::filesystem::path link = dir / "zero-link";
   std::filesystem::remove(link);
   std::filesystem::create_symlink("/dev/zero", link);
-  EXPECT_EQ(outcome(link, 100), link.string() + ": is not a regular file (a device, fifo or socket)");
-  EXPECT_EQ(outcome(dir / "absent", 100), (dir / "absent").string() + ": cannot open file (no such file)");
+  EXPECT_EQ(outcome(link, 100),
+            link.string() + ": is not a regular file (a device, fifo or socket)");
+  EXPECT_EQ(outcome(dir / "absent", 100),
+            (dir / "absent").string() + ": cannot open file (no such file)");
 }
 
 TEST(RegularFile, AFileNamedInAnotherFileIsReportedUnderItsField) {
