@@ -1,5 +1,7 @@
 #include "scene/gltf_io.h"
 
+#include "core/regular_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -29,7 +31,6 @@ ProductMaterial mapMetallicRoughness(const glm::dvec3& baseColour, double metall
 #include <glm/gtc/quaternion.hpp>
 
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -167,13 +168,12 @@ struct ModelFiles {
       if (err) *err += static_cast<ModelFiles*>(self)->refusal;
       return false;
     }
-    std::error_code ec;
-    const uintmax_t size = std::filesystem::file_size(file, ec);
-    std::ifstream in(file, std::ios::binary);
-    out->resize(ec ? 0 : size_t(size));
-    in.read(reinterpret_cast<char*>(out->data()), std::streamsize(out->size()));
-    if (ec || !in) {
-      if (err) *err += "\"" + file + "\": read error";
+    try {
+      const std::vector<uint8_t> bytes = core::readRegularFile(
+          file, kMaxModelFileBytes, "a model file", core::throwAs<core::Error>);
+      out->assign(bytes.begin(), bytes.end());
+    } catch (const core::Error& e) {  // tinygltf reports through `err`, not exceptions
+      if (err) *err += e.what();
       return false;
     }
     if (out->empty()) {  // tinygltf indexes the first byte unchecked
