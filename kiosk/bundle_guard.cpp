@@ -126,6 +126,8 @@ void noteFrameRendered(GuardedBundle& guarded, KioskLog& log, int64_t nowNs) {
                              std::filesystem::copy_options::overwrite_existing, ec);
   if (!ec) std::filesystem::rename(tmp, lastGood, ec);
   if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);  // no half-written copy left beside the last good one
     log.write(
         nowNs, LogLevel::kWarning,
         "bundle: could not keep a last good copy at " + lastGood.string() + ": " + ec.message());
