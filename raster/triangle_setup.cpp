@@ -46,6 +46,22 @@ float planeDistance(int p, const ClipVertex& v) {
 }
 constexpr int kPlaneCount = 7;
 
+// The clipped polygon's capacity. In exact arithmetic a convex polygon gains at most one
+// vertex per plane (3 + 7 = 10), but the inside tests below are made on rounded intersection
+// points, so the polygon a plane sees need not be convex: its vertices can change sides many
+// times (the fuzzer found a triangle that overflowed 10). A bound that holds for any sequence
+// of inside/outside answers: a plane keeps the I inside vertices of n and adds one per change
+// of side; changes come in pairs around each maximal run of inside vertices, and there are at
+// most min(I, n - I) runs, so m <= I + 2 min(I, n - I) <= 3n/2. From n = 3 over seven planes:
+// 4, 6, 9, 13, 19, 28, 42.
+constexpr int maxClippedVertices() {
+  int n = 3;
+  for (int p = 0; p < kPlaneCount; ++p) n = n * 3 / 2;
+  return n;
+}
+constexpr int kMaxClippedVertices = maxClippedVertices();
+static_assert(kMaxClippedVertices == 42);
+
 // The intersection is always computed from the inside vertex towards the outside one, so
 // an edge shared by two triangles yields the same vertex from both (watertight clipping).
 ClippedVertex intersect(const ClippedVertex& in, float dIn, const ClippedVertex& out, float dOut) {
@@ -125,8 +141,7 @@ void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, u
     if (outside == 3) return;
     allInside = allInside && outside == 0;
   }
-  // At most 3 + 7 vertices after seven planes.
-  std::array<ClippedVertex, 10> poly, next;
+  std::array<ClippedVertex, kMaxClippedVertices> poly, next;
   int n = 3;
   for (int k = 0; k < 3; ++k) {
     poly[k].clip = tri[k];
@@ -151,7 +166,7 @@ void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, u
     }
     if (n < 3) return;
   }
-  std::array<SnappedVertex, 10> snapped;
+  std::array<SnappedVertex, kMaxClippedVertices> snapped;
   for (int i = 0; i < n; ++i) {
     if (!snap(poly[i], width, height, snapped[i])) return;  // spec §3: the whole polygon
   }
