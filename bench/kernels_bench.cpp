@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/benchmark_main.h"
 #include "raster/renderer.h"
 #include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
@@ -235,8 +236,5 @@ void registerAll() {
 
 int main(int argc, char** argv) {
   penumbra::registerAll();
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return penumbra::bench::benchmarkMain("penumbra_bench", argc, argv);
 }

@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "bench/benchmark_main.h"
 #include "core/job_pool.h"
 #include "lighting/embree_scene.h"
 #include "lighting/irradiance_volume_gather.h"
@@ -151,4 +152,6 @@ BENCHMARK(BM_EnvironmentMapAndSpecular)->Unit(benchmark::kMillisecond)->UseRealT
 }  // namespace
 }  // namespace penumbra
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return penumbra::bench::benchmarkMain("penumbra_shading_bench", argc, argv);
+}

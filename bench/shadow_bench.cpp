@@ -4,6 +4,7 @@
 //   build/ci/bin/penumbra_shadow_bench
 #include <benchmark/benchmark.h>
 
+#include "bench/benchmark_main.h"
 #include "shadow/shaft_hierarchy.h"
 #include "shadow/source_clusters.h"
 #include "tests/shaft_test_room.h"
@@ -67,4 +68,6 @@ BENCHMARK(BM_TraverseAndSelect)->Arg(2)->Arg(0)->Unit(benchmark::kMicrosecond);
 }  // namespace
 }  // namespace penumbra::shadow
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return penumbra::bench::benchmarkMain("penumbra_shadow_bench", argc, argv);
+}
