@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -67,15 +69,17 @@ int replay(const std::string& tracePath, const std::string& accumulation, const 
 
 // The first "cpu MHz" of /proc/cpuinfo (x86 Linux); 0 where it is not reported.
 double nominalCpuHz() {
-  std::FILE* f = std::fopen("/proc/cpuinfo", "r");
-  if (f == nullptr) return 0;
-  char line[256];
-  double mhz = 0;
-  while (std::fgets(line, sizeof line, f) != nullptr) {
-    if (std::sscanf(line, "cpu MHz : %lf", &mhz) == 1) break;
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (!line.starts_with("cpu MHz")) continue;
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) return 0;
+    char* end = nullptr;
+    const double mhz = std::strtod(line.c_str() + colon + 1, &end);
+    return end == line.c_str() + colon + 1 ? 0 : mhz * 1e6;
   }
-  std::fclose(f);
-  return mhz * 1e6;
+  return 0;
 }
 
 int benchReplay(const std::string& tracePath, const std::string& accumulation,

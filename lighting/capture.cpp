@@ -36,7 +36,7 @@ constexpr uintmax_t kMaxCaptureInputBytes = uintmax_t{512} << 20;
 // must be a regular file within kMaxCaptureInputBytes (`manifest: field: path: problem`).
 fs::path filePath(const JsonValue& v, const fs::path& manifest) {
   const fs::path p = v.nonEmptyString();
-  const fs::path resolved = p.is_absolute() ? p : fs::absolute(manifest).parent_path() / p;
+  fs::path resolved = p.is_absolute() ? p : fs::absolute(manifest).parent_path() / p;
   core::requireRegularFile(resolved, kMaxCaptureInputBytes, "a capture input",
                            core::throwAs<CaptureError>,
                            manifest.string() + ": " + v.field() + ": ");
@@ -129,7 +129,7 @@ double median(std::vector<double> v) {
 
 double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+  return v[std::min(v.size() - 1, size_t(std::llround(q * double(v.size() - 1))))];
 }
 
 // --- the stages of runCapture --------------------------------------------------------

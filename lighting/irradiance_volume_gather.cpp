@@ -19,7 +19,7 @@ void accumulate(std::array<double, shadow::kShFloats>& c, const glm::dvec3& dir,
   shadow::shBasis9(dir.x, dir.y, dir.z, basis);
   for (int k = 0; k < shadow::kShCoefficients; ++k) {
     const double w = weight * shadow::kShIrradianceOverPi[size_t(k)] * basis[k];
-    for (int ch = 0; ch < 3; ++ch) c[size_t(k * 3 + ch)] += w * radiance[ch];
+    for (int ch = 0; ch < 3; ++ch) c[size_t(k) * 3 + size_t(ch)] += w * radiance[ch];
   }
 }
 

@@ -103,7 +103,7 @@ std::vector<double> convolveSeparable(const std::vector<double>& in, uint32_t w,
 std::vector<double> csfGaussian(double b, double ppd) {
   const double sigmaDeg = std::sqrt(b / (2.0 * kPi * kPi));
   const int r = std::max(1, int(std::ceil(3.0 * sigmaDeg * ppd)));
-  std::vector<double> k(size_t(2 * r + 1));
+  std::vector<double> k(2 * size_t(r) + 1);
   for (int i = -r; i <= r; ++i) {
     const double x = double(i) / ppd;
     k[size_t(i + r)] = std::exp(-kPi * kPi * x * x / b);
@@ -151,7 +151,7 @@ struct Features {
 Features detectFeatures(const std::vector<double>& lum, uint32_t w, uint32_t h, double ppd) {
   const double sigma = 0.5 * kGw * ppd;
   const int r = std::max(1, int(std::ceil(3.0 * sigma)));
-  std::vector<double> g(size_t(2 * r + 1)), d1(g.size()), d2(g.size());
+  std::vector<double> g(2 * size_t(r) + 1), d1(g.size()), d2(g.size());
   for (int i = -r; i <= r; ++i) {
     const double x = double(i);
     const double gi = std::exp(-x * x / (2.0 * sigma * sigma));

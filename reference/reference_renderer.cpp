@@ -388,7 +388,7 @@ ReferenceScene referenceSceneOf(const shadow::SceneBundle& bundle,
   // The trace stores rows (element (r, c) at m[4r + c]); GLM stores columns.
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c)
-      scene.viewProj[c][r] = bundle.view.cameraViewProj.m[size_t(4 * r + c)];
+      scene.viewProj[c][r] = bundle.view.cameraViewProj.m[4 * size_t(r) + size_t(c)];
   }
   if (pose) {
     if (pose->product >= bundle.products.size()) {
