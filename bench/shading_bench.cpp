@@ -105,7 +105,7 @@ void BM_ShadeVertices(benchmark::State& state) {
     normals[i] = glm::vec3(a - 0.5f, 1.0f - b, b - a);
   }
   std::vector<core::Rgb8> colours(kVertices);
-  const shadow::ToneLut tone(shadow::ToneCurve::gamma(1.2, 2.2));
+  const shadow::ToneCurve tone = shadow::ToneCurve::gamma(1.2, 2.2);
   core::JobPool pool(static_cast<int>(state.range(0)));
   constexpr size_t kBlock = 4096;
   const size_t blocks = (kVertices + kBlock - 1) / kBlock;

@@ -1,12 +1,17 @@
 // Per-frame shaft traversal and source-cluster selection (Gibson 2003 §6.1, §8) as the
 // kiosk runs them, and the hierarchy's build, on the hand-built room of the unit tests
 // (1,024 floor receivers x 60 ceiling sources). Target: <= 0.25 ms per frame on the board.
+// And T() (shadow/tone_curve.h), which the intensity transfers call per vertex and source:
+// its definition (binary search) against the bucket table the frame uses.
 //   build/ci/bin/penumbra_shadow_bench
 #include <benchmark/benchmark.h>
+
+#include <vector>
 
 #include "bench/benchmark_main.h"
 #include "shadow/shaft_hierarchy.h"
 #include "shadow/source_clusters.h"
+#include "shadow/tone_curve.h"
 #include "tests/shaft_test_room.h"
 
 namespace penumbra::shadow {
@@ -24,6 +29,24 @@ scene::Aabb boxAt(int64_t k) {
   const double x = 0.5 + 3.0 * double(k % 200) / 200.0;
   return scene::Aabb{{x, 0.0, 1.5}, {x + 0.5, 0.5, 2.0}};
 }
+
+// 4,096 radiances spread over the curve's whole range (a running radiance of Fig. 4 falls
+// through many codes), T() of each per iteration: Arg 0 the binary search, 1 the table.
+void BM_ToneCurve(benchmark::State& state) {
+  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
+  std::vector<double> radiance(4096);
+  for (size_t i = 0; i < radiance.size(); ++i) {
+    radiance[i] = 1.0 / 1.2 * double((i * 2654435761u) % 4096) / 4096.0;
+  }
+  const bool table = state.range(0) == 1;
+  for (auto _ : state) {
+    unsigned sum = 0;
+    for (double l : radiance) sum += table ? tone(l) : tone.bySearch(l);
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(radiance.size()));
+}
+BENCHMARK(BM_ToneCurve)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_ShaftHierarchyBuild(benchmark::State& state) {
   const Room room;

@@ -175,7 +175,7 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
 
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneLut& tone, std::span<core::Rgb8> colours,
+                          const ToneCurve& tone, std::span<core::Rgb8> colours,
                           std::span<glm::vec3> radiance) {
   if (normals.size() != positions.size() || colours.size() != positions.size() ||
       (!radiance.empty() && radiance.size() != positions.size())) {

@@ -94,7 +94,7 @@ ShCornerBlend shCornerBlendFor(simd::Isa isa);
 // empty (not written); otherwise all spans have positions.size() entries.
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
                           std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneLut& tone, std::span<core::Rgb8> colours,
+                          const ToneCurve& tone, std::span<core::Rgb8> colours,
                           std::span<glm::vec3> radiance);
 
 // Area-weighted vertex normals of an indexed mesh (not normalized), summed in triangle order.

@@ -100,8 +100,7 @@ TEST(IrradianceVolumeLookup, ValidateRejectsBadVolumes) {
 
 TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   const IrradianceVolume vol = constantCube({0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f});
-  const ToneCurve curve = ToneCurve::gamma(1.0, 1.0);  // linear: 255 L
-  const ToneLut tone(curve);
+  const ToneCurve tone = ToneCurve::gamma(1.0, 1.0);  // linear: 255 L
   std::vector<core::Vec3> positions;
   std::vector<glm::vec3> normals;
   for (int i = 0; i < 100; ++i) {
@@ -115,7 +114,7 @@ TEST(IrradianceVolumeShading, ReflectanceToneAndBatchIndependence) {
   EXPECT_NEAR(radiance[0].x, 0.5, 1e-5);
   EXPECT_NEAR(radiance[0].y, 0.25, 1e-5);
   EXPECT_EQ(radiance[0].z, 0.0f);
-  EXPECT_EQ(all[0].r, curve(0.5));
+  EXPECT_EQ(all[0].r, tone(0.5));
   // One vertex at a time gives the same bytes as the batch.
   for (size_t v = 0; v < 100; ++v) {
     shadeVerticesDiffuse(vol, std::span(positions).subspan(v, 1), std::span(normals).subspan(v, 1),
@@ -189,7 +188,7 @@ TEST(IrradianceVolumeShading, GoldenBytes) {
     positions.push_back({next() + 1.2f, next() + 1.0f, next() + 1.4f});
     normals.push_back({next(), next(), next()});
   }
-  const ToneLut tone(ToneCurve::gamma(1.2, 2.2));
+  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
   std::vector<core::Rgb8> colours(positions.size());
   std::vector<glm::vec3> radiance(positions.size());
   shadeVerticesDiffuse(vol, positions, normals, glm::vec3(0.7f, 0.5f, 0.3f), tone, colours,

@@ -10,7 +10,6 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
     : bundle_(bundle),
       mesh_(mesh),
       options_(options),
-      toneLut_(bundle.tone),
       toneInverse_(bundle.tone),
       environmentFar_(2.0f * static_cast<float>(glm::length(room.size())) + 1.0f) {
   for (uint32_t p = 0; p < mesh_.patches.size(); ++p) {
@@ -70,8 +69,8 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
   if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
   const std::vector<glm::vec3> vertexN = vertexNormals(m);
   volumeRadiance_.resize(vertices);
-  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance), toneLut_,
-                       colours_, volumeRadiance_);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance),
+                       bundle_.tone, colours_, volumeRadiance_);
   for (size_t v = 0; v < vertices; ++v) radiance_[v] = glm::dvec3(volumeRadiance_[v]);
 
   // §5 specular: the room reflected in a Phong lobe, from a cube map rendered at the
@@ -91,7 +90,7 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
                       volumeRadiance_[v].y + model.specular.y * s.y,
                       volumeRadiance_[v].z + model.specular.z * s.z);
     radiance_[v] = glm::dvec3(l);
-    colours_[v] = toneLut_.map(l);
+    colours_[v] = bundle_.tone.map(l);
   }
 }
 

@@ -52,7 +52,6 @@ class ProductShading {
   ProductShadingOptions options_;
   std::vector<uint32_t> emitters_;       // patches with emitted radiance
   std::vector<uint32_t> sourceOfPatch_;  // patch -> source index, or kNoIndex
-  ToneLut toneLut_;
   ToneInverse toneInverse_;
   raster::ShadedMesh environmentRoom_;  // the room as environment maps draw it
   glm::vec3 eye_{0.0f};                 // the kiosk camera's position (from its matrix)

@@ -19,6 +19,7 @@ ToneCurve ToneCurve::fromThresholds(const std::array<double, 255>& thresholds) {
   }
   ToneCurve curve;
   curve.thresholds_ = thresholds;
+  curve.buildBuckets();
   return curve;
 }
 
@@ -59,6 +60,7 @@ ToneCurve ToneCurve::fromSamples(std::span<const Sample> samples) {
   for (int k = 1; k < 255; ++k) {
     curve.thresholds_[k] = std::max(curve.thresholds_[k], curve.thresholds_[k - 1]);
   }
+  curve.buildBuckets();
   return curve;
 }
 
@@ -75,33 +77,39 @@ ToneCurve ToneCurve::gamma(double exposure, double gamma) {
   return fromSamples(samples);
 }
 
-uint8_t ToneCurve::operator()(double radiance) const {
+uint8_t ToneCurve::bySearch(double radiance) const {
   if (std::isnan(radiance)) return 0;
-  // Number of thresholds <= radiance.
   const auto it = std::upper_bound(thresholds_.begin(), thresholds_.end(), radiance);
   return static_cast<uint8_t>(it - thresholds_.begin());
+}
+
+void ToneCurve::buildBuckets() {
+  auto table = std::make_shared<std::array<uint8_t, kBuckets>>();
+  for (uint32_t b = 0; b < kBuckets; ++b) {
+    (*table)[b] = bySearch(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
+  }
+  buckets_ = std::move(table);
+}
+
+uint8_t ToneCurve::operator()(double radiance) const {
+  // NaN and negative radiance (and a default-constructed curve) take the definition.
+  if (!(radiance >= 0.0) || !buckets_) return bySearch(radiance);
+  // f: the largest float <= radiance (FLT_MAX above it). The mask maps -0 to +0's bucket.
+  constexpr double kMaxFloat = std::numeric_limits<float>::max();
+  float f = radiance >= kMaxFloat ? std::numeric_limits<float>::max()
+                                  : static_cast<float>(radiance);
+  if (double(f) > radiance) f = std::nextafter(f, 0.0f);
+  unsigned code = (*buckets_)[(std::bit_cast<uint32_t>(f) >> 16) & (kBuckets - 1)];
+  while (code < 255 && thresholds_[code] <= radiance) ++code;
+  return static_cast<uint8_t>(code);
 }
 
 core::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
   return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
 }
 
-ToneLut::ToneLut(const ToneCurve& curve)
-    : curve_(curve), thresholds_(curve.thresholds()), start_(size_t{1} << 15) {
-  for (uint32_t b = 0; b < start_.size(); ++b) {
-    start_[b] = curve(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
-  }
-}
-
-uint8_t ToneLut::operator()(float radiance) const {
-  if (std::isnan(radiance)) return 0;
-  const uint32_t bits = std::bit_cast<uint32_t>(radiance);
-  if (bits >> 31) return curve_(double(radiance));  // negative (or -0)
-  // Codes only grow within a bucket: scan up from its lowest float's code.
-  unsigned code = start_[bits >> 16];
-  const double v = radiance;
-  while (code < 255 && thresholds_[code] <= v) ++code;
-  return static_cast<uint8_t>(code);
+core::Rgb8 ToneCurve::map(const glm::vec3& radiance) const {
+  return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
 }
 
 ToneInverse::ToneInverse(const ToneCurve& curve) {

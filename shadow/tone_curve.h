@@ -1,13 +1,14 @@
 // The camera response T() of Gibson 2003 §3 ("calibrated camera response function") and
-// the lookups the per-frame path reads it through: ToneCurve (radiance -> 8-bit code, one
-// binary search over the 255 code thresholds; the reference every fast path must equal),
-// ToneLut (the same codes for float radiance without the search) and ToneInverse (T^-1 at
-// each code, for environment maps rendered in 8 bits). lighting/camera_response.h recovers
-// the curve from photographs; the scene bundle stores its thresholds.
+// the lookups the per-frame path reads it through: ToneCurve (radiance -> 8-bit code; a
+// bucket table and a short scan, equal to a binary search over the 255 code thresholds,
+// which stays as the reference) and ToneInverse (T^-1 at each code, for environment maps
+// rendered in 8 bits). lighting/camera_response.h recovers the curve from photographs; the
+// scene bundle stores its thresholds.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -18,9 +19,19 @@
 namespace penumbra::shadow {
 
 // A monotone camera response: radiance -> 8-bit code (Gibson 2003 §3, "calibrated camera
-// response function T()"). Stored as the 255 radiances at which the code steps up, so a
-// lookup is one binary search over a sorted table: no libm in the per-vertex path, and
-// monotonicity is exact (the telescoping property depends on it).
+// response function T()"). Defined by the 255 radiances at which the code steps up: T(L) is
+// the number of thresholds <= L, so monotonicity is exact (the telescoping of Fig. 4 depends
+// on it) and no libm runs in the per-vertex path.
+//
+// T runs per receiver vertex and per source several times a frame (a binary search per
+// channel was 17.9 % of the kiosk frame), so operator() does not search: a table indexed by
+// the top 15 bits of a float gives the code at the bucket's lowest float, and a forward scan
+// over the thresholds finishes. Exact, by monotonicity: for L >= 0 let f be the largest float
+// <= L and f0 the lowest float of f's bucket; f0 <= L, so the table's T(f0) counts only
+// thresholds <= L, and the scan, comparing L itself, stops at T(L). A bucket spans 1/128 of
+// an octave, so the scan is rarely more than one step. Negative radiance (never produced by
+// the pipeline) takes the search. The table (32 KiB) is built once per curve and shared by
+// its copies.
 class ToneCurve {
  public:
   struct Sample {
@@ -42,34 +53,25 @@ class ToneCurve {
   static ToneCurve fromThresholds(const std::array<double, 255>& thresholds);
   std::array<double, 255> thresholds() const { return thresholds_; }
 
-  // T(L) for one channel. NaN maps to 0.
+  // T(L) for one channel (float radiance converts exactly). NaN maps to 0.
   uint8_t operator()(double radiance) const;
   core::Rgb8 map(const glm::dvec3& radiance) const;
+  core::Rgb8 map(const glm::vec3& radiance) const;
+
+  // The definition: the number of thresholds <= radiance, by binary search (NaN -> 0).
+  // operator() equals it for every input (tests/tone_curve_test.cpp).
+  uint8_t bySearch(double radiance) const;
 
   // The smallest radiance with code >= k, k in 1..255 (+inf if never reached).
   double threshold(int code) const { return thresholds_[code - 1]; }
 
  private:
+  static constexpr size_t kBuckets = size_t{1} << 15;  // sign-free float bits >> 16
+  void buildBuckets();
+
   std::array<double, 255> thresholds_{};
-};
-
-// T() for float radiance, the same codes as ToneCurve::operator() but without its binary
-// search per channel: a table indexed by the top 15 bits of the (non-negative) float gives
-// the code at the bucket's lower end, and a short forward scan over the thresholds
-// finishes (a bucket spans 1/128 of an octave, so the scan is rarely more than one step).
-// Exact for every input; NaN → 0; negative values take ToneCurve's own path. 32 KiB.
-class ToneLut {
- public:
-  explicit ToneLut(const ToneCurve& curve);
-  uint8_t operator()(float radiance) const;
-  core::Rgb8 map(const glm::vec3& radiance) const {
-    return {(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
-  }
-
- private:
-  ToneCurve curve_;
-  std::array<double, 255> thresholds_;
-  std::vector<uint8_t> start_;  // per bucket: the code of its lowest float
+  // Per bucket: bySearch of its lowest float. Null only in a default-constructed curve.
+  std::shared_ptr<const std::array<uint8_t, kBuckets>> buckets_;
 };
 
 // T^-1 at the middle of each code's radiance interval (code 0 → 0; code 255 → its

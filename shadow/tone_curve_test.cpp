@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -46,22 +47,43 @@ TEST(ToneCurveThresholds, RoundTripAndValidation) {
   EXPECT_THROW(ToneCurve::fromThresholds(bad), std::invalid_argument);
 }
 
-TEST(ToneLut, SameCodesAsTheToneCurve) {
-  for (const ToneCurve& curve : {ToneCurve::gamma(1.2, 2.2), ToneCurve::gamma(40.0, 1.0)}) {
-    const ToneLut lut(curve);
-    // Every threshold, its float neighbours, and a sweep over many octaves.
+// operator() (bucket table + scan) against the definition (binary search) on the inputs
+// where a bucketing mistake would show: every threshold and its double and float
+// neighbours, a sweep over many octaves in floats and in doubles between floats, signed
+// zeros, denormals, values beyond the largest float, infinities and NaN; and curves whose
+// thresholds are -inf (every radiance reaches the code) or +inf (never reached).
+TEST(ToneCurve, TheBucketTableEqualsTheBinarySearch) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::array<double, 255> steps{};
+  for (int k = 0; k < 255; ++k) steps[size_t(k)] = k < 3 ? -inf : k > 250 ? inf : 1e-3 * k * k;
+  const std::array<ToneCurve::Sample, 2> linear = {{{0.0, 0.0}, {255.0, 255.0}}};
+  for (const ToneCurve& curve :
+       {ToneCurve::gamma(1.2, 2.2), ToneCurve::gamma(40.0, 1.0), ToneCurve::gamma(1e-40, 3.0),
+        ToneCurve::fromThresholds(steps), ToneCurve::fromSamples(linear)}) {
+    auto same = [&](double x) { ASSERT_EQ(curve(x), curve.bySearch(x)) << x; };
     for (int k = 1; k <= 255; ++k) {
-      const float t = static_cast<float>(curve.threshold(k));
-      for (float x : {t, std::nextafter(t, 0.0f), std::nextafter(t, 1e30f)}) {
-        ASSERT_EQ(lut(x), curve(double(x))) << x;
+      const double t = curve.threshold(k);
+      const float tf = static_cast<float>(t);
+      for (double x : {t, std::nextafter(t, -inf), std::nextafter(t, inf), double(tf),
+                       double(std::nextafter(tf, 0.0f)), double(std::nextafter(tf, 1e30f))}) {
+        same(x);
       }
     }
-    for (float x = 1e-9f; x < 1e6f; x *= 1.0007f) ASSERT_EQ(lut(x), curve(double(x))) << x;
-    EXPECT_EQ(lut(0.0f), curve(0.0));
-    EXPECT_EQ(lut(-1.0f), curve(-1.0));
-    EXPECT_EQ(lut(std::numeric_limits<float>::infinity()), 255);
-    EXPECT_EQ(lut(std::numeric_limits<float>::quiet_NaN()), 0);
+    for (float x = 1e-9f; x < 1e6f; x *= 1.0007f) {
+      same(double(x));
+      same(std::nextafter(double(x), inf));  // doubles between two floats
+      same(std::nextafter(double(x), 0.0));
+    }
+    for (double x : {0.0, -0.0, 1e-320, 1e-45, double(std::numeric_limits<float>::max()),
+                     std::nextafter(double(std::numeric_limits<float>::max()), inf), 1e300, inf,
+                     -1.0, -1e-300, -inf, std::numeric_limits<double>::quiet_NaN()}) {
+      same(x);
+    }
   }
+  EXPECT_EQ(ToneCurve::gamma(1.2, 2.2)(std::numeric_limits<double>::quiet_NaN()), 0);
+  // A default-constructed curve (all thresholds 0) has no table and still answers.
+  EXPECT_EQ(ToneCurve()(1.0), 255);
+  EXPECT_EQ(ToneCurve()(-1.0), 0);
 }
 
 TEST(ToneInverse, CodesRoundTripThroughT) {
