@@ -97,7 +97,7 @@ TEST(KioskFaults, CameraDisappearsAndReturns) {
   const Session s = session("disconnect", R"("camera": {"faults": [
       {"kind": "disconnect", "frame": 30, "count": 45}]})",
                             150);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   bool sawLost = false;
   for (const FrameReport& r : p.frames) {
@@ -123,7 +123,7 @@ TEST(KioskFaults, LateDuplicatedAndMissingFrames) {
       {"kind": "late", "frame": 50, "count": 3, "delay_ms": 150},
       {"kind": "duplicate", "frame": 70}]})",
                             100);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   uint64_t last = 0;
   bool frozenDuringDrop = false;
@@ -145,7 +145,7 @@ TEST(KioskFaults, WrongSizeAndFormatFramesAreRefused) {
   const Session s = session("wrong", R"("camera": {"faults": [
       {"kind": "wrong_size", "frame": 20}, {"kind": "wrong_format", "frame": 30, "count": 2}]})",
                             60);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   bool said = false;
   for (const FrameReport& r : p.frames) {
@@ -163,7 +163,7 @@ TEST(KioskFaults, GpioChipMissing) {
   const Session s = session("nogpio", R"("kiosk": {"attract_after_ms": 1000},
       "gpio": {"chip": "missing"})",
                             60);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   EXPECT_TRUE(run.log().contains("no such GPIO chip"));
   EXPECT_TRUE(run.log().contains("running attract mode only"));
@@ -179,7 +179,7 @@ TEST(KioskFaults, BouncingButtonActsOnce) {
   const Session s = session("bounce", R"("gpio": {"presses": [
       {"at_ms": 300, "button": "next", "bounces": 5, "bounce_us": 1500}]})",
                             40);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   int changes = 0;
   for (size_t i = 1; i < p.frames.size(); ++i) {
@@ -197,7 +197,7 @@ TEST(KioskFaults, StuckButtonIsIgnoredUntilReleased) {
   const Session s = session("stuck", R"("kiosk": {"stuck_after_ms": 1000},
       "gpio": {"presses": [{"at_ms": 200, "button": "right", "hold_ms": 3000}]})",
                             130);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   EXPECT_TRUE(run.log().contains("button right: held for over 1.0 S, taken as stuck"));
   EXPECT_TRUE(run.log().contains("button right: released, usable again"));
@@ -220,7 +220,7 @@ TEST(KioskFaults, OverrunDropsPassesWithinTwoFrames) {
   const Session s = session("overrun", R"("board": {"fixed_us": 7000, "per_pass_us": 0,
       "per_texel_ps": 2000, "per_pixel_ps": 14000, "overruns": [{"frame": 80, "extra_ms": 60}]})",
                             90);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   const uint32_t before = p.frames[78].passes;  // frame 79: steady state
   ASSERT_GE(before, 8u);
@@ -236,7 +236,7 @@ TEST(KioskFaults, RecoversFromALongHeavyOverload) {
       "per_texel_ps": 2000, "per_pixel_ps": 14000,
       "load_steps": [{"at_ms": 1000, "permille": 100000}, {"at_ms": 5000, "permille": 1000}]})",
                             240);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   const Played p = play(run, s.frames, kStale);
   size_t loadOn = 0, loadOff = 0;
   while (p.frames[loadOn].startNs < 1'000'000'000) ++loadOn;
@@ -265,7 +265,7 @@ TEST(KioskFaults, RecoversFromALongHeavyOverload) {
 
 TEST(KioskFaults, CorruptBundleFallsBackToLastGood) {
   const Session s = session("corrupt", R"("startup": {"corrupt_bundle": true})", 10);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   EXPECT_TRUE(run.bundle().fellBack);
   EXPECT_NE(run.bundle().refusal.find("checksum"), std::string::npos) << run.bundle().refusal;
   EXPECT_TRUE(run.log().contains("bundle: refused"));
@@ -290,7 +290,7 @@ TEST(KioskFaults, CorruptBundleWithoutLastGoodIsRefusedWithReason) {
 
 TEST(KioskFaults, CorruptProductIsLeftOut) {
   const Session s = session("product", R"("startup": {"corrupt_product": "teapot"})", 10);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   EXPECT_EQ(run.loop().carousel().size(), 2u);
   EXPECT_TRUE(run.log().contains("refused product teapot: mesh a vertex is not a finite number"));
   play(run, s.frames, kStale);
@@ -358,7 +358,7 @@ TEST(KioskFootage, SimulatedCameraFilmsTheFootage) {
   }
   const Session s =
       session("footage", R"("camera": {"source": ")" + (shots / "room-*.png").string() + "\"}", 12);
-  SimRun run(s, {});
+  SimRun run(s, bestTargetOneThread());
   play(run, s.frames, kStale);
   kiosk::CameraFrame f;
   for (uint64_t k = 0; k < 6; ++k) {

@@ -53,7 +53,7 @@ TEST(SessionStats, ATwoSecondDisconnectIsAnOutageNotLatency) {
       "board": {"fixed_us": 7000, "per_pass_us": 0, "per_texel_ps": 2000, "per_pixel_ps": 14000},
       "camera": {"faults": [{"kind": "disconnect", "frame": 30, "count": 60}]}})";
   const Session session = loadSession(file);
-  SimRun run(session, {});
+  SimRun run(session, bestTargetOneThread());
   SessionStats stats(session.frames);
   for (uint32_t i = 0; i < session.frames; ++i) stats.add(run.step());
   stats.finish();

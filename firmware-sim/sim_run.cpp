@@ -3,6 +3,7 @@
 #include "core/regular_file.h"
 #include "kiosk/product_files.h"
 #include "scene/bundle_io.h"
+#include "simd/targets.h"
 #ifdef PENUMBRA_HAVE_FOOTAGE
 #include "firmware-sim/footage.h"
 #endif
@@ -50,6 +51,13 @@ std::filesystem::path corruptedCopy(const std::filesystem::path& bundle) {
 }
 
 }  // namespace
+
+SimOptions bestTargetOneThread() {
+  SimOptions o;
+  o.render.isa = simd::bestIsa();
+  o.render.threads = 1;
+  return o;
+}
 
 SimRun::SimRun(const Session& s, const SimOptions& options)
     : log_(options.logEcho), time_(shadow::CostModel(s.cost, s.loadSteps), s.overruns) {

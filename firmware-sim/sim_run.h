@@ -35,6 +35,12 @@ struct SimOptions {
   std::FILE* logEcho = nullptr;  // echo the kiosk log (e.g. stderr)
 };
 
+// The best SIMD target of this CPU on one thread: the same frames as any other target (the
+// bit-exact contract, checked by the invariance tests), the fastest a test of the kiosk's
+// behaviour can run them without starting a thread. RenderOptions' default, the scalar
+// target, spent 45 % of a fault session in its scalar mask kernel.
+SimOptions bestTargetOneThread();
+
 class SimRun {
  public:
   // Loads the bundle (with the session's start-up faults applied) and builds the loop.
