@@ -26,7 +26,7 @@ double srgbToLinear(double c) {
 }
 
 // Linear sRGB (D65) <-> CIE XYZ; the reference white is XYZ(1, 1, 1 linear RGB).
-Vec3 linearToXyz(const Vec3& c) {
+constexpr Vec3 linearToXyz(const Vec3& c) {
   return {0.4124564 * c[0] + 0.3575761 * c[1] + 0.1804375 * c[2],
           0.2126729 * c[0] + 0.7151522 * c[1] + 0.0721750 * c[2],
           0.0193339 * c[0] + 0.1191920 * c[1] + 0.9503041 * c[2]};
@@ -36,7 +36,7 @@ Vec3 xyzToLinear(const Vec3& x) {
           -0.9692660 * x[0] + 1.8760108 * x[1] + 0.0415560 * x[2],
           0.0556434 * x[0] - 0.2040259 * x[1] + 1.0572252 * x[2]};
 }
-const Vec3 kWhite = linearToXyz({1.0, 1.0, 1.0});
+constexpr Vec3 kWhite = linearToXyz({1.0, 1.0, 1.0});
 
 // YyCxCz (§4.1): like CIELAB without the cube root, so filtering in it is linear in XYZ.
 Vec3 xyzToYcxcz(const Vec3& x) {
@@ -79,9 +79,9 @@ std::vector<double> convolveSeparable(const std::vector<double>& in, uint32_t w,
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       double s = 0;
-      for (int k = -rx; k <= rx; ++k) {
-        const int xx = std::clamp(int(x) + k, 0, int(w) - 1);
-        s += kx[size_t(k + rx)] * in[size_t(y) * w + size_t(xx)];
+      for (size_t t = 0; t < kx.size(); ++t) {  // tap t is offset t - rx
+        const int xx = std::clamp(int(x) + int(t) - rx, 0, int(w) - 1);
+        s += kx[t] * in[size_t(y) * w + size_t(xx)];
       }
       tmp[size_t(y) * w + x] = s;
     }
@@ -89,9 +89,9 @@ std::vector<double> convolveSeparable(const std::vector<double>& in, uint32_t w,
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       double s = 0;
-      for (int k = -ry; k <= ry; ++k) {
-        const int yy = std::clamp(int(y) + k, 0, int(h) - 1);
-        s += ky[size_t(k + ry)] * tmp[size_t(yy) * w + x];
+      for (size_t t = 0; t < ky.size(); ++t) {
+        const int yy = std::clamp(int(y) + int(t) - ry, 0, int(h) - 1);
+        s += ky[t] * tmp[size_t(yy) * w + x];
       }
       out[size_t(y) * w + x] = s;
     }
@@ -104,9 +104,9 @@ std::vector<double> csfGaussian(double b, double ppd) {
   const double sigmaDeg = std::sqrt(b / (2.0 * kPi * kPi));
   const int r = std::max(1, int(std::ceil(3.0 * sigmaDeg * ppd)));
   std::vector<double> k(2 * size_t(r) + 1);
-  for (int i = -r; i <= r; ++i) {
-    const double x = double(i) / ppd;
-    k[size_t(i + r)] = std::exp(-kPi * kPi * x * x / b);
+  for (size_t t = 0; t < k.size(); ++t) {
+    const double x = double(int(t) - r) / ppd;
+    k[t] = std::exp(-kPi * kPi * x * x / b);
   }
   return k;
 }
@@ -152,12 +152,12 @@ Features detectFeatures(const std::vector<double>& lum, uint32_t w, uint32_t h, 
   const double sigma = 0.5 * kGw * ppd;
   const int r = std::max(1, int(std::ceil(3.0 * sigma)));
   std::vector<double> g(2 * size_t(r) + 1), d1(g.size()), d2(g.size());
-  for (int i = -r; i <= r; ++i) {
-    const double x = double(i);
+  for (size_t t = 0; t < g.size(); ++t) {
+    const double x = double(int(t) - r);
     const double gi = std::exp(-x * x / (2.0 * sigma * sigma));
-    g[size_t(i + r)] = gi;
-    d1[size_t(i + r)] = -x * gi;
-    d2[size_t(i + r)] = (x * x / (sigma * sigma) - 1.0) * gi;
+    g[t] = gi;
+    d1[t] = -x * gi;
+    d2[t] = (x * x / (sigma * sigma) - 1.0) * gi;
   }
   const double sg = sum(g);
   for (double& v : g) v /= sg;
