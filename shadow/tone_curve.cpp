@@ -96,8 +96,8 @@ uint8_t ToneCurve::operator()(double radiance) const {
   if (!(radiance >= 0.0) || !buckets_) return bySearch(radiance);
   // f: the largest float <= radiance (FLT_MAX above it). The mask maps -0 to +0's bucket.
   constexpr double kMaxFloat = std::numeric_limits<float>::max();
-  float f = radiance >= kMaxFloat ? std::numeric_limits<float>::max()
-                                  : static_cast<float>(radiance);
+  float f =
+      radiance >= kMaxFloat ? std::numeric_limits<float>::max() : static_cast<float>(radiance);
   if (double(f) > radiance) f = std::nextafter(f, 0.0f);
   unsigned code = (*buckets_)[(std::bit_cast<uint32_t>(f) >> 16) & (kBuckets - 1)];
   while (code < 255 && thresholds_[code] <= radiance) ++code;
