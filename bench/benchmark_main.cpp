@@ -4,6 +4,7 @@
 
 #include <exception>
 #include <iostream>
+#include <string>
 #include <string_view>
 
 #include "core/cli.h"
@@ -22,15 +23,14 @@ int benchmarkMain(const char* program, int argc, char** argv) {
     // beyond the program name is not a flag of this program.
     benchmark::Initialize(&argc, argv);
     if (argc > 1) {
-      std::cerr << program << ": error: unknown argument '" << argv[1] << "'\n"
-                << "Run '" << program << " --help' for usage.\n";
+      cli::printUsageError(program, program, std::string("unknown argument '") + argv[1] + "'");
       return cli::kExitUsage;
     }
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return cli::kExitOk;
   } catch (const std::exception& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
+    cli::printError(program, e.what());
     return cli::kExitRuntimeError;
   }
 }

@@ -25,11 +25,17 @@ std::string rangeProblem(const std::string& value, const std::string& min, const
   return "expects a " + kind + range + got;
 }
 
-namespace {
-
 void printError(const std::string& program, const std::string& message) {
   std::fprintf(stderr, "%s: error: %s\n", program.c_str(), message.c_str());
 }
+
+void printUsageError(const std::string& program, const std::string& command,
+                     const std::string& message) {
+  printError(program, message);
+  std::fprintf(stderr, "Run '%s --help' for usage.\n", command.c_str());
+}
+
+namespace {
 
 // "penumbra render" when the error is in `render`'s flags: the help that explains them.
 std::string commandPath(const CLI::App& app) {
@@ -44,8 +50,7 @@ std::string commandPath(const CLI::App& app) {
 }
 
 void printUsageError(const CLI::App& app, const std::string& message) {
-  printError(app.get_name(), message);
-  std::fprintf(stderr, "Run '%s --help' for usage.\n", commandPath(app).c_str());
+  cli::printUsageError(app.get_name(), commandPath(app), message);
 }
 
 // The names of `app`'s commands, "a, b, c".

@@ -34,6 +34,12 @@ class UsageError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// `<program>: error: <message>` on stderr; the usage form adds "Run '<command> --help' for
+// usage." (for programs whose flags another library parses: bench/benchmark_main).
+void printError(const std::string& program, const std::string& message);
+void printUsageError(const std::string& program, const std::string& command,
+                     const std::string& message);
+
 // Names `app` after `program`, adds --version, parses argv and calls `body` (which returns
 // the exit code on success). Maps every failure to the conventions above; `body` may throw.
 int run(const std::string& program, CLI::App& app, int argc, char** argv,
