@@ -83,8 +83,17 @@ uint8_t ToneCurve::bySearch(double radiance) const {
   return static_cast<uint8_t>(it - thresholds_.begin());
 }
 
+std::shared_ptr<const ToneCurve::Buckets> ToneCurve::saturatedBuckets() {
+  static const std::shared_ptr<const Buckets> table = [] {
+    auto t = std::make_shared<Buckets>();
+    t->fill(255);
+    return t;
+  }();
+  return table;
+}
+
 void ToneCurve::buildBuckets() {
-  auto table = std::make_shared<std::array<uint8_t, kBuckets>>();
+  auto table = std::make_shared<Buckets>();
   for (uint32_t b = 0; b < kBuckets; ++b) {
     (*table)[b] = bySearch(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
   }
@@ -92,8 +101,8 @@ void ToneCurve::buildBuckets() {
 }
 
 uint8_t ToneCurve::operator()(double radiance) const {
-  // NaN and negative radiance (and a default-constructed curve) take the definition.
-  if (!(radiance >= 0.0) || !buckets_) return bySearch(radiance);
+  // NaN and negative radiance take the definition.
+  if (!(radiance >= 0.0)) return bySearch(radiance);
   // f: the largest float <= radiance (FLT_MAX above it). The mask maps -0 to +0's bucket.
   constexpr double kMaxFloat = std::numeric_limits<float>::max();
   float f =
@@ -102,14 +111,6 @@ uint8_t ToneCurve::operator()(double radiance) const {
   unsigned code = (*buckets_)[(std::bit_cast<uint32_t>(f) >> 16) & (kBuckets - 1)];
   while (code < 255 && thresholds_[code] <= radiance) ++code;
   return static_cast<uint8_t>(code);
-}
-
-core::Rgb8 ToneCurve::map(const glm::dvec3& radiance) const {
-  return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
-}
-
-core::Rgb8 ToneCurve::map(const glm::vec3& radiance) const {
-  return core::Rgb8{(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
 }
 
 ToneInverse::ToneInverse(const ToneCurve& curve) {

@@ -24,9 +24,10 @@ namespace penumbra::shadow {
 // on it) and no libm runs in the per-vertex path.
 //
 // T runs per receiver vertex and per source several times a frame (a binary search per
-// channel was 17.9 % of the kiosk frame), so operator() does not search: a table indexed by
-// the top 15 bits of a float gives the code at the bucket's lowest float, and a forward scan
-// over the thresholds finishes. Exact, by monotonicity: for L >= 0 let f be the largest float
+// channel was 17.9 % of the kiosk frame in issue 13's profile), so operator() does not search: a
+// table indexed by the top 15 bits of a float gives the code at the bucket's lowest float, and a
+// forward scan over the thresholds finishes. Exact, by monotonicity: for L >= 0 let f be the
+// largest float
 // <= L and f0 the lowest float of f's bucket; f0 <= L, so the table's T(f0) counts only
 // thresholds <= L, and the scan, comparing L itself, stops at T(L). A bucket spans 1/128 of
 // an octave, so the scan is rarely more than one step. Negative radiance (never produced by
@@ -55,8 +56,10 @@ class ToneCurve {
 
   // T(L) for one channel (float radiance converts exactly). NaN maps to 0.
   uint8_t operator()(double radiance) const;
-  core::Rgb8 map(const glm::dvec3& radiance) const;
-  core::Rgb8 map(const glm::vec3& radiance) const;
+  template <typename T>
+  core::Rgb8 map(const glm::vec<3, T>& radiance) const {
+    return {(*this)(radiance.x), (*this)(radiance.y), (*this)(radiance.z)};
+  }
 
   // The definition: the number of thresholds <= radiance, by binary search (NaN -> 0).
   // operator() equals it for every input (tests/tone_curve_test.cpp).
@@ -69,9 +72,14 @@ class ToneCurve {
   static constexpr size_t kBuckets = size_t{1} << 15;  // sign-free float bits >> 16
   void buildBuckets();
 
+  using Buckets = std::array<uint8_t, kBuckets>;
+  // A default-constructed curve's (all thresholds 0: every radiance >= 0 is code 255),
+  // shared, so that operator() never meets a curve without a table.
+  static std::shared_ptr<const Buckets> saturatedBuckets();
+
   std::array<double, 255> thresholds_{};
-  // Per bucket: bySearch of its lowest float. Null only in a default-constructed curve.
-  std::shared_ptr<const std::array<uint8_t, kBuckets>> buckets_;
+  // Per bucket: bySearch of its lowest float.
+  std::shared_ptr<const Buckets> buckets_ = saturatedBuckets();
 };
 
 // T^-1 at the middle of each code's radiance interval (code 0 → 0; code 255 → its

@@ -81,7 +81,7 @@ TEST(ToneCurve, TheBucketTableEqualsTheBinarySearch) {
     }
   }
   EXPECT_EQ(ToneCurve::gamma(1.2, 2.2)(std::numeric_limits<double>::quiet_NaN()), 0);
-  // A default-constructed curve (all thresholds 0) has no table and still answers.
+  // A default-constructed curve (all thresholds 0) shares a saturated table.
   EXPECT_EQ(ToneCurve()(1.0), 255);
   EXPECT_EQ(ToneCurve()(-1.0), 0);
 }
