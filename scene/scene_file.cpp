@@ -60,6 +60,10 @@ glm::dvec3 roomEdge(const JsonValue& v, const glm::dvec3& origin) {
              core::formatNumber(kMaxRoomCoordinate) + " m of the origin)");
     }
   }
+  if (!(glm::length(e) >= kMinRoomExtent)) {
+    v.fail("is " + core::formatNumber(glm::length(e)) + " m long, less than the " +
+           core::formatNumber(kMinRoomExtent) + " m a quad edge must measure");
+  }
   return e;
 }
 // A patch size in metres within [kMinPatchSize, kMaxPatchSize].
@@ -225,6 +229,14 @@ class SceneParser {
     const Aabb b{roomPoint(obj["min"]), roomPoint(obj["max"])};
     if (!(b.min.x < b.max.x && b.min.y < b.max.y && b.min.z < b.max.z)) {
       obj["max"].fail("must exceed min on every axis");
+    }
+    const glm::dvec3 size = b.max - b.min;
+    for (int k = 0; k < 3; ++k) {
+      if (!(size[k] >= kMinRoomExtent)) {
+        obj["max"].fail("exceeds min by " + core::formatNumber(size[k]) + " m on axis " +
+                        "xyz"[k] + ", less than the " + core::formatNumber(kMinRoomExtent) +
+                        " m a box must measure");
+      }
     }
     return b;
   }

@@ -39,6 +39,10 @@ class SceneFileError : public core::Error {
 // Every room point (shell and box corners, quad corners) lies within ±100 m of the origin:
 // a showroom, a shop floor or a hall, measured in metres from a corner of it.
 constexpr double kMaxRoomCoordinate = 100;
+// Every box axis and quad edge measures at least 1 cm: smaller is a typo, and a shell 5e-324 m
+// high passed "max exceeds min" only to give faces whose area rounds to zero (fuzzing found
+// it: std::invalid_argument escaped the parser).
+constexpr double kMinRoomExtent = 0.01;
 // Patch sizes (patch_size, regions' patch_size) in metres, as `precompute --patch-size`.
 constexpr double kMinPatchSize = 0.02, kMaxPatchSize = 10;
 // The room's patch count (Gibson 2003 §4) bounds precompute's time and memory: sources x

@@ -160,6 +160,18 @@ TEST(SceneFile, BadValuesAreNamed) {
               {"room.boxes[0].material: no material named \"marble\""});
   expectError([](json& d) { d["room"]["boxes"][0]["max"][1] = 0; },
               {"room.boxes[0].max: must exceed min"});
+  // Found by the scene_file fuzzer: a 5e-324 m high shell gave zero-area walls.
+  expectError([](json& d) { d["room"]["shell"]["max"][1] = 5e-324; },
+              {"room.shell.max: exceeds min by 5e-324 m on axis y, less than the 0.01 m"});
+  expectError(
+      [](json& d) {
+        d["room"]["quads"] = json::array({json{{"name", "sliver"},
+                                               {"origin", {0, 0, 0}},
+                                               {"edge_u", {0.001, 0, 0}},
+                                               {"edge_v", {0, 0, 1}},
+                                               {"material", "floor"}}});
+      },
+      {"room.quads[0].edge_u: is 0.001 m long, less than the 0.01 m a quad edge must measure"});
   expectError([](json& d) { d["room"]["regions"][0]["quad"] = "roof"; },
               {"room.regions[0].quad: no quad named \"roof\""});
   expectError(
