@@ -1,5 +1,6 @@
 #include "apps/scene_commands.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -128,9 +129,10 @@ struct RenderCommand {
                    "bounding sphere (is it larger than the room?): they cast no shadow\n",
                    stats.skippedClusters, stats.clusters);
     }
-    std::printf("ms_frame %.3f traversal %.3f clusters %.3f transfers %.3f raster %.3f\n", msFrame,
-                stats.msTraversal, stats.msClusters, stats.msTransfers,
-                loop.renderer.lastStats().msTotal);
+    std::printf("ms_frame %.3f\n", msFrame);
+    shadow::FrameStageSamples stages;
+    stages.add(loop.stages);
+    std::fputs(stages.table().c_str(), stdout);
     if (!trace.empty()) raster::saveTrace({bundle.view, loop.frame}, trace);
     if (!out.empty()) scene::writePng(out, bundle.view.width, bundle.view.height, loop.rgba);
     if (hash) std::printf("sha256 %s\n", scene::sha256Hex(loop.rgba).c_str());
@@ -151,21 +153,45 @@ struct ProfileCommand {
     shadow::FrameLoop& loop = session.loop;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
+    // ms_total: the median frame; ms_mean: the mean frame, which the stages' means (the
+    // stage_* columns, shadow/frame_stages.h) add up to.
+    using shadow::FrameStage;
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
-           "ms_total,ms_traversal,ms_clusters,ms_transfers,ms_objects,ms_shadow_passes,"
-           "ms_finish\n";
-    std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "total",
-                "travers", "cluster", "transfer", "shadows", "finish");
+           "ms_total,ms_mean";
+    for (size_t i = 0; i < shadow::kFrameStageCount; ++i) {
+      if (static_cast<FrameStage>(i) == FrameStage::kSimulatorCamera) continue;
+      std::string name = shadow::frameStageName(static_cast<FrameStage>(i));
+      std::replace(name.begin(), name.end(), ' ', '_');
+      out << ",stage_" << name;
+    }
+    out << '\n';
+    // The console: the median frame, then the stages' means grouped (compose: placement to
+    // pass list; raster: objects, passes, finish).
+    std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "median",
+                "mean", "travers", "transfer", "compose", "raster");
     for (int asked : passes) {
       const shadow::PassProfile r =
           shadow::profilePasses(loop, session.pose, size_t(asked), frames);
+      const shadow::FrameStageSamples& s = r.stages;
       out << asked << ',' << r.passes << ',' << r.occludedSources << ',' << r.receivers << ','
-          << r.shaftsVisited << ',' << r.shadowedPixels << ',' << r.total << ',' << r.traversal
-          << ',' << r.clusters << ',' << r.transfers << ',' << r.objects << ',' << r.shadowPasses
-          << ',' << r.finish << '\n';
-      std::printf("%6d %6u %9llu %9.3f %9.4f %9.4f %9.3f %9.3f %9.3f\n", asked, r.passes,
-                  static_cast<unsigned long long>(r.shadowedPixels), r.total, r.traversal,
-                  r.clusters, r.transfers, r.shadowPasses, r.finish);
+          << r.shaftsVisited << ',' << r.shadowedPixels << ',' << r.total << ',' << s.meanBoardMs();
+      for (size_t i = 0; i < shadow::kFrameStageCount; ++i) {
+        if (static_cast<FrameStage>(i) == FrameStage::kSimulatorCamera) continue;
+        out << ',' << s.meanMs(static_cast<FrameStage>(i));
+      }
+      out << '\n';
+      const auto sum = [&](std::initializer_list<FrameStage> stages) {
+        double ms = 0;
+        for (FrameStage stage : stages) ms += s.meanMs(stage);
+        return ms;
+      };
+      const double transfers = sum({FrameStage::kRoomTransfers, FrameStage::kProductTransfers});
+      const double raster =
+          sum({FrameStage::kRasterObjects, FrameStage::kRasterPasses, FrameStage::kRasterFinish});
+      const double traversal = sum({FrameStage::kTraversal, FrameStage::kClusters});
+      std::printf("%6d %6u %9llu %9.3f %9.3f %9.4f %9.3f %9.3f %9.3f\n", asked, r.passes,
+                  static_cast<unsigned long long>(r.shadowedPixels), r.total, s.meanBoardMs(),
+                  traversal, transfers, s.meanBoardMs() - transfers - raster - traversal, raster);
     }
     out.close();
     if (!plot.empty()) {

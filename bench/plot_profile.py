@@ -11,14 +11,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-STAGES = [
-    ("ms_traversal", "shaft traversal (§6.1)"),
-    ("ms_clusters", "cluster selection (§8)"),
-    ("ms_transfers", "intensity transfers (§7.1.1) + product"),
-    ("ms_objects", "product composite"),
-    ("ms_shadow_passes", "shadow maps + masks (§7)"),
-    ("ms_finish", "subtract + output"),
-]
+# The stage_* columns (shadow/frame_stages.h), in frame order: their means add up to
+# ms_mean, the mean frame; ms_total is the median frame.
 
 
 def main(csv_path, png_path):
@@ -29,14 +23,19 @@ def main(csv_path, png_path):
     passes = [int(r["passes_asked"]) for r in rows]
     fig, ax = plt.subplots(figsize=(8, 5), dpi=120)
     bottom = [0.0] * len(rows)
-    for key, label in STAGES:
+    stages = [k for k in rows[0] if k.startswith("stage_")]
+    for i, key in enumerate(stages):
         values = [float(r[key]) for r in rows]
+        if max(values) == 0:
+            continue
+        label = key[len("stage_"):].replace("_", " ")
         ax.fill_between(passes, bottom, [b + v for b, v in zip(bottom, values)], label=label,
-                        step=None, alpha=0.85)
+                        color=plt.cm.tab20.colors[i % 20], alpha=0.85)
         bottom = [b + v for b, v in zip(bottom, values)]
-    ax.plot(passes, [float(r["ms_total"]) for r in rows], "k.-", label="measured frame total")
+    ax.plot(passes, [float(r["ms_mean"]) for r in rows], "k.-", label="mean frame (measured)")
+    ax.plot(passes, [float(r["ms_total"]) for r in rows], "k:", label="median frame")
     ax.set_xlabel("blending passes (source clusters)")
-    ax.set_ylabel("ms per frame (median)")
+    ax.set_ylabel("ms per frame (stages: means)")
     ax.set_title("Penumbra: frame time against passes, by stage")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", fontsize=8)

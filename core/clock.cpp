@@ -18,11 +18,15 @@ SteadyClock& steadyClock() {
 
 Stopwatch::Stopwatch() : Stopwatch(steadyClock()) {}
 
-double Stopwatch::lap() {
+int64_t Stopwatch::lapNs() {
   const int64_t now = clock_.nowNanoseconds();
   const int64_t elapsed = now - lastNs_;
   lastNs_ = now;
-  return static_cast<double>(elapsed) / 1e6;
+  return elapsed;
+}
+
+double Stopwatch::lap() {
+  return static_cast<double>(lapNs()) / 1e6;
 }
 
 int64_t SteadyClock::nowNanoseconds() {

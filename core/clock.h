@@ -29,6 +29,8 @@ class Stopwatch {
   explicit Stopwatch(Clock& clock) : clock_(clock), lastNs_(clock.nowNanoseconds()) {}
   // Milliseconds since construction or since the previous lap.
   double lap();
+  // The same in nanoseconds.
+  int64_t lapNs();
 
  private:
   Clock& clock_;

@@ -84,6 +84,15 @@ Played play(SimRun& run, uint32_t frames, int64_t staleAfterNs, bool hashFrames 
       EXPECT_TRUE(run.log().contains("camera:", r.startNs)) << "frame " << r.frame;
     }
     EXPECT_EQ(r.led == LedState::kReady, r.warnings.empty()) << "frame " << r.frame;
+    // Stage times: none negative; a new camera frame was rendered by the simulator, and that
+    // time is reported apart from the board's camera stage.
+    for (size_t k = 0; k < shadow::kFrameStageCount; ++k) {
+      EXPECT_GE(r.stages.ns[k], 0)
+          << "frame " << r.frame << ", stage " << shadow::frameStageName(shadow::FrameStage(k));
+    }
+    if (r.cameraFrameNew) {
+      EXPECT_GT(r.stages[shadow::FrameStage::kSimulatorCamera], 0) << "frame " << r.frame;
+    }
     if (hashFrames) p.hashes.push_back(scene::sha256Hex(rgba));
     p.frames.push_back(std::move(r));
   }

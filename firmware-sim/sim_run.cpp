@@ -161,6 +161,12 @@ kiosk::FrameReport SimRun::step() {
     }
   }
   kiosk::FrameReport report = loop_->step();
+  if (camera_) {
+    // The virtual camera rendered inside the kiosk's camera stage: take it out of the board.
+    const int64_t rendering = camera_->takeRenderNs();
+    report.stages[shadow::FrameStage::kCamera] -= rendering;
+    report.stages[shadow::FrameStage::kSimulatorCamera] = rendering;
+  }
   kiosk::noteFrameRendered(*bundle_, log_, time_.nowNanoseconds());
   return report;
 }

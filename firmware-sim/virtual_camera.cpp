@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/clock.h"
+
 namespace penumbra::firmware_sim {
 
 using kiosk::CameraFrame;
@@ -128,6 +130,12 @@ void VirtualCamera::render(uint64_t k, CameraFrame& out) const {
   }
 }
 
+int64_t VirtualCamera::takeRenderNs() {
+  const int64_t ns = renderNs_;
+  renderNs_ = 0;
+  return ns;
+}
+
 GrabStatus VirtualCamera::grab(int64_t nowNs, CameraFrame& out) {
   if (!open_) return GrabStatus::kDisconnected;
   if (disconnectedAt(nowNs)) {
@@ -137,7 +145,9 @@ GrabStatus VirtualCamera::grab(int64_t nowNs, CameraFrame& out) {
   if (duplicatePending_) {
     // The driver hands the same buffer over a second time.
     duplicatePending_ = false;
+    core::Stopwatch watch;
     render(lastDelivered_, out);
+    renderNs_ += watch.lapNs();
     return GrabStatus::kFrame;
   }
   // The newest frame that has arrived and is newer than the last one delivered. Late frames
@@ -148,7 +158,9 @@ GrabStatus VirtualCamera::grab(int64_t nowNs, CameraFrame& out) {
   for (uint64_t k = newest + 1; k-- > oldest;) {
     const int64_t at = arrivalNs(k);
     if (at < 0 || at > nowNs) continue;
+    core::Stopwatch watch;
     render(k, out);
+    renderNs_ += watch.lapNs();
     if (faulted(CameraFaultKind::kWrongSize, k)) {
       // A mode switch behind our back: half the size.
       out.width = width_ / 2;

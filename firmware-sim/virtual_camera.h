@@ -54,6 +54,9 @@ class VirtualCamera final : public kiosk::FrameSource {
   // tests that compare what is shown with what was filmed.
   void render(uint64_t k, kiosk::CameraFrame& out) const;
   int64_t arrivalNs(uint64_t k) const;  // -1: dropped
+  // Wall time grab() spent rendering frames since the last call (the simulator's own work,
+  // which a board's camera does in hardware: reported apart from the board's frame).
+  int64_t takeRenderNs();
 
  private:
   bool faulted(CameraFaultKind kind, uint64_t k, const CameraFault** which = nullptr) const;
@@ -66,6 +69,7 @@ class VirtualCamera final : public kiosk::FrameSource {
   bool delivered_ = false;
   uint64_t lastDelivered_ = 0;  // frame index
   bool duplicatePending_ = false;
+  int64_t renderNs_ = 0;
 };
 
 }  // namespace penumbra::firmware_sim

@@ -438,13 +438,23 @@ FrameReport KioskLoop::step() {
   const int64_t start = io_.time->nowNanoseconds();
   FrameReport r;
   r.startNs = start;
+  // Stage times on the steady clock (measurement only: the controller hears the Timebase).
+  using shadow::FrameStage;
+  core::Stopwatch watch;
+  int64_t other = 0;
 
   const shadow::ProductPose pose = inputAndPose(start);
+  other += watch.lapNs();
   const CameraStatus camera = cameraBackground(start);
+  const int64_t cameraNs = watch.lapNs();
 
   // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
   const shadow::FrameRateController::Decision d = s.controller->next();
+  other += watch.lapNs();
   s.loop.step(pose, d, s.background);
+  other += watch.lapNs() - s.loop.frameNs;
+  r.stages = s.loop.stages;
+  r.stages[FrameStage::kCamera] = cameraNs;
   r.frame = s.loop.frameNumber;
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
@@ -462,12 +472,16 @@ FrameReport KioskLoop::step() {
     h.product = bundle_.products[pose.product].name;
     h.mode = s.attract ? "ATTRACT" : (s.quality ? "QUALITY" : "FAST");
     h.warnings = r.warnings;
+    other += watch.lapNs();
     drawHud(s.loop.rgba, bundle_.view.width, bundle_.view.height, h);
+    r.stages[FrameStage::kHud] = watch.lapNs();
   }
+  other += watch.lapNs();
   if (io_.display != nullptr &&
       !io_.display->show(s.loop.rgba.data(), bundle_.view.width, bundle_.view.height)) {
     r.quit = true;
   }
+  r.stages[FrameStage::kDisplay] = watch.lapNs();
 
   // 8. Pacing: the measured time goes back to the controller; the frame period is kept.
   const int64_t end = io_.time->nowNanoseconds();
@@ -490,6 +504,7 @@ FrameReport KioskLoop::step() {
   r.latencyNs = camera.haveFrame ? end - s.backgroundCaptureNs : -1;
   r.stale = camera.stale;
   r.led = led;
+  r.stages[FrameStage::kOther] = other + watch.lapNs();
   return r;
 }
 

@@ -30,6 +30,7 @@
 #include "raster/renderer.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_rate_controller.h"
+#include "shadow/frame_stages.h"
 #include "shadow/scene_bundle.h"
 
 namespace penumbra::kiosk {
@@ -105,6 +106,9 @@ struct FrameReport {
   LedState led = LedState::kError;
   std::vector<std::string> warnings;  // as on the HUD
   bool quit = false;                  // the display asked to stop
+  // Wall time of each stage of this step on the steady clock (shadow/frame_stages.h); they
+  // sum to the step's wall time. Measurement only, never an input of the loop.
+  shadow::FrameStages stages;
 };
 
 class KioskLoop {

@@ -8,9 +8,9 @@ void BlockedLight::find(const ShaftHierarchy& hierarchy, const scene::Aabb& boun
                         size_t passes) {
   core::Stopwatch watch;
   hierarchy.traverse(bounds, frame, traversal);
-  msTraversal = watch.lap();
+  nsTraversal = watch.lapNs();
   selectSourceClusters(hierarchy, traversal.sources, frame, passes, selection);
-  msClusters = watch.lap();
+  nsClusters = watch.lapNs();
 }
 
 }  // namespace penumbra::shadow

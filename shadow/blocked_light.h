@@ -22,9 +22,9 @@ struct BlockedLight {
   void find(const ShaftHierarchy& hierarchy, const scene::Aabb& bounds, uint32_t frame,
             size_t passes);
 
-  TraversalResult traversal;   // sources and receiver patches (§6.1)
-  ClusterSelection selection;  // clusters covering traversal.sources (§8)
-  double msTraversal = 0, msClusters = 0;
+  TraversalResult traversal;                // sources and receiver patches (§6.1)
+  ClusterSelection selection;               // clusters covering traversal.sources (§8)
+  int64_t nsTraversal = 0, nsClusters = 0;  // wall time of each
 };
 
 }  // namespace penumbra::shadow

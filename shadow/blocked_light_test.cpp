@@ -46,8 +46,8 @@ TEST(BlockedLight, ClustersCoverTheTraversedSourcesOnce) {
     std::vector<uint32_t> once = sorted(light.traversal.sources);
     once.erase(std::unique(once.begin(), once.end()), once.end());
     EXPECT_EQ(once.size(), sources) << "each source listed once";
-    EXPECT_GE(light.msTraversal, 0.0);
-    EXPECT_GE(light.msClusters, 0.0);
+    EXPECT_GE(light.nsTraversal, 0);
+    EXPECT_GE(light.nsClusters, 0);
   }
 }
 

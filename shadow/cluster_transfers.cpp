@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/clock.h"
+
 #include "shadow/intensity_transfer.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -24,9 +26,12 @@ void ClusterTransfers::compute(std::span<const uint32_t> receiverPatches,
                                const ProductLight& product, OcclusionFeedback& feedback) {
   clusters_ = selection.clusters.size();
   gradedVertices_ = 0;
+  core::Stopwatch watch;
   gatherFrameVertices(receiverPatches, frame);
   computeReceivers(selection, frame, feedback);
+  nsReceivers_ = watch.lapNs();
   computeProduct(selection, product, feedback);
+  nsProduct_ = watch.lapNs();
 }
 
 // The frame's receiver vertices, each given a slot.

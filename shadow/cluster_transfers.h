@@ -76,6 +76,9 @@ class ClusterTransfers {
   std::span<const core::Vec3> probes() const { return probes_; }
   // Receiver and product vertices whose S used a measured share this frame.
   uint32_t gradedVertices() const { return gradedVertices_; }
+  // Wall time of the last compute(): the receiver vertices' part, the product's part.
+  int64_t nsReceivers() const { return nsReceivers_; }
+  int64_t nsProduct() const { return nsProduct_; }
 
  private:
   void gatherFrameVertices(std::span<const uint32_t> receiverPatches, uint32_t frame);
@@ -92,6 +95,7 @@ class ClusterTransfers {
   std::vector<uint32_t> vertexSlotFrame_;   // receiver vertex -> frame that gave its slot
   size_t clusters_ = 0, productVertices_ = 0;
   uint32_t gradedVertices_ = 0;
+  int64_t nsReceivers_ = 0, nsProduct_ = 0;
   std::vector<uint32_t> frameVertices_;
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
   std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]

@@ -32,15 +32,17 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
 void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
                               raster::FrameContent& out, CompositeStats& stats) {
   stats = CompositeStats{};
+  FrameStages& ns = stats.stages;
   core::Stopwatch watch;
   const PlacementChange change = placement_.place(pose);
   if (change == PlacementChange::kNewModel) {
     feedback_.productPlaced(placement_.mesh().positions.size());
   }
+  ns[FrameStage::kPlacement] = watch.lapNs();
   if (change != PlacementChange::kNone) {
     shading_.shade(placement_.mesh(), placement_.bounds(), pose.product);
   }
-  stats.msObject = watch.lap();
+  ns[FrameStage::kShading] = watch.lapNs();
 
   blocked_.find(hierarchy_, placement_.bounds(), frame, passes);
   const TraversalResult& traversal = blocked_.traversal;
@@ -48,16 +50,18 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   stats.receiverPatches = static_cast<uint32_t>(traversal.receivers.size());
   stats.shaftsVisited = static_cast<uint32_t>(traversal.shaftsVisited);
   stats.clusters = static_cast<uint32_t>(blocked_.selection.clusters.size());
-  stats.msTraversal = blocked_.msTraversal;
-  stats.msClusters = blocked_.msClusters;
+  ns[FrameStage::kTraversal] = blocked_.nsTraversal;
+  ns[FrameStage::kClusters] = blocked_.nsClusters;
 
-  watch.lap();
+  watch.lapNs();
   transfers_.compute(traversal.receivers, blocked_.selection, frame,
                      {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers()},
                      feedback_);
   stats.receiverVertices = static_cast<uint32_t>(transfers_.frameVertices().size());
   stats.gradedVertices = transfers_.gradedVertices();
-  stats.msTransfers = watch.lap();
+  ns[FrameStage::kRoomTransfers] = transfers_.nsReceivers();
+  ns[FrameStage::kProductTransfers] = transfers_.nsProduct();
+  watch.lapNs();
 
   // The frame description (Fig. 2): background, product, proxy, one pass per cluster.
   out.background = bundle_.background;
@@ -67,10 +71,12 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   out.occluders.resize(1);
   out.occluders[0] = placement_.proxy();
   out.accumulation = options_.accumulation;
+  ns[FrameStage::kFrameContent] = watch.lapNs();
   stats.skippedClusters =
       passList_.build(passListOptions(), blocked_.selection, traversal.receivers, placement_.mesh(),
                       placement_.bounds(), transfers_.s(), out.passes);
   stats.passes = static_cast<uint32_t>(out.passes.size());
+  ns[FrameStage::kPassList] = watch.lapNs();
 }
 
 void FrameCompositor::observe(std::span<const uint8_t> masks) {

@@ -6,9 +6,25 @@ void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uin
   const int64_t start = clock_.nowNanoseconds();
   compositor.compose(pose, passes, ++frameNumber, frame, stats);
   if (!background.empty()) frame.background.assign(background.begin(), background.end());
+  const int64_t composed = clock_.nowNanoseconds();
   renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
+  const int64_t rendered = clock_.nowNanoseconds();
   compositor.observe(masks);
-  frameNs = clock_.nowNanoseconds() - start;
+  const int64_t end = clock_.nowNanoseconds();
+  frameNs = end - start;
+
+  stages = stats.stages;
+  // compose()'s laps miss only their own bookkeeping: it goes to the frame content, as does
+  // the camera background's copy.
+  int64_t composeStages = 0;
+  for (int64_t ns : stages.ns) composeStages += ns;
+  stages[FrameStage::kFrameContent] += (composed - start) - composeStages;
+  const raster::FrameStats& r = renderer.lastStats();
+  const auto toNs = [](double ms) { return static_cast<int64_t>(ms * 1e6); };
+  stages[FrameStage::kRasterObjects] = toNs(r.msObjects);
+  stages[FrameStage::kRasterPasses] = toNs(r.msPasses);
+  stages[FrameStage::kRasterFinish] = (rendered - composed) - toNs(r.msObjects) - toNs(r.msPasses);
+  stages[FrameStage::kObserve] = end - rendered;
 }
 
 void FrameLoop::step(const ProductPose& pose, const FrameRateController::Decision& decision,

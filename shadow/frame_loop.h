@@ -55,10 +55,12 @@ class FrameLoop {
   FrameCompositor compositor;
   raster::Renderer renderer;
   raster::FrameContent frame;
-  // The last frame's stage timings: CompositeStats (placement and shading, traversal,
-  // clusters, transfers) and renderer.lastStats() (objects, passes, finish); frameNs: the
-  // whole step, compose to observe, on the steady clock.
+  // The last frame's statistics (CompositeStats) and stage times on the steady clock:
+  // placement to observe (the kiosk's own stages stay 0), summing to frameNs, the whole
+  // step. The renderer's finish takes the rest of the render call (renderer.lastStats()
+  // times objects and passes), so the stages add up.
   CompositeStats stats;
+  FrameStages stages;
   int64_t frameNs = 0;
   std::vector<uint8_t> rgba, masks;  // RGBA8 frame; occlusion masks of the probes
   uint32_t frameNumber = 0;          // of the last frame; 0 before the first

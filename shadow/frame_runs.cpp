@@ -37,23 +37,18 @@ double median(std::vector<double> v) {
 }
 
 PassProfile profilePasses(FrameLoop& loop, const ProductPose& pose, size_t passes, int frames) {
-  std::vector<double> total, trav, clus, xfer, obj, pass, fin;
+  PassProfile out;
+  std::vector<double> total;
+  total.reserve(size_t(frames));
+  out.stages.reserve(size_t(frames));
   for (int f = 0; f < frames + 1; ++f) {
     ProductPose p = pose;
     p.x += 0.01f * float(f % 7);
     loop.step(p, passes);
     if (f == 0) continue;  // warm-up
-    const CompositeStats& s = loop.stats;
-    const raster::FrameStats& r = loop.renderer.lastStats();
     total.push_back(double(loop.frameNs) * 1e-6);
-    trav.push_back(s.msTraversal);
-    clus.push_back(s.msClusters);
-    xfer.push_back(s.msTransfers + s.msObject);
-    obj.push_back(r.msObjects);
-    pass.push_back(r.msPasses);
-    fin.push_back(r.msFinish);
+    out.stages.add(loop.stages);
   }
-  PassProfile out;
   out.passesAsked = passes;
   out.passes = loop.stats.passes;
   out.occludedSources = loop.stats.occludedSources;
@@ -61,12 +56,6 @@ PassProfile profilePasses(FrameLoop& loop, const ProductPose& pose, size_t passe
   out.shaftsVisited = loop.stats.shaftsVisited;
   out.shadowedPixels = loop.renderer.lastStats().passPixels;
   out.total = median(total);
-  out.traversal = median(trav);
-  out.clusters = median(clus);
-  out.transfers = median(xfer);
-  out.objects = median(obj);
-  out.shadowPasses = median(pass);
-  out.finish = median(fin);
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include "shadow/frame_loop.h"
 #include "shadow/frame_rate_controller.h"
+#include "shadow/frame_stages.h"
 #include "shadow/scene_bundle.h"
 
 namespace penumbra::shadow {
@@ -33,15 +34,15 @@ FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose
                                               uint32_t frames = 40,
                                               const FrameTimer& frameTimer = {});
 
-// One pass count's cost. Counts are the last frame's; times (ms) are medians over the timed
-// frames: the whole frame, traversal, clustering, transfers (with the product's shading),
-// and the renderer's objects, shadow passes and finish.
+// One pass count's cost. Counts are the last frame's; `total` is the median whole frame
+// (ms) over the timed frames, `stages` every stage's times (FrameStages: their means add up
+// to the mean frame).
 struct PassProfile {
   size_t passesAsked = 0;
   uint32_t passes = 0, occludedSources = 0, receivers = 0, shaftsVisited = 0;
   uint64_t shadowedPixels = 0;  // receiver pixels the passes touched
-  double total = 0, traversal = 0, clusters = 0, transfers = 0, objects = 0, shadowPasses = 0,
-         finish = 0;
+  double total = 0;
+  FrameStageSamples stages;
 };
 
 // frames + 1 steps with at most `passes` passes, the product at pose.x + 0.01 * (f % 7) in

@@ -1,0 +1,78 @@
+// Where one kiosk frame's time goes (issue 13): every stage of the whole frame, in the
+// order the kiosk runs them, in wall-clock nanoseconds, so that a breakdown adds up to the
+// frame it describes. FrameLoop fills the pipeline's stages (placement to observe); the
+// kiosk adds the camera, the HUD and the display, and "other" takes what lies between the
+// laps (button handling, the controller, the log), so that the board's stages sum to its
+// whole frame exactly. The simulator's own rendering of its virtual camera is a stage of its
+// own, outside the board's frame.
+//
+// Measurement only: nothing the kiosk decides reads these (the controller is told the frame
+// time through the Timebase), so the simulator's frames stay identical bytes.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace penumbra::shadow {
+
+enum class FrameStage : uint8_t {
+  kCamera,            // grab the newest camera frame, convert it to RGBA8
+  kPlacement,         // the product moved to its pose (product_placement)
+  kShading,           // its colours and source transfers, when it moved (product_shading)
+  kTraversal,         // Gibson 2003 §6.1 shaft traversal
+  kClusters,          // §8 source clusters
+  kRoomTransfers,     // clusters' transfers and S at the receiver vertices (§7.1.1)
+  kProductTransfers,  // the same at the product's own vertices (§7.2 self-shadowing)
+  kFrameContent,      // background, product mesh and colours into the frame description
+  kPassList,          // one pass per cluster (Fig. 2)
+  kRasterObjects,     // renderer: setup, binning, product composite
+  kRasterPasses,      // renderer: shadow maps, S, probes' masks
+  kRasterFinish,      // renderer: subtracting the sums, RGBA output
+  kObserve,           // occlusion feedback for the next frame (docs/fig3.md)
+  kHud,               // the HUD drawn over the frame
+  kDisplay,           // the frame handed to the display
+  kOther,             // the rest of the kiosk's step: buttons, controller, log
+  kSimulatorCamera,   // firmware-sim only: rendering the virtual camera's frame (not the board)
+  kCount
+};
+
+constexpr size_t kFrameStageCount = static_cast<size_t>(FrameStage::kCount);
+
+// A short name for tables ("room transfers").
+const char* frameStageName(FrameStage stage);
+
+struct FrameStages {
+  std::array<int64_t, kFrameStageCount> ns{};
+
+  int64_t& operator[](FrameStage s) { return ns[static_cast<size_t>(s)]; }
+  int64_t operator[](FrameStage s) const { return ns[static_cast<size_t>(s)]; }
+  // The board's frame: every stage but kSimulatorCamera.
+  int64_t boardNs() const;
+};
+
+// Stage times over many frames. Means add up: the stages' means sum to the mean board frame
+// exactly (up to rounding), which medians do not; the medians and 99th percentiles say how
+// each stage varies. Samples are kept (reserve() before the first frame keeps the timed loop
+// from allocating).
+class FrameStageSamples {
+ public:
+  void reserve(size_t frames);
+  void add(const FrameStages& stages);
+  size_t frames() const { return board_.size(); }
+  double meanMs(FrameStage stage) const;
+  double percentileMs(FrameStage stage, double p) const;
+  double meanBoardMs() const;
+  double boardPercentileMs(double p) const;
+  // A table, one line per stage that took any time: mean, median, p99 (ms) and its share of
+  // the mean board frame; then the board total and, apart, the simulator's camera.
+  std::string table() const;
+
+ private:
+  std::array<std::vector<int64_t>, kFrameStageCount> ns_;
+  std::vector<int64_t> board_;
+};
+
+}  // namespace penumbra::shadow
