@@ -34,7 +34,12 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
       throw std::invalid_argument("intensityTransfers: set must be 1 or 2");
     }
     const int k = sets[j] - 1;
-    v[k] -= glm::max(transfers[j], glm::dvec3(0.0));
+    const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
+    if (l == glm::dvec3(0.0)) {  // v - 0 is v: T does not move (the product's far side)
+      out[j] = core::Rgb8{0, 0, 0};
+      continue;
+    }
+    v[k] -= l;
     const core::Rgb8 next = tone.map(v[k]);
     // T is monotone and V only decreases, so each difference is in [0, 255].
     out[j] =
@@ -51,10 +56,22 @@ template <class ShareOf>
 void gradedTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
                      ShareOf shareOf, const ToneCurve& tone, std::span<core::Rgb8> out) {
   glm::dvec3 before(0.0);  // B_j, summed in source order
+  // T(L_i - B_j) is mapped again only when B_j moved: a cluster not occluded there (q = 0)
+  // or without light there leaves it, and the same bits give the same code.
+  glm::dvec3 mappedAt(std::numeric_limits<double>::quiet_NaN());
+  core::Rgb8 high{};
   for (size_t j = 0; j < transfers.size(); ++j) {
     const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
+    if (l == glm::dvec3(0.0)) {  // S = T(x) - T(x - 0) = 0; B_j + q * 0 = B_j (B_j >= +0)
+      out[j] = core::Rgb8{0, 0, 0};
+      continue;
+    }
     const glm::dvec3 at = totalRadiance - before;
-    const core::Rgb8 high = tone.map(at), low = tone.map(at - l);
+    if (at != mappedAt) {  // NaN never compares equal: the first vertex always maps
+      high = tone.map(at);
+      mappedAt = at;
+    }
+    const core::Rgb8 low = tone.map(at - l);
     // T is monotone and at - l <= at, so each difference is in [0, 255].
     out[j] = core::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
                         static_cast<uint8_t>(high.b - low.b)};

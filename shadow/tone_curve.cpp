@@ -101,6 +101,19 @@ void ToneCurve::buildBuckets() {
 }
 
 uint8_t ToneCurve::operator()(double radiance) const {
+  // The bucket straight from the double's bits where the largest float <= radiance is a
+  // normal float: its exponent field is the double's rebiased (1023 -> 127) and its top 7
+  // mantissa bits are the double's top 7, as truncating the mantissa to float's 23 bits
+  // rounds down and keeps them. So (bits >> 45) - (1023 - 127) * 128 is that float's
+  // (bits >> 16), for exponent fields 1..254. Radiance in [2^-126, 2^128): every lit
+  // receiver; -0, tiny, huge and NaN values take the general path below.
+  constexpr int64_t kRebias = int64_t{1023 - 127} << 7;
+  const int64_t fromDouble = int64_t(std::bit_cast<uint64_t>(radiance) >> 45) - kRebias;
+  if (fromDouble >= (int64_t{1} << 7) && fromDouble < (int64_t{255} << 7)) {
+    unsigned code = (*buckets_)[static_cast<size_t>(fromDouble)];
+    while (code < 255 && thresholds_[code] <= radiance) ++code;
+    return static_cast<uint8_t>(code);
+  }
   // NaN and negative radiance take the definition.
   if (!(radiance >= 0.0)) return bySearch(radiance);
   // f: the largest float <= radiance (FLT_MAX above it). The mask maps -0 to +0's bucket.

@@ -74,6 +74,19 @@ TEST(ToneCurve, TheBucketTableEqualsTheBinarySearch) {
       same(std::nextafter(double(x), inf));  // doubles between two floats
       same(std::nextafter(double(x), 0.0));
     }
+    // The ends of the range operator() reads straight from a double's bits, [2^-126, 2^128),
+    // and random doubles of every exponent.
+    for (double x : {std::ldexp(1.0, -126), std::nextafter(std::ldexp(1.0, -126), 0.0),
+                     std::ldexp(1.0, 128), std::nextafter(std::ldexp(1.0, 128), 0.0)}) {
+      same(x);
+    }
+    uint64_t state = 12345;
+    for (int i = 0; i < 200000; ++i) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      const double x =
+          std::ldexp(1.0 + double(state >> 12) * 0x1p-52, int(state >> 56) % 300 - 150);
+      same(x);
+    }
     for (double x : {0.0, -0.0, 1e-320, 1e-45, double(std::numeric_limits<float>::max()),
                      std::nextafter(double(std::numeric_limits<float>::max()), inf), 1e300, inf,
                      -1.0, -1e-300, -inf, std::numeric_limits<double>::quiet_NaN()}) {
