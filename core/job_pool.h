@@ -69,4 +69,21 @@ class JobPool {
   bool stop_ = false;  // under mutex_
 };
 
+// fn(begin, end, worker) over [0, n) in chunks of `chunk` indices, on `pool`'s threads, or on
+// the calling thread (worker 0) when `pool` is null or there is one chunk. The per-frame
+// stages use it for per-vertex work: each index owns its outputs, so the bytes do not depend
+// on the pool.
+template <class Fn>
+void forEachChunk(JobPool* pool, size_t n, size_t chunk, Fn&& fn) {
+  const size_t chunks = (n + chunk - 1) / chunk;
+  const auto run = [&](size_t c, int worker) {
+    fn(c * chunk, c * chunk + chunk < n ? c * chunk + chunk : n, worker);
+  };
+  if (pool == nullptr || chunks < 2) {
+    for (size_t c = 0; c < chunks; ++c) run(c, 0);
+  } else {
+    pool->parallelFor(chunks, run);
+  }
+}
+
 }  // namespace penumbra::core

@@ -535,6 +535,9 @@ const FrameStats& Renderer::lastStats() const {
 const StaticView& Renderer::view() const {
   return impl_->view;
 }
+core::JobPool& Renderer::pool() {
+  return impl_->pool;
+}
 
 void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut,
                       std::span<const core::Vec3> probes, std::vector<uint8_t>& masks,

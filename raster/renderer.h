@@ -16,6 +16,10 @@
 #include "raster/frame_trace.h"
 #include "simd/targets.h"
 
+namespace penumbra::core {
+class JobPool;
+}
+
 namespace penumbra::raster {
 
 struct RenderOptions {
@@ -58,6 +62,9 @@ class Renderer {
 
   const FrameStats& lastStats() const;
   const StaticView& view() const;
+  // The renderer's worker threads (options.threads, the caller included), for the frame's
+  // other per-vertex work between two render() calls (shadow::FrameLoop). Not during one.
+  core::JobPool& pool();
 
  private:
   struct Impl;

@@ -52,6 +52,41 @@ void ClusterTransfers::gatherFrameVertices(std::span<const uint32_t> receiverPat
   }
 }
 
+void ClusterTransfers::setPool(core::JobPool* pool) {
+  pool_ = pool;
+  const size_t threads = pool ? size_t(pool->threads()) : 1;
+  sharesScratch_.resize(threads);
+  gradedByWorker_.assign(threads, 0);
+}
+
+// Fig. 4, or the graded transfers at the measured shares, for `vertices` vertices from
+// `first` on: total radiance, transfers and S rows by vertex (intensity_transfer.h), the
+// feedback's share per vertex. Rows are independent: chunks of them run on the pool.
+template <class VertexOf>
+void ClusterTransfers::intensityRows(size_t vertices, VertexOf vertexOf,
+                                     std::span<const glm::dvec3> transfers, std::span<core::Rgb8> s,
+                                     const OcclusionFeedback& feedback) {
+  const size_t clusters = clusters_;
+  std::fill(gradedByWorker_.begin(), gradedByWorker_.end(), 0u);
+  core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int worker) {
+    std::vector<double>& shares = sharesScratch_[size_t(worker)];
+    shares.resize(clusters);
+    for (size_t slot = begin; slot < end; ++slot) {
+      const auto [total, share] = vertexOf(slot);
+      const std::span<const glm::dvec3> row(transfers.data() + slot * clusters, clusters);
+      const std::span<core::Rgb8> out(s.data() + slot * clusters, clusters);
+      if (options_.gradedTransfers && share >= 0.0f) {
+        feedback.clusterShares(slot * clusters, share, shares);
+        intensityTransfersForOcclusions(total, row, shares, bundle_.tone, out);
+        ++gradedByWorker_[size_t(worker)];
+      } else {
+        intensityTransfers(total, row, sets_, bundle_.tone, out);
+      }
+    }
+  });
+  for (uint32_t n : gradedByWorker_) gradedVertices_ += n;
+}
+
 void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint32_t frame,
                                         OcclusionFeedback& feedback) {
   // Each cluster's transfer to each slot: the sum of its blocked sources' L_ij (§8: the
@@ -83,22 +118,15 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
   receiverS_.resize(frameVertices_.size() * clusters);
   probes_.resize(frameVertices_.size());
   for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    const uint32_t rv = frameVertices_[slot];
-    probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[rv]];
-    const glm::dvec3 total(tr.vertexRadiance[rv]);
-    const std::span<const glm::dvec3> transfers(receiverTransfers_.data() + slot * clusters,
-                                                clusters);
-    const std::span<core::Rgb8> s(receiverS_.data() + slot * clusters, clusters);
-    const float share = feedback.receiverShare(rv);
-    if (options_.gradedTransfers && share >= 0.0f) {
-      intensityTransfersForOcclusions(total, transfers,
-                                      feedback.clusterShares(slot * clusters, clusters, share),
-                                      bundle_.tone, s);
-      ++gradedVertices_;
-    } else {
-      intensityTransfers(total, transfers, sets_, bundle_.tone, s);
-    }
+    probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[frameVertices_[slot]]];
   }
+  intensityRows(
+      frameVertices_.size(),
+      [&](size_t slot) {
+        const uint32_t rv = frameVertices_[slot];
+        return std::pair{glm::dvec3(tr.vertexRadiance[rv]), feedback.receiverShare(rv)};
+      },
+      receiverTransfers_, receiverS_, feedback);
 }
 
 // The same for the product's own vertices (self-shadowing, §7.2).
@@ -109,30 +137,27 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   productTransfers_.assign(productVertices_ * clusters, glm::dvec3(0.0));
   productS_.resize(productVertices_ * clusters);
   feedback.beginShares(productVertices_ * clusters);
-  for (size_t k = 0; k < clusters; ++k) {
-    const SourceCluster& cl = selection.clusters[k];
-    for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
-      const uint32_t source = selection.sources[i];
-      const glm::dvec3* row = product.sourceTransfers.data() + size_t(source) * productVertices_;
-      for (size_t v = 0; v < productVertices_; ++v) {
-        productTransfers_[v * clusters + k] += row[v];
-        feedback.addProductSource(v, source, row[v], v * clusters + k);
+  // Entry (v, k) sums its cluster's sources in selection order whichever chunk holds v, so
+  // chunks of vertices on different threads give the serial sums bit for bit.
+  core::forEachChunk(pool_, productVertices_, kVertexChunk, [&](size_t begin, size_t end, int) {
+    for (size_t k = 0; k < clusters; ++k) {
+      const SourceCluster& cl = selection.clusters[k];
+      for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+        const uint32_t source = selection.sources[i];
+        const glm::dvec3* row = product.sourceTransfers.data() + size_t(source) * productVertices_;
+        for (size_t v = begin; v < end; ++v) {
+          productTransfers_[v * clusters + k] += row[v];
+          feedback.addProductSource(v, source, row[v], v * clusters + k);
+        }
       }
     }
-  }
-  for (size_t v = 0; v < productVertices_; ++v) {
-    const std::span<const glm::dvec3> transfers(productTransfers_.data() + v * clusters, clusters);
-    const std::span<core::Rgb8> s(productS_.data() + v * clusters, clusters);
-    const float share = feedback.productShare(v);
-    if (options_.gradedTransfers && share >= 0.0f) {
-      intensityTransfersForOcclusions(product.radiance[v], transfers,
-                                      feedback.clusterShares(v * clusters, clusters, share),
-                                      bundle_.tone, s);
-      ++gradedVertices_;
-    } else {
-      intensityTransfers(product.radiance[v], transfers, sets_, bundle_.tone, s);
-    }
-  }
+  });
+  intensityRows(
+      productVertices_,
+      [&](size_t v) {
+        return std::pair{product.radiance[v], feedback.productShare(v)};
+      },
+      productTransfers_, productS_, feedback);
   // Probes: the receiver vertices, then the product's own vertices.
   probes_.resize(frameVertices_.size() + productVertices_);
   std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),

@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/job_pool.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/occlusion_feedback.h"
@@ -76,11 +77,19 @@ class ClusterTransfers {
   std::span<const core::Vec3> probes() const { return probes_; }
   // Receiver and product vertices whose S used a measured share this frame.
   uint32_t gradedVertices() const { return gradedVertices_; }
+  // Threads for the per-vertex work (the renderer's, raster::Renderer::pool()); null: the
+  // calling thread only. The bytes are the same either way.
+  void setPool(core::JobPool* pool);
   // Wall time of the last compute(): the receiver vertices' part, the product's part.
   int64_t nsReceivers() const { return nsReceivers_; }
   int64_t nsProduct() const { return nsProduct_; }
 
  private:
+  // Vertices per job: a chunk of product vertices' rows is a few kB of transfers.
+  static constexpr size_t kVertexChunk = 64;
+  template <class VertexOf>
+  void intensityRows(size_t vertices, VertexOf vertexOf, std::span<const glm::dvec3> transfers,
+                     std::span<core::Rgb8> s, const OcclusionFeedback& feedback);
   void gatherFrameVertices(std::span<const uint32_t> receiverPatches, uint32_t frame);
   void computeReceivers(const ClusterSelection& selection, uint32_t frame,
                         OcclusionFeedback& feedback);
@@ -96,6 +105,9 @@ class ClusterTransfers {
   size_t clusters_ = 0, productVertices_ = 0;
   uint32_t gradedVertices_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
+  core::JobPool* pool_ = nullptr;
+  std::vector<std::vector<double>> sharesScratch_{1};  // per worker: a vertex's shares
+  std::vector<uint32_t> gradedByWorker_{0};
   std::vector<uint32_t> frameVertices_;
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
   std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]

@@ -30,7 +30,8 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
 }
 
 void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
-                              raster::FrameContent& out, CompositeStats& stats) {
+                              raster::FrameContent& out, CompositeStats& stats,
+                              std::span<const uint8_t> background) {
   stats = CompositeStats{};
   FrameStages& ns = stats.stages;
   core::Stopwatch watch;
@@ -64,7 +65,8 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   watch.lapNs();
 
   // The frame description (Fig. 2): background, product, proxy, one pass per cluster.
-  out.background = bundle_.background;
+  if (background.empty()) background = bundle_.background;
+  out.background.assign(background.begin(), background.end());
   out.objects.resize(1);
   out.objects[0].mesh = placement_.mesh();
   out.objects[0].colours.assign(shading_.colours().begin(), shading_.colours().end());

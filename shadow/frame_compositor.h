@@ -91,9 +91,11 @@ class FrameCompositor {
   FrameCompositor(const SceneBundle& bundle, const CompositorOptions& options);
 
   // The frame for `pose` with at most `passes` clusters, into `out` (reused between
-  // frames). `frame` must change from call to call (the §6.1 frame tags).
+  // frames). `frame` must change from call to call (the §6.1 frame tags). The background is
+  // `background` (RGBA8 at the view's size, the kiosk's camera frame) or, when empty, the
+  // bundle's photograph.
   void compose(const ProductPose& pose, size_t passes, uint32_t frame, raster::FrameContent& out,
-               CompositeStats& stats);
+               CompositeStats& stats, std::span<const uint8_t> background = {});
 
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
@@ -105,6 +107,14 @@ class FrameCompositor {
   // there (masks as Renderer::render fills them).
   void observe(std::span<const uint8_t> masks);
 
+  // Threads for the per-vertex stages (the renderer's pool, FrameLoop); null: the calling
+  // thread. The frame's bytes do not depend on it.
+  void setPool(core::JobPool* pool) {
+    shading_.setPool(pool);
+    transfers_.setPool(pool);
+    passList_.setPool(pool);
+    feedback_.setPool(pool);
+  }
   // The shadow-map size of the next frames (the controller's ladder, Gibson 2003 §8: fewer
   // texels before fewer passes). A multiple of 16 in 16..4096.
   void setShadowMapSize(uint32_t size);

@@ -4,8 +4,7 @@ namespace penumbra::shadow {
 
 void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uint8_t> background) {
   const int64_t start = clock_.nowNanoseconds();
-  compositor.compose(pose, passes, ++frameNumber, frame, stats);
-  if (!background.empty()) frame.background.assign(background.begin(), background.end());
+  compositor.compose(pose, passes, ++frameNumber, frame, stats, background);
   const int64_t composed = clock_.nowNanoseconds();
   renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
   const int64_t rendered = clock_.nowNanoseconds();
@@ -14,8 +13,7 @@ void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uin
   frameNs = end - start;
 
   stages = stats.stages;
-  // compose()'s laps miss only their own bookkeeping: it goes to the frame content, as does
-  // the camera background's copy.
+  // compose()'s laps miss only their own bookkeeping: it goes to the frame content.
   int64_t composeStages = 0;
   for (int64_t ns : stages.ns) composeStages += ns;
   stages[FrameStage::kFrameContent] += (composed - start) - composeStages;

@@ -26,7 +26,11 @@ class FrameLoop {
   FrameLoop(const SceneBundle& bundle, uint32_t shadowMapSize, const raster::RenderOptions& o)
       : FrameLoop(bundle, optionsFor(shadowMapSize), o) {}
   FrameLoop(const SceneBundle& bundle, const CompositorOptions& c, const raster::RenderOptions& o)
-      : compositor(bundle, c), renderer(bundle.view, o), rgba(bundle.background.size()) {}
+      : compositor(bundle, c), renderer(bundle.view, o), rgba(bundle.background.size()) {
+    // compose() and render() take turns, so the per-vertex stages borrow the renderer's
+    // threads.
+    compositor.setPool(&renderer.pool());
+  }
 
   static CompositorOptions optionsFor(uint32_t shadowMapSize) {
     CompositorOptions c;

@@ -16,15 +16,13 @@ void OcclusionFeedback::productPlaced(size_t vertices) {
   productSourceOccluded_.assign(vertices * sources_, -1);
 }
 
-std::span<const double> OcclusionFeedback::clusterShares(size_t first, size_t clusters,
-                                                         float fallback) {
-  sharesScratch_.assign(clusters, double(fallback));
-  if (!perClusterShares_) return sharesScratch_;
-  for (size_t k = 0; k < clusters; ++k) {
+void OcclusionFeedback::clusterShares(size_t first, float fallback, std::span<double> out) const {
+  std::fill(out.begin(), out.end(), double(fallback));
+  if (!perClusterShares_) return;
+  for (size_t k = 0; k < out.size(); ++k) {
     const double seen = clusterSeen_[first + k];
-    if (seen > 0) sharesScratch_[k] = std::min(1.0, clusterOccluded_[first + k] / seen);
+    if (seen > 0) out[k] = std::min(1.0, clusterOccluded_[first + k] / seen);
   }
-  return sharesScratch_;
 }
 
 void OcclusionFeedback::observe(std::span<const uint8_t> masks, const ObservedFrame& frame) {
@@ -55,16 +53,21 @@ void OcclusionFeedback::observe(std::span<const uint8_t> masks, const ObservedFr
     }
     return total > 0 ? static_cast<float>(blocked / total) : -1.0f;
   };
-  for (size_t slot = 0; slot < receiverProbes; ++slot) {
-    const uint32_t rv = frame.receiverVertices[slot];
-    occlusion_[rv] = observeProbe(slot, frame.receiverTransfers.data() + slot * clusters,
-                                  sourceOccluded_.data() + size_t(rv) * sources_);
-  }
-  for (size_t v = 0; v < frame.productVertices; ++v) {
-    productOcclusion_[v] =
-        observeProbe(receiverProbes + v, frame.productTransfers.data() + v * clusters,
-                     productSourceOccluded_.data() + v * sources_);
-  }
+  // Each probe writes its own share and its own row of seen sources: chunks on the pool.
+  core::forEachChunk(pool_, receiverProbes, kProbeChunk, [&](size_t begin, size_t end, int) {
+    for (size_t slot = begin; slot < end; ++slot) {
+      const uint32_t rv = frame.receiverVertices[slot];
+      occlusion_[rv] = observeProbe(slot, frame.receiverTransfers.data() + slot * clusters,
+                                    sourceOccluded_.data() + size_t(rv) * sources_);
+    }
+  });
+  core::forEachChunk(pool_, frame.productVertices, kProbeChunk, [&](size_t begin, size_t end, int) {
+    for (size_t v = begin; v < end; ++v) {
+      productOcclusion_[v] =
+          observeProbe(receiverProbes + v, frame.productTransfers.data() + v * clusters,
+                       productSourceOccluded_.data() + v * sources_);
+    }
+  });
 }
 
 }  // namespace penumbra::shadow

@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include "core/colour.h"
+#include "core/job_pool.h"
 #include "shadow/source_clusters.h"
 
 namespace penumbra::shadow {
@@ -66,16 +67,19 @@ class OcclusionFeedback {
   void addProductSource(size_t v, uint32_t source, const glm::dvec3& transfer, size_t at) {
     seenShare(productSourceOccluded_[v * sources_ + source], transfer, at);
   }
-  // The expected occluded share of each of `clusters` clusters from entry `first` on: the
-  // seen sources' occluded share, or `fallback` (the vertex's one measured share) for a
-  // cluster none of whose sources was seen, or for all with perClusterShares off.
-  std::span<const double> clusterShares(size_t first, size_t clusters, float fallback);
+  // The expected occluded share of each of out.size() clusters from entry `first` on, into
+  // `out`: the seen sources' occluded share, or `fallback` (the vertex's one measured share)
+  // for a cluster none of whose sources was seen, or for all with perClusterShares off.
+  // Reads only: threads may call it for different entries at once.
+  void clusterShares(size_t first, float fallback, std::span<double> out) const;
 
   // Records, per probe of `frame`, the transfer-weighted share of its blocked light that the
   // passes occluded (masks[probe * passes + k] != 0, as raster::Renderer::render fills them)
   // and which sources they occluded there. Throws std::invalid_argument when the masks do
   // not match the frame.
   void observe(std::span<const uint8_t> masks, const ObservedFrame& frame);
+  // Threads for observe()'s probes (the renderer's pool); null: the calling thread.
+  void setPool(core::JobPool* pool) { pool_ = pool; }
 
  private:
   // Adds one source's transfer to entry `at`'s seen (and occluded) luminance when the last
@@ -96,7 +100,8 @@ class OcclusionFeedback {
   std::vector<int8_t> sourceOccluded_;
   std::vector<int8_t> productSourceOccluded_;
   std::vector<double> clusterSeen_, clusterOccluded_;  // per (vertex, cluster) entry
-  std::vector<double> sharesScratch_;
+  core::JobPool* pool_ = nullptr;
+  static constexpr size_t kProbeChunk = 64;
 };
 
 }  // namespace penumbra::shadow

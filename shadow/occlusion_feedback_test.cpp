@@ -31,6 +31,13 @@ struct Frame {
   }
 };
 
+std::vector<double> sharesOf(const OcclusionFeedback& feedback, size_t first, size_t clusters,
+                             float fallback) {
+  std::vector<double> q(clusters);
+  feedback.clusterShares(first, fallback, q);
+  return q;
+}
+
 TEST(OcclusionFeedback, NothingIsMeasuredBeforeTheFirstObservation) {
   OcclusionFeedback feedback(3, 3, true);
   feedback.productPlaced(2);
@@ -38,7 +45,7 @@ TEST(OcclusionFeedback, NothingIsMeasuredBeforeTheFirstObservation) {
   EXPECT_LT(feedback.productShare(1), 0.0f);
   feedback.beginShares(2);
   feedback.addReceiverSource(1, 0, kGrey, 0);
-  const std::span<const double> q = feedback.clusterShares(0, 2, 0.375f);
+  const std::vector<double> q = sharesOf(feedback, 0, 2, 0.375f);
   EXPECT_EQ(q[0], 0.375);  // unseen sources: the fallback
   EXPECT_EQ(q[1], 0.375);
 }
@@ -67,14 +74,14 @@ TEST(OcclusionFeedback, ClusterSharesComeFromTheSourcesSeenAtTheVertex) {
   feedback.addReceiverSource(2, 0, kGrey, 0);
   feedback.addReceiverSource(2, 1, 3.0 * kGrey, 0);
   feedback.addReceiverSource(2, 2, kGrey, 1);
-  std::span<const double> q = feedback.clusterShares(0, 2, feedback.receiverShare(2));
+  std::vector<double> q = sharesOf(feedback, 0, 2, feedback.receiverShare(2));
   EXPECT_EQ(q[0], 0.25);  // weight 1 of 4 seen occluded
   EXPECT_EQ(q[1], 1.0);
   // The product vertex saw every source unoccluded.
   feedback.beginShares(2);
   feedback.addProductSource(0, 0, kGrey, 0);
   feedback.addProductSource(0, 1, kGrey, 1);
-  q = feedback.clusterShares(0, 2, feedback.productShare(0));
+  q = sharesOf(feedback, 0, 2, feedback.productShare(0));
   EXPECT_EQ(q[0], 0.0);
   EXPECT_EQ(q[1], 0.0);
   // Without per-cluster shares, every cluster takes the vertex's one share.
@@ -83,7 +90,7 @@ TEST(OcclusionFeedback, ClusterSharesComeFromTheSourcesSeenAtTheVertex) {
   single.observe(std::vector<uint8_t>{255, 0, 255, 255, 0, 0}, f.observed());
   single.beginShares(2);
   single.addReceiverSource(2, 1, kGrey, 1);
-  q = single.clusterShares(0, 2, single.receiverShare(2));
+  q = sharesOf(single, 0, 2, single.receiverShare(2));
   EXPECT_EQ(q[0], 0.25);
   EXPECT_EQ(q[1], 0.25);
 }
@@ -98,7 +105,7 @@ TEST(OcclusionFeedback, SourcesWithoutAPassAreNotSeen) {
   feedback.beginShares(2);
   feedback.addReceiverSource(2, 0, kGrey, 0);  // source 0: unseen
   feedback.addReceiverSource(2, 1, kGrey, 1);  // source 1: seen occluded
-  const std::span<const double> q = feedback.clusterShares(0, 2, 0.5f);
+  const std::vector<double> q = sharesOf(feedback, 0, 2, 0.5f);
   EXPECT_EQ(q[0], 0.5);
   EXPECT_EQ(q[1], 1.0);
 }

@@ -28,8 +28,10 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
   const size_t clusters = selection.clusters.size();
   passes.resize(clusters);
   passCluster_.clear();
+  passViewProj_.clear();
   uint32_t skipped = 0;
   size_t used = 0;
+  // The frusta in cluster order (which clusters get a pass), then each pass's triangles.
   for (size_t k = 0; k < clusters; ++k) {
     const uint32_t patch = bundle_.sets.sources[selection.clusters[k].representative];
     const auto frustum =
@@ -47,12 +49,20 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
     pass.depthBias = options.depthBias;
     pass.pcf2x2 = options.pcf2x2;
     pass.occluder = 0;
-    addReceivers(options, frustum->viewProj, receiverPatches, s, k, pass);
     pass.objectDepthBias = options.objectDepthBias;
-    addProduct(product, s, k, pass);
+    passViewProj_.push_back(frustum->viewProj);
     ++used;
   }
   passes.resize(used);
+  const auto fill = [&](size_t i, int) {
+    addReceivers(options, passViewProj_[i], receiverPatches, s, passCluster_[i], passes[i]);
+    addProduct(product, s, passCluster_[i], passes[i]);
+  };
+  if (pool_ != nullptr) {
+    pool_->parallelFor(used, fill);
+  } else {
+    for (size_t i = 0; i < used; ++i) fill(i, 0);
+  }
   return skipped;
 }
 

@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "core/job_pool.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/cluster_transfers.h"
@@ -47,6 +48,9 @@ class PassList {
 
   // Per pass of the last build: its cluster.
   std::span<const uint32_t> passCluster() const { return passCluster_; }
+  // Threads for filling the passes (the renderer's pool); null: the calling thread. Each
+  // pass is filled from its own cluster's S alone, so the bytes do not depend on it.
+  void setPool(core::JobPool* pool) { pool_ = pool; }
 
  private:
   void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
@@ -59,6 +63,8 @@ class PassList {
   const scene::PatchMesh& mesh_;
   double farDistance_;
   std::vector<uint32_t> passCluster_;
+  std::vector<glm::dmat4> passViewProj_;  // per used pass: the light's frustum (culling)
+  core::JobPool* pool_ = nullptr;
 };
 
 }  // namespace penumbra::shadow

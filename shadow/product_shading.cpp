@@ -36,7 +36,8 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
 
 void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product) {
   const core::Mesh& m = placed;
-  std::vector<glm::dvec3> normals(m.positions.size(), glm::dvec3(0.0));
+  std::vector<glm::dvec3>& normals = normals_;
+  normals.assign(m.positions.size(), glm::dvec3(0.0));
   for (size_t t = 0; t < m.triangleCount(); ++t) {
     const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
                      &c = m.positions[m.indices[3 * t + 2]];
@@ -49,23 +50,26 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
   colours_.resize(vertices);
   radiance_.resize(vertices);
   sourceTransfers_.assign(bundle_.sets.sources.size() * vertices, glm::dvec3(0.0));
-  for (size_t v = 0; v < vertices; ++v) {
-    const double length = glm::length(normals[v]);
-    const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
-    const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
-    // Each emitter's transfer once: it adds to the vertex's radiance, and a source's is kept
-    // as that source's L_ij for self-shadowing.
-    glm::dvec3 radiance(0.0);
-    for (uint32_t p : emitters_) {
-      const scene::Patch& patch = mesh_.patches[p];
-      const glm::dvec3 transfer = unshadowedTransfer(x, n, reflectance, patch);
-      radiance += transfer;
-      if (sourceOfPatch_[p] != kNoIndex)
-        sourceTransfers_[sourceOfPatch_[p] * vertices + v] = transfer;
+  // Vertices are independent (each writes its own entries): chunks of them on the pool.
+  core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int) {
+    for (size_t v = begin; v < end; ++v) {
+      const double length = glm::length(normals[v]);
+      const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
+      const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+      // Each emitter's transfer once: it adds to the vertex's radiance, and a source's is
+      // kept as that source's L_ij for self-shadowing.
+      glm::dvec3 radiance(0.0);
+      for (uint32_t p : emitters_) {
+        const scene::Patch& patch = mesh_.patches[p];
+        const glm::dvec3 transfer = unshadowedTransfer(x, n, reflectance, patch);
+        radiance += transfer;
+        if (sourceOfPatch_[p] != kNoIndex)
+          sourceTransfers_[sourceOfPatch_[p] * vertices + v] = transfer;
+      }
+      radiance_[v] = radiance;
+      colours_[v] = bundle_.tone.map(radiance);
     }
-    radiance_[v] = radiance;
-    colours_[v] = bundle_.tone.map(radiance);
-  }
+  });
   if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
   const std::vector<glm::vec3> vertexN = vertexNormals(m);
   volumeRadiance_.resize(vertices);
@@ -83,15 +87,17 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
   renderEnvironmentMap(environmentRoom_, glm::vec3(bounds.centre()), options_.environmentMapSize,
                        environmentFar_, environment_);
   const PhongLobe& lobe = lobes_[product];
-  for (size_t v = 0; v < vertices; ++v) {
-    const glm::vec3 p(m.positions[v].x, m.positions[v].y, m.positions[v].z);
-    const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, vertexN[v], eye_);
-    const glm::vec3 l(volumeRadiance_[v].x + model.specular.x * s.x,
-                      volumeRadiance_[v].y + model.specular.y * s.y,
-                      volumeRadiance_[v].z + model.specular.z * s.z);
-    radiance_[v] = glm::dvec3(l);
-    colours_[v] = bundle_.tone.map(l);
-  }
+  core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int) {
+    for (size_t v = begin; v < end; ++v) {
+      const glm::vec3 p(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+      const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, vertexN[v], eye_);
+      const glm::vec3 l(volumeRadiance_[v].x + model.specular.x * s.x,
+                        volumeRadiance_[v].y + model.specular.y * s.y,
+                        volumeRadiance_[v].z + model.specular.z * s.z);
+      radiance_[v] = glm::dvec3(l);
+      colours_[v] = bundle_.tone.map(l);
+    }
+  });
 }
 
 }  // namespace penumbra::shadow

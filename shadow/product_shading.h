@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/job_pool.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/environment_map.h"
@@ -38,6 +39,9 @@ class ProductShading {
 
   // Shades product `product` placed as `placed` (world space) with world bounds `bounds`.
   void shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
+  // Threads for the per-vertex work (the renderer's pool); null: the calling thread. The
+  // bytes do not depend on it.
+  void setPool(core::JobPool* pool) { pool_ = pool; }
 
   // Per vertex of the last shaded product: its colour, and its unshadowed radiance.
   std::span<const core::Rgb8> colours() const { return colours_; }
@@ -62,6 +66,9 @@ class ProductShading {
   std::vector<glm::dvec3> radiance_;
   std::vector<glm::vec3> volumeRadiance_;  // per vertex, from the irradiance volume
   std::vector<glm::dvec3> sourceTransfers_;
+  std::vector<glm::dvec3> normals_;  // per vertex, area-weighted (scratch)
+  core::JobPool* pool_ = nullptr;
+  static constexpr size_t kVertexChunk = 64;
 };
 
 }  // namespace penumbra::shadow
