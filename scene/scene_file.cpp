@@ -233,8 +233,8 @@ class SceneParser {
     const glm::dvec3 size = b.max - b.min;
     for (int k = 0; k < 3; ++k) {
       if (!(size[k] >= kMinRoomExtent)) {
-        obj["max"].fail("exceeds min by " + core::formatNumber(size[k]) + " m on axis " +
-                        "xyz"[k] + ", less than the " + core::formatNumber(kMinRoomExtent) +
+        obj["max"].fail("exceeds min by " + core::formatNumber(size[k]) + " m on axis " + "xyz"[k] +
+                        ", less than the " + core::formatNumber(kMinRoomExtent) +
                         " m a box must measure");
       }
     }
