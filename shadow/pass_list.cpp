@@ -56,13 +56,13 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
   passes.resize(used);
   const auto fill = [&](size_t i, int) {
     addReceivers(options, passViewProj_[i], receiverPatches, s, passCluster_[i], passes[i]);
-    addProduct(product, s, passCluster_[i], passes[i]);
   };
   if (pool_ != nullptr) {
     pool_->parallelFor(used, fill);
   } else {
     for (size_t i = 0; i < used; ++i) fill(i, 0);
   }
+  addProduct(product, s, passes);
   return skipped;
 }
 
@@ -99,19 +99,63 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
   }
 }
 
-// Self-shadowing (§7.2): the product's own triangles, when its vertices have S.
-void PassList::addProduct(const core::Mesh& product, const VertexS& s, size_t k,
-                          raster::ShadowPass& pass) const {
-  pass.objectTriangles.clear();
-  pass.objectS.clear();
-  for (size_t t = 0; !s.productS.empty() && t < product.triangleCount(); ++t) {
-    std::array<core::Rgb8, 3> corners{};
-    for (int c = 0; c < 3; ++c) {
-      corners[size_t(c)] = s.productS[size_t(product.indices[3 * t + size_t(c)]) * s.clusters + k];
+// Self-shadowing (§7.2): the product's own triangles, when its vertices have S. Each vertex's
+// clusters with a non-zero S as a bit set, each triangle's the union of its corners' (exactly
+// the clusters for which one of its corners has S); then each pass, on the pool, takes the
+// triangles whose set holds its cluster, in triangle order as before. Reading the corners'
+// S for every triangle and pass instead took 8 % of the kiosk frame with the bunny; one
+// serial sweep appending to every pass at once was slower still (pass list 2.2 ms against
+// 1.3 ms).
+void PassList::addProduct(const core::Mesh& product, const VertexS& s,
+                          std::vector<raster::ShadowPass>& passes) {
+  if (s.productS.empty()) {
+    for (raster::ShadowPass& pass : passes) {
+      pass.objectTriangles.clear();
+      pass.objectS.clear();
     }
-    if (!anyS(corners)) continue;
-    pass.objectTriangles.push_back(static_cast<uint32_t>(t));
-    pass.objectS.insert(pass.objectS.end(), corners.begin(), corners.end());
+    return;
+  }
+  const size_t clusters = s.clusters, words = (clusters + 63) / 64;
+  const size_t vertices = s.productS.size() / clusters, triangles = product.triangleCount();
+  vertexClusters_.assign(vertices * words, 0);
+  core::forEachChunk(pool_, vertices, 256, [&](size_t begin, size_t end, int) {
+    for (size_t v = begin; v < end; ++v) {
+      const core::Rgb8* row = &s.productS[v * clusters];
+      uint64_t* bits = &vertexClusters_[v * words];
+      for (size_t k = 0; k < clusters; ++k) {
+        if (row[k].r != 0 || row[k].g != 0 || row[k].b != 0)
+          bits[k / 64] |= uint64_t{1} << (k % 64);
+      }
+    }
+  });
+  triangleClusters_.resize(triangles * words);
+  core::forEachChunk(pool_, triangles, 256, [&](size_t begin, size_t end, int) {
+    for (size_t t = begin; t < end; ++t) {
+      const uint32_t* v = &product.indices[3 * t];
+      for (size_t w = 0; w < words; ++w) {
+        triangleClusters_[t * words + w] = vertexClusters_[v[0] * words + w] |
+                                           vertexClusters_[v[1] * words + w] |
+                                           vertexClusters_[v[2] * words + w];
+      }
+    }
+  });
+  const auto fill = [&](size_t i, int) {
+    raster::ShadowPass& pass = passes[i];
+    pass.objectTriangles.clear();
+    pass.objectS.clear();
+    const size_t k = passCluster_[i], word = k / 64;
+    const uint64_t bit = uint64_t{1} << (k % 64);
+    for (size_t t = 0; t < triangles; ++t) {
+      if ((triangleClusters_[t * words + word] & bit) == 0) continue;
+      const uint32_t* v = &product.indices[3 * t];
+      pass.objectTriangles.push_back(static_cast<uint32_t>(t));
+      for (int c = 0; c < 3; ++c) pass.objectS.push_back(s.productS[size_t(v[c]) * clusters + k]);
+    }
+  };
+  if (pool_ != nullptr) {
+    pool_->parallelFor(passes.size(), fill);
+  } else {
+    for (size_t i = 0; i < passes.size(); ++i) fill(i, 0);
   }
 }
 

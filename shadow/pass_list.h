@@ -56,8 +56,8 @@ class PassList {
   void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
                     std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
                     raster::ShadowPass& pass) const;
-  void addProduct(const core::Mesh& product, const VertexS& s, size_t k,
-                  raster::ShadowPass& pass) const;
+  void addProduct(const core::Mesh& product, const VertexS& s,
+                  std::vector<raster::ShadowPass>& passes);
 
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
@@ -65,6 +65,8 @@ class PassList {
   std::vector<uint32_t> passCluster_;
   std::vector<glm::dmat4> passViewProj_;  // per used pass: the light's frustum (culling)
   core::JobPool* pool_ = nullptr;
+  // Per product vertex and triangle: the clusters with S there, as bits.
+  std::vector<uint64_t> vertexClusters_, triangleClusters_;
 };
 
 }  // namespace penumbra::shadow
