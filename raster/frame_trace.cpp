@@ -78,6 +78,7 @@ using core::JsonValue;
 // The JSON part of a trace names views into the binary sidecar `blob`.
 struct Reader {
   const std::vector<uint8_t>* blob;
+  uint64_t maxBytes;    // all views together (kMaxSidecarBytes unless a test says less)
   uint64_t copied = 0;  // bytes of all views read so far (views may overlap)
 
   // Views and sizes are below 2^53 in any real file; larger counts are refused.
@@ -108,9 +109,9 @@ struct Reader {
     // Views may overlap, so a small sidecar named by many views could still ask for any
     // amount of memory: what all views copy together is bounded too.
     copied += bytes;
-    if (copied > kMaxSidecarBytes) {
+    if (copied > maxBytes) {
       v.fail("the views read so far copy " + std::to_string(copied) + " bytes, more than the " +
-             std::to_string(kMaxSidecarBytes) + " a frame trace may hold");
+             std::to_string(maxBytes) + " a frame trace may hold");
     }
     out.resize(n * components);
     if (bytes > 0) std::memcpy(out.data(), blob->data() + offset, bytes);
@@ -268,7 +269,7 @@ Accumulation parseAccumulation(const std::string& name, const std::string& where
                    "expected one of \"u8\", \"fixed8_8\", got \"" + name + "\"");
 }
 
-FrameTrace loadTrace(const std::filesystem::path& path) {
+FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
   const std::string where = path.string();
   const core::JsonDocument doc(path, core::throwAs<TraceError>);
   const JsonValue root = doc.root().object();
@@ -277,10 +278,10 @@ FrameTrace loadTrace(const std::filesystem::path& path) {
   }
   if (!root.has("version") || root["version"].json() != 1) doc.fail("version", "must be 1");
   const std::vector<uint8_t> blob = core::readRegularFile(
-      core::resolveAgainst(path, root["buffer"].nonEmptyString()), kMaxSidecarBytes,
+      core::resolveAgainst(path, root["buffer"].nonEmptyString()), maxBytes,
       "a frame trace's sidecar", core::throwAs<TraceError>, where + ": buffer: ");
 
-  Reader r{&blob};
+  Reader r{&blob, maxBytes};
   FrameTrace t;
   t.view.width = Reader::count<uint32_t>(root["width"]);
   t.view.height = Reader::count<uint32_t>(root["height"]);

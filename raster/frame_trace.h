@@ -118,8 +118,10 @@ void validateTrace(const FrameTrace& trace, const std::string& where);
 void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
                    size_t staticTriangles, const std::string& where);
 
-// Reads `path` (JSON) and its binary sidecar; validates. Throws TraceError.
-FrameTrace loadTrace(const std::filesystem::path& path);
+// Reads `path` (JSON) and its binary sidecar; validates. Throws TraceError. `maxBytes` bounds
+// the sidecar and, separately, all views together (kMaxSidecarBytes; tests pass less to
+// reach the views' bound without a gigabyte of memory).
+FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes = kMaxSidecarBytes);
 
 // Writes `path` (JSON) and `<stem>.bin` beside it. Throws TraceError on I/O failure.
 void saveTrace(const FrameTrace& trace, const std::filesystem::path& path);
