@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
+#include <span>
 
 namespace penumbra::shadow {
 
@@ -58,14 +59,15 @@ int64_t FrameStages::boardNs() const {
 
 namespace {
 
-double meanMsOf(const std::vector<int64_t>& v) {
+double meanMsOf(std::span<const int64_t> v) {
   if (v.empty()) return 0;
   // Exact integer sum first: the means of the stages then add up to the mean frame.
   return double(std::accumulate(v.begin(), v.end(), int64_t{0})) * 1e-6 / double(v.size());
 }
 
 // The nearest-rank percentile, in ms; 0 when empty.
-double percentileMsOf(std::vector<int64_t> v, double p) {
+double percentileMsOf(std::span<const int64_t> samples, double p) {
+  std::vector<int64_t> v(samples.begin(), samples.end());
   if (v.empty()) return 0;
   const size_t rank = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * double(v.size())));
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(rank), v.end());
@@ -75,29 +77,35 @@ double percentileMsOf(std::vector<int64_t> v, double p) {
 }  // namespace
 
 void FrameStageSamples::reserve(size_t frames) {
-  for (auto& v : ns_) v.reserve(frames);
-  board_.reserve(frames);
+  // resize, not reserve: the zeros touch every page now.
+  for (auto& v : ns_) v.resize(std::max(v.size(), frames));
+  board_.resize(std::max(board_.size(), frames));
 }
 
 void FrameStageSamples::add(const FrameStages& stages) {
-  for (size_t i = 0; i < kFrameStageCount; ++i) ns_[i].push_back(stages.ns[i]);
-  board_.push_back(stages.boardNs());
+  if (count_ == board_.size()) {
+    for (auto& v : ns_) v.push_back(0);
+    board_.push_back(0);
+  }
+  for (size_t i = 0; i < kFrameStageCount; ++i) ns_[i][count_] = stages.ns[i];
+  board_[count_] = stages.boardNs();
+  ++count_;
 }
 
 double FrameStageSamples::meanMs(FrameStage stage) const {
-  return meanMsOf(ns_[static_cast<size_t>(stage)]);
+  return meanMsOf(std::span(ns_[static_cast<size_t>(stage)]).first(count_));
 }
 
 double FrameStageSamples::percentileMs(FrameStage stage, double p) const {
-  return percentileMsOf(ns_[static_cast<size_t>(stage)], p);
+  return percentileMsOf(std::span(ns_[static_cast<size_t>(stage)]).first(count_), p);
 }
 
 double FrameStageSamples::meanBoardMs() const {
-  return meanMsOf(board_);
+  return meanMsOf(std::span(board_).first(count_));
 }
 
 double FrameStageSamples::boardPercentileMs(double p) const {
-  return percentileMsOf(board_, p);
+  return percentileMsOf(std::span(board_).first(count_), p);
 }
 
 std::string FrameStageSamples::table() const {
