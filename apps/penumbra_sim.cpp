@@ -58,8 +58,8 @@ Memory memoryNow() {
   std::string line;
   while (std::getline(status, line)) {
     // "VmRSS:\t  109312 kB"
-    if (line.rfind("VmRSS:", 0) == 0) m.rssKb = std::atol(line.c_str() + 6);
-    if (line.rfind("VmHWM:", 0) == 0) m.hwmKb = std::atol(line.c_str() + 6);
+    if (line.rfind("VmRSS:", 0) == 0) m.rssKb = std::strtol(line.c_str() + 6, nullptr, 10);
+    if (line.rfind("VmHWM:", 0) == 0) m.hwmKb = std::strtol(line.c_str() + 6, nullptr, 10);
   }
   return m;
 }

@@ -159,16 +159,16 @@ struct ProfileCommand {
     out << "passes_asked,passes,occluded_sources,receivers,shafts_visited,shadowed_pixels,"
            "ms_total,ms_mean";
     for (size_t i = 0; i < shadow::kFrameStageCount; ++i) {
-      if (static_cast<FrameStage>(i) == FrameStage::kSimulatorCamera) continue;
+      if (!shadow::onBoard(static_cast<FrameStage>(i))) continue;
       std::string name = shadow::frameStageName(static_cast<FrameStage>(i));
       std::replace(name.begin(), name.end(), ' ', '_');
       out << ",stage_" << name;
     }
     out << '\n';
-    // The console: the median frame, then the stages' means grouped (compose: placement to
-    // pass list; raster: objects, passes, finish).
+    // The console: the median frame, then the stages' means grouped (traversal with clusters;
+    // room and product transfers; raster: objects, passes, finish; rest: every other stage).
     std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "median",
-                "mean", "travers", "transfer", "compose", "raster");
+                "mean", "travers", "transfer", "rest", "raster");
     for (int asked : passes) {
       const shadow::PassProfile r =
           shadow::profilePasses(loop, session.pose, size_t(asked), frames);
@@ -176,7 +176,7 @@ struct ProfileCommand {
       out << asked << ',' << r.passes << ',' << r.occludedSources << ',' << r.receivers << ','
           << r.shaftsVisited << ',' << r.shadowedPixels << ',' << r.total << ',' << s.meanBoardMs();
       for (size_t i = 0; i < shadow::kFrameStageCount; ++i) {
-        if (static_cast<FrameStage>(i) == FrameStage::kSimulatorCamera) continue;
+        if (!shadow::onBoard(static_cast<FrameStage>(i))) continue;
         out << ',' << s.meanMs(static_cast<FrameStage>(i));
       }
       out << '\n';

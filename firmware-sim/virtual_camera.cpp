@@ -130,6 +130,12 @@ void VirtualCamera::render(uint64_t k, CameraFrame& out) const {
   }
 }
 
+void VirtualCamera::timedRender(uint64_t k, CameraFrame& out) {
+  core::Stopwatch watch;
+  render(k, out);
+  renderNs_ += watch.lapNs();
+}
+
 int64_t VirtualCamera::takeRenderNs() {
   const int64_t ns = renderNs_;
   renderNs_ = 0;
@@ -145,9 +151,7 @@ GrabStatus VirtualCamera::grab(int64_t nowNs, CameraFrame& out) {
   if (duplicatePending_) {
     // The driver hands the same buffer over a second time.
     duplicatePending_ = false;
-    core::Stopwatch watch;
-    render(lastDelivered_, out);
-    renderNs_ += watch.lapNs();
+    timedRender(lastDelivered_, out);
     return GrabStatus::kFrame;
   }
   // The newest frame that has arrived and is newer than the last one delivered. Late frames
@@ -158,9 +162,7 @@ GrabStatus VirtualCamera::grab(int64_t nowNs, CameraFrame& out) {
   for (uint64_t k = newest + 1; k-- > oldest;) {
     const int64_t at = arrivalNs(k);
     if (at < 0 || at > nowNs) continue;
-    core::Stopwatch watch;
-    render(k, out);
-    renderNs_ += watch.lapNs();
+    timedRender(k, out);
     if (faulted(CameraFaultKind::kWrongSize, k)) {
       // A mode switch behind our back: half the size.
       out.width = width_ / 2;

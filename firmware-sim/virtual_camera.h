@@ -60,6 +60,7 @@ class VirtualCamera final : public kiosk::FrameSource {
 
  private:
   bool faulted(CameraFaultKind kind, uint64_t k, const CameraFault** which = nullptr) const;
+  void timedRender(uint64_t k, kiosk::CameraFrame& out);  // render(), timed into renderNs_
   bool disconnectedAt(int64_t nowNs) const;
 
   std::vector<std::vector<uint8_t>> frames_;

@@ -454,7 +454,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     const uint32_t g = pass.objectTriangles[k];
     // A triangle no pixel shows (the product's far side, or hidden by its near side) holds
     // no id in the id buffer, so interpolateRuns would match none of its runs: leaving it out
-    // changes no byte. About half of a closed product's triangles.
+    // changes no byte.
     if (!objectVisible[g]) continue;
     const core::Rgb8* s = &pass.objectS[3 * k];
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {

@@ -122,6 +122,15 @@ TEST(SceneFile, MissingFieldsAreNamed) {
   expectError([](json& d) { d["tone"].erase("gamma"); }, {"tone.gamma: missing"});
 }
 
+// A room's "quads": one floor-material quad at the origin, `edgeU` metres along x, 1 m along z.
+json oneFloorQuad(const std::string& name, double edgeU) {
+  return json::array({json{{"name", name},
+                           {"origin", {0, 0, 0}},
+                           {"edge_u", {edgeU, 0, 0}},
+                           {"edge_v", {0, 0, 1}},
+                           {"material", "floor"}}});
+}
+
 TEST(SceneFile, BadValuesAreNamed) {
   expectError([](json& d) { d["format"] = "obj"; }, {"format: must be"});
   expectError([](json& d) { d["version"] = 2; }, {"version: unsupported"});
@@ -164,13 +173,7 @@ TEST(SceneFile, BadValuesAreNamed) {
   expectError([](json& d) { d["room"]["shell"]["max"][1] = 5e-324; },
               {"room.shell.max: exceeds min by 5e-324 m on axis y, less than the 0.01 m"});
   expectError(
-      [](json& d) {
-        d["room"]["quads"] = json::array({json{{"name", "sliver"},
-                                               {"origin", {0, 0, 0}},
-                                               {"edge_u", {0.001, 0, 0}},
-                                               {"edge_v", {0, 0, 1}},
-                                               {"material", "floor"}}});
-      },
+      [](json& d) { d["room"]["quads"] = oneFloorQuad("sliver", 0.001); },
       {"room.quads[0].edge_u: is 0.001 m long, less than the 0.01 m a quad edge must measure"});
   expectError([](json& d) { d["room"]["regions"][0]["quad"] = "roof"; },
               {"room.regions[0].quad: no quad named \"roof\""});
@@ -184,15 +187,8 @@ TEST(SceneFile, BadValuesAreNamed) {
         d["room"]["regions"][1]["v"] = json::array({1.5, 2.5});
       },
       {"room.regions[1]: overlaps region \"light0\""});
-  expectError(
-      [](json& d) {
-        d["room"]["quads"] = json::array({json{{"name", "floor"},
-                                               {"origin", {0, 0, 0}},
-                                               {"edge_u", {1, 0, 0}},
-                                               {"edge_v", {0, 0, 1}},
-                                               {"material", "floor"}}});
-      },
-      {"room: two quads are named \"floor\""});
+  expectError([](json& d) { d["room"]["quads"] = oneFloorQuad("floor", 1); },
+              {"room: two quads are named \"floor\""});
   expectError([](json& d) { d["camera"]["fov"] = 60; }, {"camera.fov: unknown field"});
   expectError([](json& d) { d["products"] = json::array(); },
               {"products: expected an array of at least 1 elements, got 0"});

@@ -2,57 +2,32 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <numeric>
 #include <span>
 
 namespace penumbra::shadow {
 
+namespace {
+
+// In FrameStage's order, one per stage.
+constexpr const char* kNames[] = {
+    "camera",         "placement",         "product shading", "traversal", "clusters",
+    "room transfers", "product transfers", "frame content",   "pass list", "raster objects",
+    "raster passes",  "raster finish",     "observe",         "HUD",       "display",
+    "other",          "simulator camera"};
+static_assert(std::size(kNames) == kFrameStageCount);
+
+}  // namespace
+
 const char* frameStageName(FrameStage stage) {
-  switch (stage) {
-    case FrameStage::kCamera:
-      return "camera";
-    case FrameStage::kPlacement:
-      return "placement";
-    case FrameStage::kShading:
-      return "product shading";
-    case FrameStage::kTraversal:
-      return "traversal";
-    case FrameStage::kClusters:
-      return "clusters";
-    case FrameStage::kRoomTransfers:
-      return "room transfers";
-    case FrameStage::kProductTransfers:
-      return "product transfers";
-    case FrameStage::kFrameContent:
-      return "frame content";
-    case FrameStage::kPassList:
-      return "pass list";
-    case FrameStage::kRasterObjects:
-      return "raster objects";
-    case FrameStage::kRasterPasses:
-      return "raster passes";
-    case FrameStage::kRasterFinish:
-      return "raster finish";
-    case FrameStage::kObserve:
-      return "observe";
-    case FrameStage::kHud:
-      return "HUD";
-    case FrameStage::kDisplay:
-      return "display";
-    case FrameStage::kOther:
-      return "other";
-    case FrameStage::kSimulatorCamera:
-      return "simulator camera";
-    case FrameStage::kCount:
-      break;
-  }
-  return "?";
+  return stage < FrameStage::kCount ? kNames[static_cast<size_t>(stage)] : "?";
 }
 
 int64_t FrameStages::boardNs() const {
   int64_t sum = 0;
   for (size_t i = 0; i < kFrameStageCount; ++i) {
-    if (static_cast<FrameStage>(i) != FrameStage::kSimulatorCamera) sum += ns[i];
+    if (onBoard(static_cast<FrameStage>(i))) sum += ns[i];
   }
   return sum;
 }
@@ -79,17 +54,23 @@ double percentileMsOf(std::span<const int64_t> samples, double p) {
 void FrameStageSamples::reserve(size_t frames) {
   // resize, not reserve: the zeros touch every page now.
   for (auto& v : ns_) v.resize(std::max(v.size(), frames));
-  board_.resize(std::max(board_.size(), frames));
 }
 
 void FrameStageSamples::add(const FrameStages& stages) {
-  if (count_ == board_.size()) {
-    for (auto& v : ns_) v.push_back(0);
-    board_.push_back(0);
+  for (size_t i = 0; i < kFrameStageCount; ++i) {
+    if (count_ == ns_[i].size()) ns_[i].push_back(0);
+    ns_[i][count_] = stages.ns[i];
   }
-  for (size_t i = 0; i < kFrameStageCount; ++i) ns_[i][count_] = stages.ns[i];
-  board_[count_] = stages.boardNs();
   ++count_;
+}
+
+std::vector<int64_t> FrameStageSamples::boardFrames() const {
+  std::vector<int64_t> board(count_, 0);
+  for (size_t i = 0; i < kFrameStageCount; ++i) {
+    if (!onBoard(static_cast<FrameStage>(i))) continue;
+    for (size_t f = 0; f < count_; ++f) board[f] += ns_[i][f];
+  }
+  return board;
 }
 
 double FrameStageSamples::meanMs(FrameStage stage) const {
@@ -101,11 +82,11 @@ double FrameStageSamples::percentileMs(FrameStage stage, double p) const {
 }
 
 double FrameStageSamples::meanBoardMs() const {
-  return meanMsOf(std::span(board_).first(count_));
+  return meanMsOf(boardFrames());
 }
 
 double FrameStageSamples::boardPercentileMs(double p) const {
-  return percentileMsOf(std::span(board_).first(count_), p);
+  return percentileMsOf(boardFrames(), p);
 }
 
 std::string FrameStageSamples::table() const {
@@ -122,7 +103,7 @@ std::string FrameStageSamples::table() const {
   };
   for (size_t i = 0; i < kFrameStageCount; ++i) {
     const auto stage = static_cast<FrameStage>(i);
-    if (stage == FrameStage::kSimulatorCamera) continue;
+    if (!onBoard(stage)) continue;
     const double mean = meanMs(stage);
     if (mean == 0) continue;
     row(frameStageName(stage), mean, percentileMs(stage, 50), percentileMs(stage, 99),
