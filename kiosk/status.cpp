@@ -1,7 +1,7 @@
 #include "kiosk/status.h"
 
+#include <cstdio>
 #include <stdexcept>
-#include <utility>
 
 namespace penumbra::kiosk {
 
@@ -34,20 +34,28 @@ KioskLog::KioskLog(std::FILE* echo, Options options) : echo_(echo), options_(opt
   if (options_.repeatWindowNs < 0) {
     throw std::invalid_argument("KioskLog: repeatWindowNs must be >= 0");
   }
+  // Every string the log keeps holds kMaxLineBytes from the start and lines are copied into
+  // them, so writing allocates nothing after construction: a moved-in line would bring its
+  // own buffer and free the slot's, and the heap grew line by line until the ring had filled
+  // once (weeks at a quiet kiosk's rate). The repeat count's line is built in repeatLine_.
   ring_.resize(options_.capacity);
+  for (LogLine& slot : ring_) slot.text.reserve(kMaxLineBytes);
+  lastKey_.reserve(kMaxLineBytes);
+  latest_.text.reserve(kMaxLineBytes);
+  repeatLine_.reserve(kMaxLineBytes + 64);
 }
 
-void KioskLog::keep(int64_t timeNs, LogLevel level, std::string text) {
-  if (text.size() > kMaxLineBytes) {
-    text.resize(kMaxLineBytes - 3);
-    text += "...";
+// `s` cut to at most kMaxLineBytes bytes, marked "..." where it was cut, into `out`.
+void KioskLog::assignCut(std::string& out, std::string_view s) {
+  if (s.size() <= kMaxLineBytes) {
+    out.assign(s);
+  } else {
+    out.assign(s.substr(0, kMaxLineBytes - 3));
+    out.append("...");
   }
-  if (echo_ != nullptr) {
-    const int64_t ms = timeNs / 1'000'000;
-    std::fprintf(echo_, "[%lld.%03lld] %s: %s\n", static_cast<long long>(ms / 1000),
-                 static_cast<long long>(ms % 1000), logLevelName(level), text.c_str());
-    std::fflush(echo_);
-  }
+}
+
+void KioskLog::keep(int64_t timeNs, LogLevel level, std::string_view text) {
   LogLine& slot = ring_[(head_ + count_) % ring_.size()];
   if (count_ == ring_.size()) {
     head_ = (head_ + 1) % ring_.size();  // the slot held the oldest line
@@ -57,32 +65,45 @@ void KioskLog::keep(int64_t timeNs, LogLevel level, std::string text) {
   }
   slot.timeNs = timeNs;
   slot.level = level;
-  slot.text = std::move(text);  // reuses the slot's buffer when it is large enough
+  assignCut(slot.text, text);
+  if (echo_ != nullptr) {
+    const int64_t ms = timeNs / 1'000'000;
+    std::fprintf(echo_, "[%lld.%03lld] %s: %s\n", static_cast<long long>(ms / 1000),
+                 static_cast<long long>(ms % 1000), logLevelName(level), slot.text.c_str());
+    std::fflush(echo_);
+  }
   lastWrittenNs_ = timeNs;
 }
 
 void KioskLog::flushRepeats() {
   if (repeats_ == 0) return;
-  keep(latest_.timeNs, latest_.level,
-       "last message repeated " + std::to_string(repeats_) + (repeats_ == 1 ? " time" : " times") +
-           " (latest: " + latest_.text + ")");
+  char count[64];
+  std::snprintf(count, sizeof count, "last message repeated %llu %s (latest: ",
+                static_cast<unsigned long long>(repeats_), repeats_ == 1 ? "time" : "times");
+  repeatLine_.assign(count).append(latest_.text).append(")");
+  keep(latest_.timeNs, latest_.level, repeatLine_);
   repeats_ = 0;
 }
 
-void KioskLog::write(int64_t timeNs, LogLevel level, const std::string& text,
-                     const std::string& repeatKey) {
+void KioskLog::write(int64_t timeNs, LogLevel level, std::string_view text,
+                     std::string_view repeatKey) {
   if (level < options_.minLevel) return;
-  // A named key cannot equal a text: it is marked with a byte no log text holds.
-  std::string key = repeatKey.empty() ? text : '\x01' + repeatKey;
-  if (haveLast_ && level == lastLevel_ && key == lastKey_) {
+  // The key is the text or, marked so that it cannot equal a text, the writer's key; both
+  // compared as kept (cut at kMaxLineBytes).
+  const bool named = !repeatKey.empty();
+  const std::string_view key = (named ? repeatKey : text).substr(0, kMaxLineBytes);
+  if (haveLast_ && level == lastLevel_ && named == lastKeyNamed_ && key == lastKey_) {
     ++repeats_;
-    latest_ = {timeNs, level, text};
+    latest_.timeNs = timeNs;
+    latest_.level = level;
+    assignCut(latest_.text, text);
     if (timeNs - lastWrittenNs_ >= options_.repeatWindowNs) flushRepeats();
     return;
   }
   flushRepeats();
   keep(timeNs, level, text);
-  lastKey_ = std::move(key);
+  lastKey_.assign(key);
+  lastKeyNamed_ = named;
   lastLevel_ = level;
   haveLast_ = true;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::kiosk {
@@ -72,8 +73,9 @@ class KioskLog {
   explicit KioskLog(std::FILE* echo = nullptr) : KioskLog(echo, Options{}) {}
   // Throws std::invalid_argument for a zero capacity or a negative window.
   KioskLog(std::FILE* echo, Options options);
-  void write(int64_t timeNs, LogLevel level, const std::string& text,
-             const std::string& repeatKey = {});
+  // Allocates nothing: lines are copied into strings reserved at construction.
+  void write(int64_t timeNs, LogLevel level, std::string_view text,
+             std::string_view repeatKey = {});
   // The kept lines, oldest first (at most `capacity`; a pending repeat count is not a line
   // until it is written out).
   std::vector<LogLine> lines() const;
@@ -83,7 +85,8 @@ class KioskLog {
   bool contains(const std::string& needle, int64_t untilNs = INT64_MAX) const;
 
  private:
-  void keep(int64_t timeNs, LogLevel level, std::string text);
+  static void assignCut(std::string& out, std::string_view s);
+  void keep(int64_t timeNs, LogLevel level, std::string_view text);
   void flushRepeats();
   const LogLine& at(size_t i) const { return ring_[(head_ + i) % ring_.size()]; }
 
@@ -95,8 +98,10 @@ class KioskLog {
   // The run of repeats of the last kept line: its key, how many were counted, the
   // latest one, and when a line of the run was last written out.
   std::string lastKey_;
+  bool lastKeyNamed_ = false;  // lastKey_ is a writer's key, not the text
   LogLevel lastLevel_ = LogLevel::kInfo;
   bool haveLast_ = false;
+  std::string repeatLine_;  // "last message repeated N times (latest: ...)" is built here
   uint64_t repeats_ = 0;
   LogLine latest_{0, LogLevel::kInfo, {}};
   int64_t lastWrittenNs_ = 0;
