@@ -13,7 +13,10 @@ int64_t percentile(std::vector<int64_t> v, int pct) {
 }
 
 SessionStats::SessionStats(uint32_t frames) {
-  latency_.reserve(frames);
+  // Written once (resize), then emptied: reserve() alone leaves the pages untouched, and they
+  // came in as frames were added, 8 bytes a frame, which the soak read as the kiosk's growth.
+  latency_.resize(frames);
+  latency_.clear();
 }
 
 void SessionStats::add(const kiosk::FrameReport& r) {
