@@ -18,6 +18,7 @@
 
 #include "apps/render_flags.h"
 #include "core/cli.h"
+#include "firmware-sim/frame_time_drift.h"
 #include "firmware-sim/session.h"
 #include "firmware-sim/session_stats.h"
 #include "firmware-sim/sim_run.h"
@@ -62,13 +63,6 @@ Memory memoryNow() {
     if (line.rfind("VmHWM:", 0) == 0) m.hwmKb = std::strtol(line.c_str() + 6, nullptr, 10);
   }
   return m;
-}
-
-// The median of v[from, to).
-int64_t medianOf(const std::vector<int64_t>& v, size_t from, size_t to) {
-  return percentile(std::vector<int64_t>(v.begin() + static_cast<std::ptrdiff_t>(from),
-                                         v.begin() + static_cast<std::ptrdiff_t>(to)),
-                    50);
 }
 
 // A strip of `count` frames side by side in two rows, each reduced 4× by a 4×4 box average
@@ -196,8 +190,11 @@ int main(int argc, char** argv) {
     firmware_sim::SessionStats stats(n);
     shadow::FrameStageSamples stageSamples;
     stageSamples.reserve(n);
-    Memory atWarmUp;
+    // The soak's drift: its first frames are replayed after the last (frame_time_drift.h).
     const uint32_t warmUpFrame = std::min<uint32_t>(n, 1000);
+    const uint32_t driftFrames = soakFrames != 0 ? std::min<uint32_t>(n, 2 * warmUpFrame) : 0;
+    firmware_sim::FrameTimeDrift drift(driftFrames);
+    Memory atWarmUp;
     uint32_t degraded = 0, stale = 0, attract = 0;
     int64_t firstStart = 0, lastEnd = 0;
     for (uint32_t f = 0; f < n; ++f) {
@@ -215,6 +212,7 @@ int main(int argc, char** argv) {
       stale += r.stale;
       attract += r.attract;
       const std::vector<uint8_t>& rgba = run.frame();
+      drift.add(r, rgba);
       if (hashes) hashes << "sha256 " << scene::sha256Hex(rgba) << "\n";
       if (!framesDir.empty()) {
         char name[32];
@@ -274,19 +272,22 @@ int main(int argc, char** argv) {
                 stale, attract);
     if (soakFrames != 0) {
       const Memory end = memoryNow();
-      const size_t window = std::min<size_t>(n / 2, 1000);
       std::printf(
           "soak memory: VmRSS %ld kB at frame %u, %ld kB at frame %u (growth %ld kB); "
           "heap in use %ld kB, %ld kB (growth %ld kB)\n",
           atWarmUp.rssKb, warmUpFrame, end.rssKb, n, end.rssKb - atWarmUp.rssKb, atWarmUp.heapKb,
           end.heapKb, end.heapKb - atWarmUp.heapKb);
-      if (window > 0) {
-        std::printf("soak wall ms/frame: median first %zu frames %.3f, last %zu frames %.3f\n",
-                    window, ms(medianOf(wallNs, 0, window)), window,
-                    ms(medianOf(wallNs, n - window, n)));
-      }
       std::printf("soak log: %zu lines kept, %llu dropped\n", run.log().size(),
                   static_cast<unsigned long long>(run.log().dropped()));
+      if (drift.recorded() > warmUpFrame) {
+        std::fflush(stdout);
+        const firmware_sim::FrameTimeDrift::Result d =
+            drift.replay(session, options, warmUpFrame + 1);
+        std::printf(
+            "soak drift: frames %u-%u replayed after frame %u: identical pictures; board "
+            "ms/frame median %.3f then, %.3f now, per-frame ratio median %.3f\n",
+            d.firstFrame, d.lastFrame, n, d.firstMedianMs, d.replayMedianMs, d.ratio);
+      }
     }
     if (bench) {
       std::printf("wall ms/frame on this machine: median %.2f p99 %.2f (%d threads, %s)\n",
