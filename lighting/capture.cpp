@@ -244,8 +244,7 @@ shadow::ToneCurve recoverToneCurve(const CaptureManifest& m, const std::vector<E
   for (const ToneSample& t : response.greyToneSamples()) {
     samples.push_back({t.radiance / live, t.value});
   }
-  const shadow::ToneCurve tone = shadow::ToneCurve::fromSamples(samples);
-  return tone;
+  return shadow::ToneCurve::fromSamples(samples);
 }
 
 struct HdrPhotos {
