@@ -298,8 +298,9 @@ int main(int argc, char** argv) {
       // own bookkeeping and hot-swaps (the difference to the wall time above).
       std::printf("board frame by stage, wall ms on this machine, %u frames:\n%s", n,
                   stageSamples.table().c_str());
-      std::printf("peak RSS %.1f MB (VmHWM: the whole simulator, camera footage included)\n",
-                  double(memoryNow().hwmKb) / 1024.0);
+      std::printf("peak RSS %.1f MB (VmHWM: the whole simulator, camera footage%s included)\n",
+                  double(memoryNow().hwmKb) / 1024.0,
+                  drift.recorded() > warmUpFrame ? " and the soak's replay" : "");
     }
     return 0;
   });
