@@ -4,16 +4,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "firmware-sim/session_stats.h"
 #include "scene/sha256.h"
 
 namespace penumbra::firmware_sim {
 namespace {
-
-std::array<uint8_t, 32> digestOf(std::span<const uint8_t> shown) {
-  scene::Sha256 h;
-  h.update(shown);
-  return h.finish();
-}
 
 double medianOf(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -26,7 +21,7 @@ double medianOf(std::vector<double> v) {
 }
 
 double medianMs(std::span<const int64_t> ns) {
-  return medianOf(std::vector<double>(ns.begin(), ns.end())) * 1e-6;
+  return double(percentile(std::vector<int64_t>(ns.begin(), ns.end()), 50)) * 1e-6;
 }
 
 }  // namespace
@@ -45,10 +40,10 @@ double pairedMedianRatio(std::span<const int64_t> first, std::span<const int64_t
 
 FrameTimeDrift::FrameTimeDrift(uint32_t frames) : boardNs_(frames, 0), digests_(frames) {}
 
-void FrameTimeDrift::add(const kiosk::FrameReport& r, std::span<const uint8_t> shown) {
-  if (count_ == boardNs_.size()) return;
+void FrameTimeDrift::add(const kiosk::FrameReport& r, const std::array<uint8_t, 32>& shownDigest) {
+  if (full()) return;
   boardNs_[count_] = r.stages.boardNs();
-  digests_[count_] = digestOf(shown);
+  digests_[count_] = shownDigest;
   ++count_;
 }
 
@@ -63,7 +58,7 @@ FrameTimeDrift::Result FrameTimeDrift::replay(const Session& session, const SimO
   for (uint32_t f = 0; f < count_; ++f) {
     const kiosk::FrameReport r = run.step();
     replayNs[f] = r.stages.boardNs();
-    if (digestOf(run.frame()) != digests_[f]) {
+    if (scene::sha256(run.frame()) != digests_[f]) {
       throw std::runtime_error("soak replay: frame " + std::to_string(f + 1) +
                                " differs from the same frame of the first run");
     }

@@ -1,14 +1,14 @@
 // Frame-time drift (issue 18 §4: "frame time without drift, hashes of a replayed window
 // identical"), measured on the same frames. Comparing the first and last thousand frames of a
 // soak says little: the schedule decides what those frames draw (which product, where, how
-// many passes), and their medians differed by content, not by age (4.88 against 5.97 ms at
-// 20 000 frames, 5.87 against 4.98 ms at 6000, same build). Matching frames of equal content
-// late and early failed as well: after 100 000 frames no product stood where it had at the
-// start. So the soak's first frames are run a second time, in a new SimRun, in the same
-// process after the whole soak: the same frames (their digests must be identical), drawn by
-// a process that has run for hours. What differs is the process's age — heap fragmentation,
-// the allocator's arenas, caches, the machine's state — which is what drift means here; a
-// kiosk state that grows with age shows in the soak's memory lines instead.
+// many passes), and their medians differed by content, not by age (2026-11-26: 4.88 against
+// 5.97 ms at 20 000 frames, 5.87 against 4.98 ms at 6000, same build). Matching frames of
+// equal content late and early failed as well: after 100 000 frames no product stood where
+// it had at the start. So the soak's first frames are run a second time, in a new SimRun, in
+// the same process after the whole soak: the same frames (their digests must be identical), drawn
+// by a process that has run for hours. What differs is the process's age — heap fragmentation, the
+// allocator's arenas, caches, the machine's state — which is what drift means here; a kiosk state
+// that grows with age shows in the soak's memory lines instead.
 #pragma once
 
 #include <array>
@@ -31,14 +31,16 @@ class FrameTimeDrift {
   // recording allocates nothing (the soak's flat-memory check runs beside it).
   explicit FrameTimeDrift(uint32_t frames);
 
-  // Records frame `r` and the digest of what it showed, while fewer than `frames` are held.
-  void add(const kiosk::FrameReport& r, std::span<const uint8_t> shown);
+  // Records frame `r` and the SHA-256 of what it showed (scene::sha256), while fewer than
+  // `frames` are held.
+  void add(const kiosk::FrameReport& r, const std::array<uint8_t, 32>& shownDigest);
   uint32_t recorded() const { return count_; }
+  bool full() const { return count_ == boardNs_.size(); }
 
   struct Result {
-    uint32_t firstFrame = 0, lastFrame = 0;  // compared, 1-based, inclusive
-    double firstMedianMs = 0, replayMedianMs = 0;
-    double ratio = 0;  // pairedMedianRatio(first run, replay)
+    uint32_t firstFrame = 0, lastFrame = 0;        // compared, 1-based, inclusive
+    double firstMedianMs = 0, replayMedianMs = 0;  // nearest rank (firmware_sim::percentile)
+    double ratio = 0;                              // pairedMedianRatio(first run, replay)
   };
   // Runs `session` again in a new SimRun for the recorded frames and compares the board
   // times of frames from `compareFrom` (1-based) on, pair by pair. Throws std::runtime_error

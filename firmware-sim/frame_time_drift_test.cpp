@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "firmware-sim/soak.h"
+#include "scene/sha256.h"
 
 namespace penumbra::firmware_sim {
 namespace {
@@ -33,7 +34,7 @@ void record(FrameTimeDrift& drift, const Session& s) {
   SimRun run(s, bestTargetOneThread());
   for (uint32_t f = 0; f < s.frames; ++f) {
     const kiosk::FrameReport r = run.step();
-    drift.add(r, run.frame());
+    drift.add(r, scene::sha256(run.frame()));
   }
 }
 

@@ -309,9 +309,8 @@ void Renderer::Impl::prepareObjects(const FrameContent& frame) {
   for (const TileRef& r : binned) ++tileObjectStart[r.tile + 1];
   for (size_t t = 1; t < tileObjectStart.size(); ++t) tileObjectStart[t] += tileObjectStart[t - 1];
   tileObjects.resize(binned.size());
-  std::vector<uint32_t>& next = binFill;
-  next.assign(tileObjectStart.begin(), tileObjectStart.end() - 1);
-  for (const TileRef& r : binned) tileObjects[next[r.tile]++] = {r.object, r.full};
+  binFill.assign(tileObjectStart.begin(), tileObjectStart.end() - 1);
+  for (const TileRef& r : binned) tileObjects[binFill[r.tile]++] = {r.object, r.full};
 }
 
 // Spec §6 step 3 for one tile; also undoes the previous frame's object in it.

@@ -93,16 +93,24 @@ std::array<uint8_t, 32> Sha256::finish() {
   return out;
 }
 
-std::string sha256Hex(std::span<const uint8_t> data) {
+std::array<uint8_t, 32> sha256(std::span<const uint8_t> data) {
   Sha256 hasher;
   hasher.update(data);
+  return hasher.finish();
+}
+
+std::string toHex(const std::array<uint8_t, 32>& digest) {
   static const char* kHex = "0123456789abcdef";
   std::string out;
-  for (uint8_t byte : hasher.finish()) {
+  for (uint8_t byte : digest) {
     out += kHex[byte >> 4];
     out += kHex[byte & 15];
   }
   return out;
+}
+
+std::string sha256Hex(std::span<const uint8_t> data) {
+  return toHex(sha256(data));
 }
 
 }  // namespace penumbra::scene

@@ -22,7 +22,11 @@ class Sha256 {
   uint64_t totalBytes_ = 0;
 };
 
-// Lower-case hex digest of `data`.
+// The digest of `data`.
+std::array<uint8_t, 32> sha256(std::span<const uint8_t> data);
+// A digest in lower-case hex.
+std::string toHex(const std::array<uint8_t, 32>& digest);
+// Lower-case hex digest of `data`: toHex(sha256(data)).
 std::string sha256Hex(std::span<const uint8_t> data);
 
 }  // namespace penumbra::scene
