@@ -17,14 +17,17 @@ core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report) {
   if (!std::filesystem::is_regular_file(path)) {
     throw HdrError(name + ": no such file (" + path.string() + ")");
   }
+  // OpenEXR allocates from the header as it opens the file: our own walk checks it first.
+  const ExrLayout layout = readExrLayout(path);
   core::ImageF img;
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-    if (w <= 0 || h <= 0 || w > kMaxExrPixels || h > kMaxExrPixels || w * h > kMaxExrPixels) {
-      throw HdrError(name + ": data window of " + std::to_string(w) + "x" + std::to_string(h) +
-                     " pixels: expected 1 to " + std::to_string(kMaxExrPixels) + " pixels");
+    if (w != layout.width || h != layout.height) {
+      throw HdrError(name + ": OpenEXR reads a " + std::to_string(w) + "x" + std::to_string(h) +
+                     " data window where the header walk read " + std::to_string(layout.width) +
+                     "x" + std::to_string(layout.height));
     }
     const Imf::ChannelList& channels = file.header().channels();
     const bool rgb =

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/image.h"
+#include "lighting/exr_header.h"
 #include "lighting/hdr_image.h"
 
 namespace penumbra::lighting {
@@ -18,13 +19,9 @@ struct ExrReadReport {
   float mostNegative = 0;  // the smallest value clamped (0 if none)
 };
 
-// The most pixels an HDR image may have: 32 Mpx, an 8192 x 4096 lat-long probe (400 MB of
-// float RGB; docs/input-limits.md). The data window is checked before anything is
-// allocated: a 400-byte file can announce 65536 x 65536 pixels, 51 GB.
-inline constexpr long kMaxExrPixels = long{1} << 25;
-
 // Reads the R, G, B channels (any pixel type; a luminance-only "Y" file is replicated to
-// RGB) of the data window. Rejects NaN and infinite values (counting them in the message).
+// RGB) of the data window, after readExrLayout (exr_header.h) has passed the header. Rejects NaN
+// and infinite values (counting them in the message).
 core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report = nullptr);
 
 // Writes 32-bit float R, G, B with lossless ZIP compression. Throws for an empty or
