@@ -202,6 +202,43 @@ TEST(KioskFaults, BouncingButtonActsOnce) {
       1);
 }
 
+// A showroom's HUD ("service"): hidden from customers; a technician holding next and previous
+// together for service_hold_ms shows it, the same hold again hides it. Frames are compared
+// with a session whose HUD is off: identical while hidden, different while shown (15 fps:
+// 62 frames cover both holds). The two
+// presses of each hold cancel out in the carousel.
+TEST(KioskFaults, ServiceHudFollowsTheTechniciansHold) {
+  const std::string holds = R"("gpio": {"presses": [
+      {"at_ms": 200, "button": "next", "hold_ms": 1500},
+      {"at_ms": 200, "button": "previous", "hold_ms": 1500},
+      {"at_ms": 2200, "button": "next", "hold_ms": 1300},
+      {"at_ms": 2200, "button": "previous", "hold_ms": 1300}]})";
+  const Session service =
+      session("service-hud",
+              R"("kiosk": {"hud": "service", "service_hold_ms": 1000, "fps": 15}, )" + holds, 62);
+  const Session off = session("off-hud", R"("kiosk": {"hud": "off", "fps": 15}, )" + holds, 62);
+  SimRun a(service, bestTargetOneThread()), b(off, bestTargetOneThread());
+  const Played pa = play(a, service.frames, kStale, true), pb = play(b, off.frames, kStale, true);
+  EXPECT_TRUE(a.log().contains("service HUD: on (next + previous held 1."));
+  EXPECT_TRUE(a.log().contains("service HUD: off (next + previous held 1."));
+  EXPECT_FALSE(b.log().contains("service HUD"));
+  // Both lines settle 20 ms after the press: the HUD turns on at 1.22 s and off at 3.22 s.
+  int shown = 0, hidden = 0;
+  for (size_t i = 0; i < pa.frames.size(); ++i) {
+    const int64_t t = pa.frames[i].startNs / 1'000'000;
+    ASSERT_EQ(pa.frames[i].pose.product, pb.frames[i].pose.product);
+    EXPECT_EQ(pa.frames[i].pose.product, pa.frames[0].pose.product)
+        << "the holds moved the carousel";
+    if ((t > 1170 && t < 1270) || (t > 3170 && t < 3270)) continue;  // the frame of a toggle
+    const bool on = t >= 1220 && t < 3220;
+    (on ? shown : hidden) += 1;
+    EXPECT_EQ(pa.hashes[i] != pb.hashes[i], on)
+        << "frame " << pa.frames[i].frame << " at " << t << " ms";
+  }
+  EXPECT_GT(shown, 25);  // of 30 frames at 15 fps
+  EXPECT_GT(hidden, 20);
+}
+
 TEST(KioskFaults, StuckButtonIsIgnoredUntilReleased) {
   const Session s = session("stuck", R"("kiosk": {"stuck_after_ms": 1000},
       "gpio": {"presses": [{"at_ms": 200, "button": "right", "hold_ms": 3000}]})",
@@ -324,7 +361,7 @@ TEST(KioskFaults, CorruptProductFileKeepsTheLastGoodModel) {
                             (faulty / "nan-vertex.obj").string() + R"(", "at_ms": 200},
       {"product": "chair", "file": ")" +
                             cube.string() + R"(", "at_ms": 450}])";
-  const std::string noHud = R"("kiosk": {"hud": false})";
+  const std::string noHud = R"("kiosk": {"hud": "off"})";
   const Session with = session("product-files", noHud + ", " + files, 20);
   const Session without = session("no-product-files", noHud, 20);
   SimRun a(with, {}), b(without, {});

@@ -5,6 +5,7 @@
 
 #include "core/json_reader.h"
 #include "core/regular_file.h"
+#include "kiosk/kiosk_config.h"
 #include "scene/bundle_io.h"
 
 namespace penumbra::firmware_sim {
@@ -14,38 +15,6 @@ using core::JsonValue;
 
 constexpr int64_t kMs = 1'000'000;
 constexpr int64_t kHour = 3'600'000;  // ms
-
-// "kiosk": the product's KioskOptions (frame rates, pass limits, attract mode, buttons).
-void readKioskOptions(const JsonValue& k, kiosk::KioskOptions& o) {
-  const int64_t fps = k.integerOr("fps", 30, 1, 240);
-  const int64_t qfps = k.integerOr("quality_fps", 15, 1, 240);
-  o.fastFrameNs = 1'000'000'000 / fps;
-  o.qualityFrameNs = 1'000'000'000 / qfps;
-  o.fixedCostNs = k.integerOr("fixed_cost_us", 0, 0, 10'000'000) * 1000;
-  if (o.fixedCostNs >= o.fastFrameNs || o.fixedCostNs >= o.qualityFrameNs) {
-    k["fixed_cost_us"].fail("must be below the frame time of both modes");
-  }
-  o.minPasses = static_cast<uint32_t>(k.integerOr("min_passes", 4, 1, 256));
-  o.maxPasses = static_cast<uint32_t>(k.integerOr("max_passes", 64, 1, 256));
-  if (o.minPasses > o.maxPasses) k["min_passes"].fail("must be <= max_passes");
-  o.initialPasses = static_cast<uint32_t>(k.integerOr("initial_passes", 8, 0, 256));
-  if (o.initialPasses != 0 && (o.initialPasses < o.minPasses || o.initialPasses > o.maxPasses)) {
-    k["initial_passes"].fail("must be 0 or in [min_passes, max_passes]");
-  }
-  o.attractAfterNs = k.integerOr("attract_after_ms", 20'000, 1, kHour) * kMs;
-  o.attractMilliDegreesPerSecond =
-      static_cast<uint32_t>(k.integerOr("attract_mdeg_per_s", 12'000, 0, 3'600'000));
-  o.moveStepMetres = static_cast<float>(k.numberOr("move_step_m", 0.1, 0.001, 2.0));
-  o.rotateStepDegrees = static_cast<float>(k.numberOr("rotate_step_deg", 15.0, 0.1, 180.0));
-  o.staleAfterNs = k.integerOr("stale_after_ms", 100, 1, 60'000) * kMs;
-  o.reopenEveryNs = k.integerOr("reopen_every_ms", 1000, 1, 60'000) * kMs;
-  o.debounce.settleNs = k.integerOr("debounce_ms", 20, 0, 1000) * kMs;
-  o.debounce.stuckNs = k.integerOr("stuck_after_ms", 5000, 1, kHour) * kMs;
-  if (o.debounce.stuckNs <= o.debounce.settleNs) {
-    k["stuck_after_ms"].fail("must be longer than debounce_ms");
-  }
-  o.hud = k.booleanOr("hud", true);
-}
 
 // "board": the simulated board's cost model, its load steps and overrun frames.
 void readBoard(const JsonValue& b, Session& s) {
@@ -177,12 +146,7 @@ Session loadSession(const std::filesystem::path& path) {
   if (!lastGood.empty()) s.lastGood = dir / lastGood;
   s.frames = static_cast<uint32_t>(root.integerOr("frames", 600, 1, 1'000'000));
 
-  readKioskOptions(root.optionalObject(
-                       "kiosk", {"fps", "quality_fps", "fixed_cost_us", "min_passes", "max_passes",
-                                 "initial_passes", "attract_after_ms", "attract_mdeg_per_s",
-                                 "move_step_m", "rotate_step_deg", "stale_after_ms",
-                                 "reopen_every_ms", "debounce_ms", "stuck_after_ms", "hud"}),
-                   s.kiosk);
+  s.kiosk = kiosk::readLoopOptions(root, "kiosk", kiosk::HudMode::kOn);
   readBoard(root.optionalObject("board", {"fixed_us", "per_pass_us", "per_texel_ps", "per_pixel_ps",
                                           "load_steps", "overruns"}),
             s);

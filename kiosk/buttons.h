@@ -76,6 +76,9 @@ class Debouncer {
               std::vector<StuckChange>& stuck);
 
   bool anyStuck() const;
+  // The debounced level of a line, and since when it has held it.
+  bool isDown(Button b) const { return lines_[static_cast<size_t>(b)].stable; }
+  int64_t downSinceNs(Button b) const { return lines_[static_cast<size_t>(b)].stableSinceNs; }
   bool isStuck(Button b) const { return lines_[static_cast<size_t>(b)].stuck; }
 
  private:

@@ -1,5 +1,7 @@
 #include "kiosk/frame_source.h"
 
+#include <algorithm>
+
 namespace penumbra::kiosk {
 
 const char* pixelFormatName(PixelFormat format) {
@@ -111,6 +113,24 @@ bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vect
     }
   }
   return true;
+}
+
+void orient(std::vector<uint8_t>& rgba, uint32_t width, uint32_t height, FrameOrientation o) {
+  const size_t row = size_t(width) * 4;
+  uint8_t* p = rgba.data();
+  if (o.mirrorY) {
+    for (uint32_t y = 0; y < height / 2; ++y) {
+      std::swap_ranges(p + y * row, p + (y + 1) * row, p + (height - 1 - y) * row);
+    }
+  }
+  if (o.mirrorX) {
+    for (uint32_t y = 0; y < height; ++y) {
+      uint8_t* r = p + y * row;
+      for (uint32_t x = 0; x < width / 2; ++x) {
+        std::swap_ranges(r + 4 * x, r + 4 * x + 4, r + 4 * (width - 1 - x));
+      }
+    }
+  }
 }
 
 }  // namespace penumbra::kiosk

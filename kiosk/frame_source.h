@@ -57,4 +57,15 @@ class FrameSource {
 bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
             std::string& why);
 
+// How the camera is mounted: a sensor upside down is mirrored on both axes (rotated by 180°);
+// a camera filming through a mirror, on one. Quarter turns are not offered: the calibrated
+// view has one size, which a quarter turn would swap.
+struct FrameOrientation {
+  bool mirrorX = false, mirrorY = false;
+  bool identity() const { return !mirrorX && !mirrorY; }
+};
+
+// Mirrors an RGBA8 width × height frame in place.
+void orient(std::vector<uint8_t>& rgba, uint32_t width, uint32_t height, FrameOrientation o);
+
 }  // namespace penumbra::kiosk

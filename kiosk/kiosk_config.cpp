@@ -32,18 +32,99 @@ CameraControls parseControls(const JsonValue& j) {
   return c;
 }
 
+constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kHour = 3'600'000;  // ms
+
 // The configuration keeps these choices by name.
 std::string oneOfNames(const JsonValue& v, std::initializer_list<std::string_view> names) {
   return std::string(*(names.begin() + v.oneOf(names)));
 }
 
+// gpio_lines: {"next": 5, ...} (any subset; the rest keep the wiring table's) and led_line
+// (-1: none). Two functions on one line would read one press as both.
+void readGpioLines(const JsonValue& j, KioskConfig& c) {
+  if (const auto lines = j.find("gpio_lines")) {
+    for (const auto& [name, value] : lines->object().members()) {
+      const auto b = parseButton(name);
+      if (!b)
+        value.fail("not a button (next, previous, left, right, forward, back, rotate, quality)");
+      c.buttonLines[static_cast<size_t>(*b)] = static_cast<uint32_t>(value.integer(0, 1023));
+    }
+  }
+  c.ledLine = static_cast<int32_t>(j.integerOr("led_line", c.ledLine, -1, 1023));
+  for (size_t a = 0; a < kButtonCount; ++a) {
+    const char* name = buttonName(static_cast<Button>(a));
+    for (size_t b = a + 1; b < kButtonCount; ++b) {
+      if (c.buttonLines[a] == c.buttonLines[b]) {
+        j["gpio_lines"].fail(std::string(name) + " and " + buttonName(static_cast<Button>(b)) +
+                             " are both on line " + std::to_string(c.buttonLines[a]));
+      }
+    }
+    if (int64_t(c.buttonLines[a]) == c.ledLine) {
+      j[j.has("led_line") ? "led_line" : "gpio_lines"].fail(std::string("the LED and the ") + name +
+                                                            " button are both on line " +
+                                                            std::to_string(c.ledLine));
+    }
+  }
+}
+
 }  // namespace
+
+KioskOptions readLoopOptions(const JsonValue& parent, std::string_view key, HudMode hudDefault) {
+  const JsonValue k = parent.optionalObject(
+      key,
+      {"fps", "quality_fps", "fixed_cost_us", "min_passes", "max_passes", "initial_passes",
+       "attract_after_ms", "attract_mdeg_per_s", "move_step_m", "rotate_step_deg", "stale_after_ms",
+       "reopen_every_ms", "debounce_ms", "stuck_after_ms", "hud", "service_hold_ms"});
+  KioskOptions o;
+  o.hud = hudDefault;
+  const int64_t fps = k.integerOr("fps", 30, 1, 240);
+  const int64_t qfps = k.integerOr("quality_fps", 15, 1, 240);
+  o.fastFrameNs = 1'000'000'000 / fps;
+  o.qualityFrameNs = 1'000'000'000 / qfps;
+  o.fixedCostNs = k.integerOr("fixed_cost_us", 0, 0, 10'000'000) * 1000;
+  if (o.fixedCostNs >= o.fastFrameNs || o.fixedCostNs >= o.qualityFrameNs) {
+    k["fixed_cost_us"].fail("must be below the frame time of both modes");
+  }
+  o.minPasses = static_cast<uint32_t>(k.integerOr("min_passes", 4, 1, 256));
+  o.maxPasses = static_cast<uint32_t>(k.integerOr("max_passes", 64, 1, 256));
+  if (o.minPasses > o.maxPasses) k["min_passes"].fail("must be <= max_passes");
+  o.initialPasses = static_cast<uint32_t>(k.integerOr("initial_passes", 8, 0, 256));
+  if (o.initialPasses != 0 && (o.initialPasses < o.minPasses || o.initialPasses > o.maxPasses)) {
+    k["initial_passes"].fail("must be 0 or in [min_passes, max_passes]");
+  }
+  o.attractAfterNs = k.integerOr("attract_after_ms", 20'000, 1, kHour) * kMs;
+  o.attractMilliDegreesPerSecond =
+      static_cast<uint32_t>(k.integerOr("attract_mdeg_per_s", 12'000, 0, 3'600'000));
+  o.moveStepMetres = static_cast<float>(k.numberOr("move_step_m", 0.1, 0.001, 2.0));
+  o.rotateStepDegrees = static_cast<float>(k.numberOr("rotate_step_deg", 15.0, 0.1, 180.0));
+  o.staleAfterNs = k.integerOr("stale_after_ms", 100, 1, 60'000) * kMs;
+  o.reopenEveryNs = k.integerOr("reopen_every_ms", 1000, 1, 60'000) * kMs;
+  o.debounce.settleNs = k.integerOr("debounce_ms", 20, 0, 1000) * kMs;
+  o.debounce.stuckNs = k.integerOr("stuck_after_ms", 5000, 1, kHour) * kMs;
+  if (o.debounce.stuckNs <= o.debounce.settleNs) {
+    k["stuck_after_ms"].fail("must be longer than debounce_ms");
+  }
+  if (const auto hud = k.find("hud")) {
+    o.hud = hud->oneOf<HudMode>(
+        {{"on", HudMode::kOn}, {"off", HudMode::kOff}, {"service", HudMode::kService}});
+  }
+  o.serviceHoldNs = k.integerOr("service_hold_ms", 3000, 500, 60'000) * kMs;
+  if (o.hud == HudMode::kService && o.serviceHoldNs >= o.debounce.stuckNs) {
+    k[k.has("service_hold_ms") ? "service_hold_ms" : "stuck_after_ms"].fail(
+        "the service hold (" + std::to_string(o.serviceHoldNs / kMs) +
+        " ms) must be shorter than stuck_after_ms (" + std::to_string(o.debounce.stuckNs / kMs) +
+        " ms): a longer hold is taken as a stuck button");
+  }
+  return o;
+}
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   const core::JsonDocument doc(path, core::throwAs<ConfigError>);
-  const JsonValue j =
-      doc.root().object({"bundle", "last_good_bundle", "camera", "camera_id", "camera_controls",
-                         "camera_fallback", "gpio_chip", "display", "fullscreen", "product_files"});
+  const JsonValue j = doc.root().object(
+      {"bundle", "last_good_bundle", "camera", "camera_id", "camera_controls", "camera_fallback",
+       "camera_rotation", "camera_flip", "gpio_chip", "gpio_lines", "led_line", "display",
+       "fullscreen", "product_files", "threads", "loop"});
   KioskConfig c;
   const std::string bundle = j.stringOr("bundle", "");
   if (bundle.empty()) doc.fail("bundle", "required");
@@ -61,6 +142,23 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   if (const auto display = j.find("display")) c.display = oneOfNames(*display, {"sdl", "none"});
   if (const auto controls = j.find("camera_controls")) c.cameraControls = parseControls(*controls);
   c.fullscreen = j.booleanOr("fullscreen", c.fullscreen);
+  c.threads = static_cast<int>(j.integerOr("threads", 0, 0, 64));
+  readGpioLines(j, c);
+  c.loop = readLoopOptions(j, "loop", HudMode::kService);
+  // A sensor mounted upside down is turned by 180°, i.e. mirrored on both axes; a flip
+  // mirrors one more time.
+  const int64_t rotation = j.integerOr("camera_rotation", 0, 0, 180);
+  if (rotation % 180 != 0) {
+    j["camera_rotation"].fail("expected 0 or 180, got " + std::to_string(rotation) +
+                              " (a quarter turn would swap the calibrated view's width and "
+                              "height)");
+  }
+  const bool turned = rotation == 180;
+  std::string flip = "none";
+  if (const auto f = j.find("camera_flip"))
+    flip = oneOfNames(*f, {"none", "horizontal", "vertical"});
+  c.loop.cameraOrientation.mirrorX = turned != (flip == "horizontal");
+  c.loop.cameraOrientation.mirrorY = turned != (flip == "vertical");
   const std::filesystem::path dir = path.parent_path();
   if (const auto list = j.find("product_files")) {
     for (const JsonValue& e : list->array()) {

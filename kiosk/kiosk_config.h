@@ -4,12 +4,18 @@
 // naming the file and the key. Paths are resolved against the file's folder.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "core/error.h"
+#include "core/json_reader.h"
+#include "kiosk/buttons.h"
 #include "kiosk/exposure_control.h"
+#include "kiosk/kiosk_loop.h"
 #include "kiosk/product_files.h"
 
 namespace penumbra::kiosk {
@@ -18,6 +24,12 @@ class ConfigError : public core::Error {
  public:
   using core::Error::Error;
 };
+
+// docs/kiosk.md's wiring table (BCM numbers), in Button order (next, previous, left, right,
+// forward, back, rotate, quality), and the status LED's line.
+inline constexpr std::array<uint32_t, kButtonCount> kDefaultButtonLines{5,  6,  13, 19,
+                                                                        26, 16, 20, 21};
+inline constexpr int32_t kDefaultLedLine = 12;
 
 struct KioskConfig {
   std::filesystem::path bundle, lastGood;
@@ -28,6 +40,13 @@ struct KioskConfig {
   // "simulated" (the simulated camera of firmware-sim filming that still).
   std::string cameraFallback = "photograph";
   std::string gpioChip = "/dev/gpiochip0";
+  std::array<uint32_t, kButtonCount> buttonLines = kDefaultButtonLines;
+  int32_t ledLine = kDefaultLedLine;  // -1: no LED
+  // Render threads; 0: one per core the kiosk may run on.
+  int threads = 0;
+  // Frame rates, passes, attract mode, buttons, HUD (readLoopOptions). A site's HUD defaults to
+  // "service": customers see the room and the product, not the frame rate.
+  KioskOptions loop;
   std::string display = "sdl";  // sdl | none
   bool fullscreen = true;
   // Product models from files (kiosk/product_files.h), watched while the kiosk runs.
@@ -35,5 +54,12 @@ struct KioskConfig {
 };
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path);
+
+// The loop's options from the object `key` of `parent` (absent: the defaults), shared by the
+// configuration's "loop" and a simulator session's "kiosk" (docs/kiosk.md): frame rates, pass
+// limits, attract mode, buttons, HUD ("on", "off", "service"). Throws through the document's
+// error type naming the key. `hudDefault` is the HUD when the object does not say.
+KioskOptions readLoopOptions(const core::JsonValue& parent, std::string_view key,
+                             HudMode hudDefault);
 
 }  // namespace penumbra::kiosk

@@ -43,6 +43,39 @@ TEST(KioskConfig, ReadsCameraControlsAndFallback) {
   EXPECT_EQ(d.cameraControls.exposureUs, CameraControls{}.exposureUs);
 }
 
+// What a site sets (issue 14): threads, GPIO wiring, the loop (frame rates, HUD), the camera's
+// mounting; and the defaults a site gets without them.
+TEST(KioskConfig, ReadsASitesWiringLoopAndCameraMounting) {
+  const KioskConfig d = loadKioskConfig(write(R"({"bundle": "b"})"));
+  EXPECT_EQ(d.threads, 0);  // one per core
+  EXPECT_EQ(d.buttonLines, kDefaultButtonLines);
+  EXPECT_EQ(d.ledLine, kDefaultLedLine);
+  EXPECT_EQ(d.loop.hud, HudMode::kService);  // customers do not see the debug HUD
+  EXPECT_EQ(d.loop.fastFrameNs, KioskOptions{}.fastFrameNs);
+  EXPECT_TRUE(d.loop.cameraOrientation.identity());
+
+  const KioskConfig c = loadKioskConfig(write(R"({"bundle": "b", "threads": 3,
+      "gpio_lines": {"next": 17, "quality": 4}, "led_line": -1,
+      "loop": {"fps": 25, "quality_fps": 10, "max_passes": 32, "hud": "on"},
+      "camera_rotation": 180})"));
+  EXPECT_EQ(c.threads, 3);
+  EXPECT_EQ(c.buttonLines[static_cast<size_t>(Button::kNext)], 17u);
+  EXPECT_EQ(c.buttonLines[static_cast<size_t>(Button::kQuality)], 4u);
+  EXPECT_EQ(c.buttonLines[static_cast<size_t>(Button::kPrevious)], 6u);
+  EXPECT_EQ(c.ledLine, -1);
+  EXPECT_EQ(c.loop.fastFrameNs, 40'000'000);
+  EXPECT_EQ(c.loop.qualityFrameNs, 100'000'000);
+  EXPECT_EQ(c.loop.maxPasses, 32u);
+  EXPECT_EQ(c.loop.hud, HudMode::kOn);
+  EXPECT_TRUE(c.loop.cameraOrientation.mirrorX);  // upside down: both axes
+  EXPECT_TRUE(c.loop.cameraOrientation.mirrorY);
+  // A flip on top of the turn undoes that axis.
+  const KioskConfig f = loadKioskConfig(
+      write(R"({"bundle": "b", "camera_rotation": 180, "camera_flip": "vertical"})"));
+  EXPECT_TRUE(f.loop.cameraOrientation.mirrorX);
+  EXPECT_FALSE(f.loop.cameraOrientation.mirrorY);
+}
+
 TEST(KioskConfig, BadValuesNameTheFileAndKey) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {R"({"bundle": "b", "camera_controls": {"exposure_us": 0}})",
@@ -61,6 +94,26 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
       {R"({"bundle": "b", "product_files": [{"product": "chair"}]})",
        "product_files[0].file: missing"},
       {R"({"camera": "auto"})", "bundle: required"},
+      {R"({"bundle": "b", "threads": 65})", "threads: "},
+      {R"({"bundle": "b", "camera_rotation": 90})", "camera_rotation: expected 0 or 180, got 90"},
+      {R"({"bundle": "b", "camera_flip": "diagonal"})", "camera_flip: expected one of"},
+      {R"({"bundle": "b", "gpio_lines": {"jump": 3}})", "gpio_lines.jump: not a button"},
+      {R"({"bundle": "b", "gpio_lines": {"next": 6}})",
+       "gpio_lines: next and previous are both on line 6"},
+      {R"({"bundle": "b", "led_line": 21})",
+       "led_line: the LED and the quality button are both on line 21"},
+      {R"({"bundle": "b", "gpio_lines": {"left": 12}})",
+       "gpio_lines: the LED and the left button are both on line 12"},
+      {R"({"bundle": "b", "loop": {"hud": true}})", "loop.hud: "},
+      {R"({"bundle": "b", "loop": {"hud": "maybe"}})",
+       "loop.hud: expected one of \"on\", \"off\", \"service\", got \"maybe\""},
+      {R"({"bundle": "b", "loop": {"fps": 0}})", "loop.fps: "},
+      {R"({"bundle": "b", "loop": {"service_hold_ms": 6000}})",
+       "loop.service_hold_ms: the service hold (6000 ms) must be shorter than stuck_after_ms "
+       "(5000 ms)"},
+      {R"({"bundle": "b", "loop": {"stuck_after_ms": 2000}})",
+       "loop.stuck_after_ms: the service hold (3000 ms) must be shorter"},
+      {R"({"bundle": "b", "loop": {"speed": 2}})", "loop.speed: unknown field"},
       {R"({"bundle": )", "line 1: "},
   };
   for (const auto& [text, expected] : cases) {

@@ -93,6 +93,8 @@ struct KioskLoop::State {
   int64_t attractStartNs = 0;
   size_t attractFirstProduct = 0;
   int64_t lastInputNs = 0;
+  bool serviceHud = false;   // HudMode::kService: shown now
+  bool serviceHeld = false;  // the current hold has toggled it already
 
   // Camera.
   CameraFrame grabbed;
@@ -244,6 +246,7 @@ void KioskLoop::handleButtons(int64_t now) {
       info(c.timeNs, std::string("button ") + buttonName(c.button) + ": released, usable again");
     }
   }
+  if (options_.hud == HudMode::kService) serviceHold(now);
   for (const ButtonAction& a : s_->actions) {
     s_->lastInputNs = a.timeNs;
     if (s_->attract) {
@@ -255,6 +258,23 @@ void KioskLoop::handleButtons(int64_t now) {
     }
     apply(a);
   }
+}
+
+// HudMode::kService: `next` and `previous` held together long enough toggle the HUD, once
+// per hold.
+void KioskLoop::serviceHold(int64_t now) {
+  State& s = *s_;
+  const Debouncer& d = s.debouncer;
+  if (!d.isDown(Button::kNext) || !d.isDown(Button::kPrevious)) {
+    s.serviceHeld = false;
+    return;
+  }
+  const int64_t since = std::max(d.downSinceNs(Button::kNext), d.downSinceNs(Button::kPrevious));
+  if (s.serviceHeld || now - since < options_.serviceHoldNs) return;
+  s.serviceHeld = true;
+  s.serviceHud = !s.serviceHud;
+  info(now, std::string("service HUD: ") + (s.serviceHud ? "on" : "off") +
+                " (next + previous held " + seconds(now - since) + ")");
 }
 
 shadow::ProductPose KioskLoop::attractPose(int64_t now) const {
@@ -320,6 +340,9 @@ void KioskLoop::handleCamera(int64_t now) {
                        "; keeping the last good frame",
                    "camera: frame refused");
     return;
+  }
+  if (!options_.cameraOrientation.identity()) {
+    orient(s.converted, bundle_.view.width, bundle_.view.height, options_.cameraOrientation);
   }
   s.background.swap(s.converted);
   s.backgroundSequence = s.grabbed.sequence;
@@ -464,7 +487,7 @@ FrameReport KioskLoop::step() {
   r.warnings = warnings(start, camera, d.overBudget);
   const LedState led = showLed(start, r.warnings);
   const uint32_t fps = fpsTenths(start);
-  if (options_.hud) {
+  if (options_.hud == HudMode::kOn || (options_.hud == HudMode::kService && s.serviceHud)) {
     HudInfo h;
     h.fpsTenths = fps;
     h.passes = passes;

@@ -63,6 +63,12 @@ class SteadyTimebase final : public Timebase {
   core::SteadyClock clock_;
 };
 
+// Who sees the HUD (frame rate, passes, mode, warnings): `kOn` always (development, the
+// simulator); `kOff` never; `kService` (what a showroom runs) only after a technician holds
+// `next` and `previous` together for `serviceHoldNs` — the two presses cancel out in the
+// carousel — and until the next such hold.
+enum class HudMode : uint32_t { kOff, kService, kOn };
+
 struct KioskOptions {
   int64_t fastFrameNs = 33'333'333;     // fast mode: 30 fps (issue 6 target)
   int64_t qualityFrameNs = 66'666'667;  // quality mode: 15 fps, more passes
@@ -76,7 +82,9 @@ struct KioskOptions {
   float floorMarginMetres = 0.6f;      // keep the product this far from the walls
   int64_t staleAfterNs = 100'000'000;  // camera frame older than this: say so
   int64_t reopenEveryNs = 1'000'000'000;
-  bool hud = true;
+  HudMode hud = HudMode::kOn;
+  int64_t serviceHoldNs = 3'000'000'000;
+  FrameOrientation cameraOrientation;  // applied to every camera frame
   Debouncer::Options debounce;
 };
 
@@ -141,6 +149,7 @@ class KioskLoop {
  private:
   struct State;
   void handleButtons(int64_t now);
+  void serviceHold(int64_t now);
   void apply(const ButtonAction& a);
   void handleCamera(int64_t now);
   void rebuildController();

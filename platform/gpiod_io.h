@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kiosk/buttons.h"
+#include "kiosk/kiosk_config.h"
 #include "kiosk/status.h"
 #include "platform/hardware.h"
 
@@ -18,10 +19,9 @@ namespace penumbra::platform {
 
 struct GpioConfig {
   std::string chip = "/dev/gpiochip0";
-  // Line offsets in Button order (next, previous, left, right, forward, back, rotate,
-  // quality); the defaults are docs/kiosk.md's wiring table (BCM numbers).
-  std::array<uint32_t, kiosk::kButtonCount> lines{5, 6, 13, 19, 26, 16, 20, 21};
-  int32_t ledLine = 12;  // -1: no LED
+  // Line offsets in Button order; the defaults are docs/kiosk.md's wiring table.
+  std::array<uint32_t, kiosk::kButtonCount> lines = kiosk::kDefaultButtonLines;
+  int32_t ledLine = kiosk::kDefaultLedLine;  // -1: no LED
 };
 
 class GpiodButtons final : public kiosk::ButtonSource {
