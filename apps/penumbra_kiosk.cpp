@@ -1,4 +1,5 @@
-// `penumbra-kiosk CONFIG.json [--bracket DIR]`: the board program (issue 6, docs/kiosk.md).
+// `penumbra-kiosk CONFIG.json [--bracket DIR | --check]`, `penumbra-kiosk --list-cameras`: the
+// board program (issue 6, docs/kiosk.md).
 // The kiosk loop of platform/ with the real peripherals, each falling back when absent:
 // camera libcamera → V4L2 webcam (OpenCV) → the simulated camera if configured → the
 // calibration photograph;
@@ -9,6 +10,7 @@
 #include <iostream>
 #include <memory>
 
+#include "apps/kiosk_check.h"
 #include "apps/render_flags.h"
 #include "core/cli.h"
 #include "firmware-sim/virtual_camera.h"
@@ -122,7 +124,12 @@ int main(int argc, char** argv) {
   std::string configPath;
   uint32_t frames = 0;
   apps::RenderFlags flags;
-  app.add_option("CONFIG", configPath, "kiosk configuration (.json)")->required();
+  bool check = false, list = false;
+  app.add_option("CONFIG", configPath, "kiosk configuration (.json)");
+  app.add_flag("--check", check,
+               "validate CONFIG, its bundle and product files, print what the kiosk would use "
+               "and exit (1 on any error)");
+  app.add_flag("--list-cameras", list, "list the libcamera cameras and V4L2 devices and exit");
   app.add_option("--frames", frames, "stop after N frames (default: run until closed)");
   std::string bracketDir;
   uint32_t stops = 7;
@@ -133,7 +140,19 @@ int main(int argc, char** argv) {
   apps::addRenderFlags(&app, flags);
   kiosk::KioskLog log(stderr);
   return cli::run("penumbra-kiosk", app, argc, argv, [&] {
+    if (list) {
+      apps::listCameras(std::cout);
+      return 0;
+    }
+    if (configPath.empty()) throw cli::UsageError("CONFIG is required (or --list-cameras)");
+    if (check) {
+      apps::checkKioskConfig(configPath, std::cout);
+      return 0;
+    }
     const kiosk::KioskConfig config = kiosk::loadKioskConfig(configPath);
+    // --threads on the command line wins over the configuration's `threads`.
+    raster::RenderOptions render = apps::toOptions(flags);
+    if (app.get_option("--threads")->count() == 0) render.threads = apps::kioskThreads(config);
     kiosk::SteadyTimebase time;
     kiosk::GuardedBundle guarded = kiosk::loadBundleKeepingLastGood(config.bundle, config.lastGood,
                                                                     log, time.nowNanoseconds());
@@ -158,6 +177,8 @@ int main(int argc, char** argv) {
     std::unique_ptr<platform::GpiodLed> gpioLed;
     platform::GpioConfig gpio;
     gpio.chip = config.gpioChip;
+    gpio.lines = config.buttonLines;
+    gpio.ledLine = config.ledLine;
     try {
       buttons = std::make_unique<platform::GpiodButtons>(gpio);
       gpioLed = std::make_unique<platform::GpiodLed>(gpio);
@@ -173,8 +194,21 @@ int main(int argc, char** argv) {
     if (config.display == "sdl") {
 #ifdef PENUMBRA_HAVE_SDL2
       try {
-        display =
+        auto sdl =
             std::make_unique<platform::SdlDisplay>(b.view.width, b.view.height, config.fullscreen);
+        // SDL falls back to drivers that show nothing when no screen answers: say so, or a
+        // technician sees a black screen and a log without a word about it.
+        const std::string driver = sdl->driver();
+        if (driver == "offscreen" || driver == "dummy" || driver == "evdev") {
+          fallback("display: SDL chose its '" + driver +
+                   "' video driver, which shows nothing on a screen; set SDL_VIDEODRIVER=kmsdrm "
+                   "(or x11, wayland)");
+        } else {
+          log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
+                    "display: SDL " + driver + " " + std::to_string(b.view.width) + "x" +
+                        std::to_string(b.view.height));
+        }
+        display = std::move(sdl);
       } catch (const platform::HardwareUnavailable& e) {
         fallback(std::string(e.what()) + "; running without a screen");
       }
@@ -190,7 +224,9 @@ int main(int argc, char** argv) {
     io.display = display.get();
     io.time = &time;
     io.log = &log;
-    kiosk::KioskLoop loop(b, kiosk::KioskOptions{}, io, apps::toOptions(flags));
+    log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
+              "render: " + std::to_string(render.threads) + " threads");
+    kiosk::KioskLoop loop(b, config.loop, io, render);
     auto tell = [&](const std::vector<kiosk::ProductFileWatcher::Change>& changes) {
       for (const auto& c : changes) {
         const std::string& name = b.products[c.product].name;

@@ -1,0 +1,170 @@
+#include "apps/kiosk_check.h"
+
+#include <sched.h>
+
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+#include "platform/hardware.h"
+#include "platform/v4l2_devices.h"
+#include "shadow/scene_bundle.h"
+#ifdef PENUMBRA_HAVE_LIBCAMERA
+#include "platform/libcamera_camera.h"
+#endif
+
+namespace penumbra::apps {
+namespace {
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+// libcamera's camera ids, or why there are none.
+std::vector<std::string> libcameraIds(std::string& why) {
+#ifdef PENUMBRA_HAVE_LIBCAMERA
+  try {
+    return platform::listLibcameraCameras();
+  } catch (const platform::HardwareUnavailable& e) {
+    why = e.what();
+  }
+#else
+  why = "this build has no libcamera (PENUMBRA_WITH_LIBCAMERA)";
+#endif
+  return {};
+}
+
+std::string describeV4l2(const std::filesystem::path& node) {
+  for (const platform::V4l2Device& d : platform::listV4l2Devices()) {
+    if (d.node == node) return node.string() + " (" + d.name + ")";
+  }
+  return node.string() + " (not present)";
+}
+
+const char* hudName(kiosk::HudMode m) {
+  switch (m) {
+    case kiosk::HudMode::kOff:
+      return "off";
+    case kiosk::HudMode::kService:
+      return "service";
+    case kiosk::HudMode::kOn:
+      break;
+  }
+  return "on";
+}
+
+}  // namespace
+
+int kioskThreads(const kiosk::KioskConfig& config) {
+  if (config.threads > 0) return config.threads;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) {
+    return std::min(CPU_COUNT(&set), 64);
+  }
+  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 64u));
+}
+
+void checkKioskConfig(const std::filesystem::path& configPath, std::ostream& out) {
+  const kiosk::KioskConfig c = kiosk::loadKioskConfig(configPath);
+  out << "config: " << configPath.string() << ": valid\n";
+  shadow::SceneBundle bundle = shadow::loadBundle(c.bundle);
+  std::vector<std::string> refused;
+  const std::vector<uint32_t> usable = kiosk::validateProducts(bundle, refused);
+  if (usable.empty()) {
+    throw kiosk::ConfigError(c.bundle.string() + ": no usable product (" + joined(refused) + ")");
+  }
+  std::vector<std::string> names;
+  names.reserve(usable.size());
+  for (uint32_t i : usable) names.push_back(bundle.products[i].name);
+  out << "bundle: " << c.bundle.string() << ": " << bundle.view.width << "x" << bundle.view.height
+      << ", products " << joined(names) << "\n";
+  for (const std::string& r : refused) out << "bundle: refused " << r << "\n";
+  if (!c.lastGood.empty()) {
+    out << "last good bundle: " << c.lastGood.string()
+        << (std::filesystem::exists(c.lastGood) ? " (present)"
+                                                : " (none yet: kept after 30 frames)")
+        << "\n";
+  }
+  for (const kiosk::ProductFile& f : c.productFiles) {
+    const shadow::ProductModel* current = nullptr;
+    for (const shadow::ProductModel& p : bundle.products) {
+      if (p.name == f.product) current = &p;
+    }
+    if (current == nullptr) {
+      throw kiosk::ConfigError(configPath.string() +
+                               ": product_files: the bundle has no product '" + f.product + "'");
+    }
+    const shadow::ProductModel m = kiosk::loadProductFile(f.file, *current);
+    out << "product file: " << f.product << " <- " << f.file.string() << ": "
+        << m.mesh.indices.size() / 3 << " triangles\n";
+  }
+
+  // Camera, in the kiosk's fallback order.
+  std::vector<std::string> steps;
+  if (c.camera == "auto" || c.camera == "libcamera") {
+    std::string why;
+    const std::vector<std::string> ids = libcameraIds(why);
+    if (!ids.empty()) {
+      steps.push_back("libcamera " +
+                      (c.cameraId.empty() ? ids.front() + " (the first)" : c.cameraId));
+    } else {
+      steps.push_back("libcamera: " + (why.empty() ? "no camera" : why));
+    }
+  }
+  if (c.camera != "libcamera" && c.camera != "none") {
+    steps.push_back("V4L2 " + describeV4l2(c.camera == "auto" ? "/dev/video0" : c.camera));
+  }
+  steps.push_back(c.cameraFallback == "simulated" ? "the simulated camera"
+                                                  : "the calibration photograph");
+  std::string order;
+  for (const std::string& s : steps) order += (order.empty() ? "" : " -> ") + s;
+  out << "camera: " << c.camera << ": " << order << "\n";
+  out << "camera controls: exposure " << c.cameraControls.exposureUs << " us, analogue gain "
+      << c.cameraControls.analogueGain << ", colour gains " << c.cameraControls.redGain << " "
+      << c.cameraControls.blueGain << "; mirrored"
+      << (c.loop.cameraOrientation.mirrorX ? " left-right" : "")
+      << (c.loop.cameraOrientation.mirrorY ? " top-bottom" : "")
+      << (c.loop.cameraOrientation.identity() ? " no" : "") << "\n";
+
+  out << "gpio: " << c.gpioChip
+      << (std::filesystem::exists(c.gpioChip) ? "" : " (not present: no buttons, no LED)")
+      << "; lines";
+  for (size_t b = 0; b < kiosk::kButtonCount; ++b) {
+    out << " " << kiosk::buttonName(static_cast<kiosk::Button>(b)) << " " << c.buttonLines[b];
+  }
+  out << ", LED " << (c.ledLine < 0 ? std::string("none") : std::to_string(c.ledLine)) << "\n";
+
+  const char* driver = std::getenv("SDL_VIDEODRIVER");
+  out << "display: " << c.display;
+  if (c.display == "sdl") {
+    out << (c.fullscreen ? ", fullscreen" : ", windowed") << ", SDL_VIDEODRIVER "
+        << (driver != nullptr ? std::string(driver) : "unset (SDL picks; kmsdrm on a board)");
+  }
+  out << "\n";
+  out << "render: " << kioskThreads(c) << " threads" << (c.threads == 0 ? " (one per core)" : "")
+      << "\n";
+  out << "loop: " << 1'000'000'000 / c.loop.fastFrameNs << " fps, quality "
+      << 1'000'000'000 / c.loop.qualityFrameNs << " fps, passes " << c.loop.minPasses << "-"
+      << c.loop.maxPasses << ", HUD " << hudName(c.loop.hud);
+  if (c.loop.hud == kiosk::HudMode::kService) {
+    out << " (hold next + previous " << c.loop.serviceHoldNs / 1'000'000 << " ms)";
+  }
+  out << "\n";
+}
+
+void listCameras(std::ostream& out) {
+  std::string why;
+  const std::vector<std::string> ids = libcameraIds(why);
+  out << "libcamera: " << ids.size() << " camera" << (ids.size() == 1 ? "" : "s")
+      << (why.empty() ? "" : " (" + why + ")") << "\n";
+  for (const std::string& id : ids) out << "  " << id << "\n";
+  const std::vector<platform::V4l2Device> v4l2 = platform::listV4l2Devices();
+  out << "V4L2: " << v4l2.size() << " device" << (v4l2.size() == 1 ? "" : "s") << "\n";
+  for (const platform::V4l2Device& d : v4l2)
+    out << "  " << d.node.string() << "  " << d.name << "\n";
+}
+
+}  // namespace penumbra::apps
