@@ -49,12 +49,14 @@ native=(
   libopencv-dev libopenexr-dev libtinygltf-dev
   libcamera-dev libgpiod-dev libsdl2-dev libdrm-dev
   blender-data opencv-doc
+  systemd
 )
 # clang, libclang-rt-14-dev: the asan preset (clang's sanitizers, libFuzzer: tests/fuzz).
 # blender-data: the CC0 lat-long HDR light probes (studiolights/world/*.exr);
 # clang-tidy, cppcheck: .ci/static-analysis.
 # opencv-doc: real 640x480 chessboard photographs (examples/data/left*.jpg).
 # Both are test inputs of the capture pipeline (issue 4).
+# systemd: systemd-analyze verifies the package's unit (.ci/package); not run as init.
 cross_pkgs=(
   g++-aarch64-linux-gnu qemu-user
   libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64

@@ -6,6 +6,7 @@
 // buttons and LED on libgpiod → none (attract mode only); screen SDL2 → none (frames are
 // rendered and counted, for a headless check). Every fallback is logged to stderr (journald).
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "kiosk/kiosk_config.h"
 #include "kiosk/kiosk_loop.h"
 #include "platform/hardware.h"
+#include "platform/service_notifier.h"
 #ifdef PENUMBRA_HAVE_GPIOD
 #include "platform/gpiod_io.h"
 #endif
@@ -35,6 +37,13 @@
 using namespace penumbra;
 
 namespace {
+
+// SIGTERM (systemctl stop) and SIGINT end the frame loop after the frame being drawn, so the
+// camera is stopped and the log flushed as on any other exit.
+volatile std::sig_atomic_t stopRequested = 0;
+void requestStop(int) {
+  stopRequested = 1;
+}
 
 // The camera, in the fallback order of docs/kiosk.md: libcamera → V4L2 webcam (OpenCV) →
 // the simulated camera if configured → none (the bundle's photograph, said on the HUD).
@@ -235,9 +244,21 @@ int main(int argc, char** argv) {
       }
     };
     tell(startupChanges);
+    // systemd (Type=notify, WatchdogSec=): ready once a frame is on the screen, alive every
+    // frame after.
+    platform::ServiceNotifier systemd;
+    if (systemd.active()) {
+      log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
+                "systemd: notifying" +
+                    (systemd.watchdogNs() > 0
+                         ? ", watchdog " + std::to_string(systemd.watchdogNs() / 1'000'000) + " ms"
+                         : std::string()));
+    }
+    std::signal(SIGTERM, requestStop);
+    std::signal(SIGINT, requestStop);
     uint32_t shown = 0;
     int64_t nextPollNs = time.nowNanoseconds() + 1'000'000'000;
-    for (;;) {
+    while (stopRequested == 0) {
       if (!config.productFiles.empty() && time.nowNanoseconds() >= nextPollNs) {
         // Hot-swap: files are looked at once a second and loaded off the frame loop; the
         // old model stays on screen until a load is ready (kiosk/product_files.h).
@@ -249,8 +270,14 @@ int main(int argc, char** argv) {
       }
       const kiosk::FrameReport r = loop.step();
       kiosk::noteFrameRendered(guarded, log, time.nowNanoseconds());
+      if (shown == 0) systemd.ready("showing " + b.products[r.pose.product].name);
+      systemd.alive(time.nowNanoseconds());
       ++shown;
       if (r.quit || (frames != 0 && shown >= frames)) break;
+    }
+    if (stopRequested != 0) {
+      systemd.stopping();
+      log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo, "stopping: signal received");
     }
     std::cout << "penumbra-kiosk: " << shown << " frames\n";
     return 0;

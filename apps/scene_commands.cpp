@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -43,6 +44,19 @@ shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
 }
 
 namespace {
+
+// bench/plot_profile.py: installed at bin/../share/penumbra/scripts (packaging/CMakeLists.txt),
+// found from this program's own path; in a build tree, in the sources.
+std::filesystem::path plotScript() {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    auto installed =
+        self.parent_path().parent_path() / "share" / "penumbra" / "scripts" / "plot_profile.py";
+    if (std::filesystem::is_regular_file(installed)) return installed;
+  }
+  return std::filesystem::path(PENUMBRA_SOURCE_DIR) / "bench" / "plot_profile.py";
+}
 
 struct SceneFlags {
   std::string bundle;
@@ -196,9 +210,8 @@ struct ProfileCommand {
     out.close();
     if (!plot.empty()) {
       // A chart people already know how to read, drawn by matplotlib (design §4).
-      const std::string command = "/usr/bin/python3 '" PENUMBRA_SOURCE_DIR
-                                  "/bench/plot_profile.py' '" +
-                                  csv + "' '" + plot + "'";
+      const std::string command =
+          "/usr/bin/python3 '" + plotScript().string() + "' '" + csv + "' '" + plot + "'";
       if (std::system(command.c_str()) != 0) {
         throw std::runtime_error("plotting failed (python3 with matplotlib is needed): " + command);
       }

@@ -72,6 +72,32 @@ if "$kiosk" 2>"$tmp/usage_err"; then fail "no CONFIG accepted"; fi
 grep -q "CONFIG is required" "$tmp/usage_err" || fail "unclear usage error: $(cat "$tmp/usage_err")"
 "$kiosk" --list-cameras >"$tmp/cams" 2>/dev/null || fail "--list-cameras failed"
 grep -q "^libcamera: " "$tmp/cams" && grep -q "^V4L2: " "$tmp/cams" || fail "--list-cameras: $(cat "$tmp/cams")"
+# Under systemd (Type=notify, WatchdogSec=): a socket where systemd's would be receives
+# READY=1 after the first frame and WATCHDOG=1 pings; SIGTERM (systemctl stop) ends the loop
+# cleanly: exit 0, STOPPING=1, said in the log.
+python3 - "$kiosk" "$tmp" <<'PY' || fail "systemd notification"
+import os, signal, socket, subprocess, sys, time
+kiosk, tmp = sys.argv[1:]
+path = os.path.join(tmp, "notify.sock")
+s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+s.bind(path)
+s.settimeout(60)
+env = dict(os.environ, NOTIFY_SOCKET=path, WATCHDOG_USEC="200000")
+p = subprocess.Popen([kiosk, os.path.join(tmp, "sim.json"), "--threads", "2"], env=env,
+                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+messages = [s.recv(4096).decode()]
+assert messages[0].startswith("READY=1\nSTATUS=showing "), messages
+while messages.count("WATCHDOG=1") < 2:
+    messages.append(s.recv(4096).decode())
+p.send_signal(signal.SIGTERM)
+out, err = p.communicate(timeout=60)
+messages.append(s.recv(4096).decode())
+assert p.returncode == 0, (p.returncode, err)
+assert messages[-1] == "STOPPING=1", messages
+assert "systemd: notifying, watchdog 200 ms" in err, err
+assert "stopping: signal received" in err, err
+print("notify: %d messages, exit %d" % (len(messages), p.returncode))
+PY
 echo '{"bundle": "x.bundle", "screen": "big"}' >"$tmp/bad.json"
 if "$kiosk" "$tmp/bad.json" --frames 1 2>"$tmp/err2"; then fail "bad config accepted"; fi
 grep -q "bad.json: screen: unknown field" "$tmp/err2" || fail "unclear error: $(cat "$tmp/err2")"
