@@ -1,6 +1,7 @@
 #include "platform/libcamera_camera.h"
 
 #include <libcamera/libcamera.h>
+#include <libcamera/version.h>
 #include <time.h>
 
 #include <atomic>
@@ -30,9 +31,40 @@ std::string noCameraMessage() {
          "config.txt?)";
 }
 
+// libcamera 0.5 split "AE off" into ExposureTimeMode and AnalogueGainMode (each Auto or
+// Manual); pipelines written for it (Raspberry Pi OS's) offer those and may no longer offer
+// AeEnable, which older ones (Debian 12's 0.0.3, Debian 13's 0.4.0) have alone. Compiled
+// against 0.5 or later, a camera that offers ExposureTimeMode gets the split controls.
+// Compiled here against 0.0.3, 0.4.0 and 0.7.2 (docs/kiosk.md, "libcamera versions").
+#if LIBCAMERA_VERSION_MAJOR > 0 || LIBCAMERA_VERSION_MINOR >= 5
+#define PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES 1
+#endif
+
+// The manual-exposure controls this camera takes.
+std::vector<const lc::ControlId*> manualExposureControls(const lc::ControlInfoMap& offered) {
+#ifdef PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES
+  if (offered.find(&lc::controls::ExposureTimeMode) != offered.end()) {
+    return {&lc::controls::ExposureTimeMode, &lc::controls::AnalogueGainMode};
+  }
+#endif
+  (void)offered;
+  return {&lc::controls::AeEnable};
+}
+
 // The fixed controls (AE and AWB off: the bundle's T() holds for this exposure only).
-void setFixedControls(lc::ControlList& list, const kiosk::CameraControls& c) {
+// `splitModes`: manualExposureControls() chose ExposureTimeMode and AnalogueGainMode.
+void setFixedControls(lc::ControlList& list, const kiosk::CameraControls& c, bool splitModes) {
+#ifdef PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES
+  if (splitModes) {
+    list.set(lc::controls::ExposureTimeMode, int32_t{lc::controls::ExposureTimeModeManual});
+    list.set(lc::controls::AnalogueGainMode, int32_t{lc::controls::AnalogueGainModeManual});
+  } else {
+    list.set(lc::controls::AeEnable, false);
+  }
+#else
+  (void)splitModes;
   list.set(lc::controls::AeEnable, false);
+#endif
   list.set(lc::controls::AwbEnable, false);
   list.set(lc::controls::ExposureTime, c.exposureUs);
   list.set(lc::controls::AnalogueGain, c.analogueGain);
@@ -59,6 +91,7 @@ struct LibcameraCamera::Impl {
   std::map<const lc::FrameBuffer*, MappedFrameBuffer> mapped;
   std::vector<std::unique_ptr<lc::Request>> requests;
   std::vector<std::string> unsupported;  // fixed controls the camera does not offer
+  bool splitExposureModes = false;       // ExposureTimeMode/AnalogueGainMode, not AeEnable
 
   FrameSlot slot;
   std::atomic<bool> running{false};
@@ -147,6 +180,9 @@ void LibcameraCamera::Impl::configure() {
     std::lock_guard<std::mutex> lock(controlsMutex);
     c = controls;
   }
+  const lc::ControlInfoMap& offered = camera->controls();
+  std::vector<const lc::ControlId*> wanted = manualExposureControls(offered);
+  splitExposureModes = wanted.front() != &lc::controls::AeEnable;
   uint64_t cookie = 0;
   for (const std::unique_ptr<lc::FrameBuffer>& buffer : allocator->buffers(stream)) {
     std::vector<PlaneRef> planes;
@@ -158,24 +194,20 @@ void LibcameraCamera::Impl::configure() {
     if (!request || request->addBuffer(stream, buffer.get()) != 0) {
       throw HardwareUnavailable("libcamera: " + id + ": cannot create a capture request");
     }
-    setFixedControls(request->controls(), c);
+    setFixedControls(request->controls(), c, splitExposureModes);
     requests.push_back(std::move(request));
   }
-  const lc::ControlInfoMap& offered = camera->controls();
   unsupported.clear();
-  for (const lc::ControlId* control :
-       {static_cast<const lc::ControlId*>(&lc::controls::ExposureTime),
-        static_cast<const lc::ControlId*>(&lc::controls::AnalogueGain),
-        static_cast<const lc::ControlId*>(&lc::controls::ColourGains),
-        static_cast<const lc::ControlId*>(&lc::controls::AeEnable),
-        static_cast<const lc::ControlId*>(&lc::controls::AwbEnable)}) {
+  wanted.insert(wanted.end(), {&lc::controls::ExposureTime, &lc::controls::AnalogueGain,
+                               &lc::controls::ColourGains, &lc::controls::AwbEnable});
+  for (const lc::ControlId* control : wanted) {
     if (offered.find(control) == offered.end()) unsupported.push_back(control->name());
   }
 
   camera->requestCompleted.connect(this, &Impl::onRequestCompleted);
   camera->disconnected.connect(this, &Impl::onDisconnected);
   lc::ControlList start(offered);
-  setFixedControls(start, c);
+  setFixedControls(start, c, splitExposureModes);
   disconnected = false;
   slot.reopen();
   sequenceBase = lastSequence;
@@ -231,7 +263,7 @@ void LibcameraCamera::Impl::onRequestCompleted(lc::Request* request) {
   request->reuse(lc::Request::ReuseBuffers);
   {
     std::lock_guard<std::mutex> lock(controlsMutex);
-    setFixedControls(request->controls(), controls);
+    setFixedControls(request->controls(), controls, splitExposureModes);
   }
   if (running) camera->queueRequest(request);
 }
