@@ -147,6 +147,28 @@ int main(int argc, char** argv) {
   app.add_option("--bracket-stops", stops, "exposures, one stop apart, around camera_controls")
       ->check(cli::NumberRange(2, 15));
   apps::addRenderFlags(&app, flags);
+  app.get_option("--threads")
+      ->description(
+          "render threads (default: the configuration's `threads`; 0 there = one per "
+          "core)")
+      ->default_str("");
+  // What a man page would say, for a technician on the board without the docs at hand.
+  app.footer(R"(Files:
+  /etc/penumbra/kiosk.json  the configuration (keys: docs/kiosk.md, "The board program")
+  /usr/share/penumbra/showroom/showroom.bundle  the bundled showroom
+  /var/lib/penumbra/        the last good bundle and its trial mark
+Environment:
+  SDL_VIDEODRIVER           kmsdrm on a board; offscreen and dummy show nothing (logged)
+  NOTIFY_SOCKET, WATCHDOG_USEC  set by systemd (Type=notify): READY, WATCHDOG, STOPPING
+Signals:
+  SIGTERM, SIGINT           end the frame loop after the frame being drawn (exit 0)
+Exit status:
+  0 ok; 1 runtime error (configuration, bundle, product file, camera for --bracket);
+  2 usage error
+Examples:
+  penumbra-kiosk --check /etc/penumbra/kiosk.json
+  penumbra-kiosk --list-cameras
+  sudo systemctl restart penumbra-kiosk; journalctl -u penumbra-kiosk)");
   kiosk::KioskLog log(stderr);
   return cli::run("penumbra-kiosk", app, argc, argv, [&] {
     if (list) {
