@@ -37,7 +37,7 @@ nlohmann::json orNull(double v) {
 
 // The reference image and, from the ray tracer, its own shadow mask (else left empty).
 core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
-                           nlohmann::json& info, core::Image8& mask) {
+                           nlohmann::json& info, [[maybe_unused]] core::Image8& mask) {
   const shadow::ProductPose pose = bundle.startPose;
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   if (!o.referencePath.empty()) {
