@@ -2,10 +2,13 @@
 
 #include <sched.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <thread>
 
+#include "kiosk/bundle_guard.h"
+#include "kiosk/product_files.h"
 #include "platform/hardware.h"
 #include "platform/v4l2_devices.h"
 #include "shadow/scene_bundle.h"
@@ -84,22 +87,24 @@ void checkKioskConfig(const std::filesystem::path& configPath, std::ostream& out
   for (const std::string& r : refused) out << "bundle: refused " << r << "\n";
   if (!c.lastGood.empty()) {
     out << "last good bundle: " << c.lastGood.string()
-        << (std::filesystem::exists(c.lastGood) ? " (present)"
-                                                : " (none yet: kept after 30 frames)")
+        << (std::filesystem::exists(c.lastGood)
+                ? std::string(" (present)")
+                : " (none yet: kept after " + std::to_string(kiosk::kFramesBeforeLastGood) +
+                      " frames)")
         << "\n";
   }
+  // The kiosk's own start-up swap (a file it would refuse is an error here).
+  kiosk::KioskLog swaps;
   for (const kiosk::ProductFile& f : c.productFiles) {
-    const shadow::ProductModel* current = nullptr;
-    for (const shadow::ProductModel& p : bundle.products) {
-      if (p.name == f.product) current = &p;
+    const std::string refusal = kiosk::swapProductFile(bundle, f, swaps, 0);
+    if (!refusal.empty()) {
+      throw kiosk::ConfigError(configPath.string() + ": product_files: " + refusal);
     }
-    if (current == nullptr) {
-      throw kiosk::ConfigError(configPath.string() +
-                               ": product_files: the bundle has no product '" + f.product + "'");
-    }
-    const shadow::ProductModel m = kiosk::loadProductFile(f.file, *current);
+    const auto swapped =
+        std::find_if(bundle.products.begin(), bundle.products.end(),
+                     [&](const shadow::ProductModel& p) { return p.name == f.product; });
     out << "product file: " << f.product << " <- " << f.file.string() << ": "
-        << m.mesh.indices.size() / 3 << " triangles\n";
+        << swapped->mesh.triangleCount() << " triangles\n";
   }
 
   // Camera, in the kiosk's fallback order.
@@ -117,8 +122,10 @@ void checkKioskConfig(const std::filesystem::path& configPath, std::ostream& out
   if (c.camera != "libcamera" && c.camera != "none") {
     steps.push_back("V4L2 " + describeV4l2(c.camera == "auto" ? "/dev/video0" : c.camera));
   }
-  steps.push_back(c.cameraFallback == "simulated" ? "the simulated camera"
-                                                  : "the calibration photograph");
+  // "none" asks for the photograph itself, whatever camera_fallback says (openCamera).
+  steps.push_back(c.cameraFallback == "simulated" && c.camera != "none"
+                      ? "the simulated camera"
+                      : "the calibration photograph");
   std::string order;
   for (const std::string& s : steps) order += (order.empty() ? "" : " -> ") + s;
   out << "camera: " << c.camera << ": " << order << "\n";

@@ -113,6 +113,7 @@ int bracket(const kiosk::KioskConfig& config, const shadow::SceneBundle& b,
   bo.base = config.cameraControls;
   bo.width = b.view.width;
   bo.height = b.view.height;
+  bo.orientation = config.loop.cameraOrientation;
   const auto shots = kiosk::captureBracket(*camera, time, bo, log);
   kiosk::writeBracket(shots, b.view.width, b.view.height, dir);
   std::cout << "penumbra-kiosk: " << shots.size() << " exposures in " << dir.string()
@@ -230,7 +231,7 @@ Examples:
         // SDL falls back to drivers that show nothing when no screen answers: say so, or a
         // technician sees a black screen and a log without a word about it.
         const std::string driver = sdl->driver();
-        if (driver == "offscreen" || driver == "dummy" || driver == "evdev") {
+        if (sdl->showsNothing()) {
           fallback("display: SDL chose its '" + driver +
                    "' video driver, which shows nothing on a screen; set SDL_VIDEODRIVER=kmsdrm "
                    "(or x11, wayland)");

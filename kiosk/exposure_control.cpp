@@ -65,7 +65,7 @@ std::vector<BracketShot> captureBracket(ControllableCamera& camera, Timebase& ti
       shot.appliedUs = frame.exposureUs != 0 ? frame.exposureUs : asked;
       shot.sequence = frame.sequence;
       std::string why;
-      if (!toRgba(frame, o.width, o.height, shot.rgba, why))
+      if (!toRgba(frame, o.width, o.height, shot.rgba, why, o.orientation))
         throw std::runtime_error(what + ": " + why);
       std::string line = what;
       line.append(": frame ").append(std::to_string(frame.sequence));

@@ -38,6 +38,9 @@ struct BracketOptions {
   std::vector<int32_t> exposuresUs;  // at least 2, distinct
   CameraControls base;               // gain and white balance for every shot
   uint32_t width = 0, height = 0;    // the calibrated view
+  // The camera's mounting: shots are mirrored as the kiosk mirrors its background, so the
+  // capture pipeline calibrates the view the kiosk shows.
+  FrameOrientation orientation;
   // Frames newer than the change that are still discarded: sensors apply an exposure 2-3
   // frames after the request that carries it (the pipeline depth).
   uint32_t settleFrames = 3;

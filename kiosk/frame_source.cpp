@@ -1,6 +1,6 @@
 #include "kiosk/frame_source.h"
 
-#include <algorithm>
+#include <cstddef>
 
 namespace penumbra::kiosk {
 
@@ -41,17 +41,30 @@ uint8_t clampToByte(int32_t v) {
   return static_cast<uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v);
 }
 
+// Where source row `y` goes in the output, and which way along it: the mounting's mirrors,
+// decided once a row.
+struct OutputRow {
+  uint8_t* first;  // the pixel source column 0 lands on
+  ptrdiff_t step;  // +4, or -4 when mirrored left-right
+};
+OutputRow outputRow(std::vector<uint8_t>& rgba, uint32_t width, uint32_t height, uint32_t y,
+                    FrameOrientation o) {
+  uint8_t* row = rgba.data() + size_t{o.mirrorY ? height - 1 - y : y} * width * 4;
+  return o.mirrorX ? OutputRow{row + size_t{width - 1} * 4, -4} : OutputRow{row, 4};
+}
+
 // Full-range BT.601 (JFIF): R = Y + 1.402 V', G = Y - 0.344136 U' - 0.714136 V',
 // B = Y + 1.772 U' with U' = U - 128, V' = V - 128; coefficients × 65536, rounded to nearest
 // (>> of a negative value is an arithmetic shift in C++20, i.e. floor).
-void yuv420ToRgba(const CameraFrame& f, std::vector<uint8_t>& rgba) {
+void yuv420ToRgba(const CameraFrame& f, std::vector<uint8_t>& rgba, FrameOrientation o) {
   const uint32_t cstride = f.stride / 2;
   const uint8_t* yPlane = f.data.data();
   const uint8_t* uPlane = yPlane + size_t{f.stride} * f.height;
   const uint8_t* vPlane = uPlane + size_t{cstride} * (f.height / 2);
   for (uint32_t y = 0; y < f.height; ++y) {
-    uint8_t* dst = rgba.data() + size_t{y} * f.width * 4;
-    for (uint32_t x = 0; x < f.width; ++x, dst += 4) {
+    const OutputRow out = outputRow(rgba, f.width, f.height, y, o);
+    uint8_t* dst = out.first;
+    for (uint32_t x = 0; x < f.width; ++x, dst += out.step) {
       const int32_t luma = yPlane[size_t{y} * f.stride + x];
       const size_t c = size_t{y / 2} * cstride + x / 2;
       const int32_t u = uPlane[c] - 128, v = vPlane[c] - 128;
@@ -66,7 +79,7 @@ void yuv420ToRgba(const CameraFrame& f, std::vector<uint8_t>& rgba) {
 }  // namespace
 
 bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
-            std::string& why) {
+            std::string& why, FrameOrientation orientation) {
   const std::string got = std::to_string(frame.width) + "x" + std::to_string(frame.height) + " " +
                           pixelFormatName(frame.format);
   if (frame.width != width || frame.height != height) {
@@ -90,13 +103,14 @@ bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vect
   }
   rgba.resize(static_cast<size_t>(width) * height * 4);
   if (frame.format == PixelFormat::kYuv420) {
-    yuv420ToRgba(frame, rgba);
+    yuv420ToRgba(frame, rgba, orientation);
     return true;
   }
   for (uint32_t y = 0; y < height; ++y) {
     const uint8_t* src = frame.data.data() + static_cast<size_t>(y) * frame.stride;
-    uint8_t* dst = rgba.data() + static_cast<size_t>(y) * width * 4;
-    for (uint32_t x = 0; x < width; ++x, src += bpp, dst += 4) {
+    const OutputRow out = outputRow(rgba, width, height, y, orientation);
+    uint8_t* dst = out.first;
+    for (uint32_t x = 0; x < width; ++x, src += bpp, dst += out.step) {
       switch (frame.format) {
         case PixelFormat::kRgba8:
           dst[0] = src[0], dst[1] = src[1], dst[2] = src[2];
@@ -113,24 +127,6 @@ bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vect
     }
   }
   return true;
-}
-
-void orient(std::vector<uint8_t>& rgba, uint32_t width, uint32_t height, FrameOrientation o) {
-  const size_t row = size_t(width) * 4;
-  uint8_t* p = rgba.data();
-  if (o.mirrorY) {
-    for (uint32_t y = 0; y < height / 2; ++y) {
-      std::swap_ranges(p + y * row, p + (y + 1) * row, p + (height - 1 - y) * row);
-    }
-  }
-  if (o.mirrorX) {
-    for (uint32_t y = 0; y < height; ++y) {
-      uint8_t* r = p + y * row;
-      for (uint32_t x = 0; x < width / 2; ++x) {
-        std::swap_ranges(r + 4 * x, r + 4 * x + 4, r + 4 * (width - 1 - x));
-      }
-    }
-  }
 }
 
 }  // namespace penumbra::kiosk

@@ -49,14 +49,6 @@ class FrameSource {
   virtual std::string describe() const = 0;
 };
 
-// Converts `frame` into RGBA8 (alpha 255) of exactly width × height. Returns false and sets
-// `why` (e.g. "640x480 XRGB8888 expected, got 320x240 XRGB8888") for a frame of another size,
-// an unsupported format, or a buffer shorter than stride × height; `rgba` is then untouched.
-// YUV420 is converted with the full-range BT.601 matrix of JPEG/sYCC (what libcamera's
-// viewfinder stream reports) in 16-bit fixed point, integers only.
-bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
-            std::string& why);
-
 // How the camera is mounted: a sensor upside down is mirrored on both axes (rotated by 180°);
 // a camera filming through a mirror, on one. Quarter turns are not offered: the calibrated
 // view has one size, which a quarter turn would swap.
@@ -65,7 +57,13 @@ struct FrameOrientation {
   bool identity() const { return !mirrorX && !mirrorY; }
 };
 
-// Mirrors an RGBA8 width × height frame in place.
-void orient(std::vector<uint8_t>& rgba, uint32_t width, uint32_t height, FrameOrientation o);
+// Converts `frame` into RGBA8 (alpha 255) of exactly width × height, mirrored as `orientation`
+// says (the conversion writes each pixel where the mounting puts it: no second pass). Returns
+// false and sets `why` (e.g. "640x480 XRGB8888 expected, got 320x240 XRGB8888") for a frame of
+// another size, an unsupported format, or a buffer shorter than stride × height; `rgba` is
+// then untouched. YUV420 is converted with the full-range BT.601 matrix of JPEG/sYCC (what
+// libcamera's viewfinder stream reports) in 16-bit fixed point, integers only.
+bool toRgba(const CameraFrame& frame, uint32_t width, uint32_t height, std::vector<uint8_t>& rgba,
+            std::string& why, FrameOrientation orientation = {});
 
 }  // namespace penumbra::kiosk

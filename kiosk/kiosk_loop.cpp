@@ -333,16 +333,14 @@ void KioskLoop::handleCamera(int64_t now) {
   s.haveSequence = true;
   s.lastSequence = s.grabbed.sequence;
   std::string why;
-  if (!toRgba(s.grabbed, bundle_.view.width, bundle_.view.height, s.converted, why)) {
+  if (!toRgba(s.grabbed, bundle_.view.width, bundle_.view.height, s.converted, why,
+              options_.cameraOrientation)) {
     s.lastBadFrameNs = now;
     io_.log->write(now, LogLevel::kWarning,
                    "camera: frame " + std::to_string(s.grabbed.sequence) + " refused: " + why +
                        "; keeping the last good frame",
                    "camera: frame refused");
     return;
-  }
-  if (!options_.cameraOrientation.identity()) {
-    orient(s.converted, bundle_.view.width, bundle_.view.height, options_.cameraOrientation);
   }
   s.background.swap(s.converted);
   s.backgroundSequence = s.grabbed.sequence;

@@ -84,7 +84,7 @@ struct KioskOptions {
   int64_t reopenEveryNs = 1'000'000'000;
   HudMode hud = HudMode::kOn;
   int64_t serviceHoldNs = 3'000'000'000;
-  FrameOrientation cameraOrientation;  // applied to every camera frame
+  FrameOrientation cameraOrientation;  // the camera mounting: toRgba mirrors every frame
   Debouncer::Options debounce;
 };
 

@@ -34,6 +34,13 @@ int64_t ceilDiv(int64_t a, int64_t b) {
   return (a + b - 1) / b;
 }
 
+// EXR stores every integer little-endian.
+int32_t littleEndian32(const char* bytes) {
+  uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = (v << 8) | uint8_t(bytes[i]);
+  return int32_t(v);
+}
+
 // Little-endian reads over bytes with the file offset of each, for messages.
 class HeaderReader {
  public:
@@ -53,10 +60,7 @@ class HeaderReader {
   [[noreturn]] void fail(const std::string& what) const { throw HdrError(name_ + ": " + what); }
 
   std::string bytes(int64_t n, const std::string& what) {
-    if (n > remaining()) {
-      failAt(offset_, what + " of " + std::to_string(n) + " bytes runs past the end of the file (" +
-                          std::to_string(size_) + " bytes)");
-    }
+    need(n, what);
     std::string s(size_t(n), '\0');
     in_.read(s.data(), std::streamsize(n));
     if (!in_) failAt(offset_, "cannot read " + what);
@@ -64,19 +68,11 @@ class HeaderReader {
     return s;
   }
   void skip(int64_t n, const std::string& what) {
-    if (n > remaining()) {
-      failAt(offset_, what + " of " + std::to_string(n) + " bytes runs past the end of the file (" +
-                          std::to_string(size_) + " bytes)");
-    }
+    need(n, what);
     in_.seekg(std::streamoff(n), std::ios::cur);
     offset_ += n;
   }
-  int32_t i32(const std::string& what) {
-    const std::string b = bytes(4, what);
-    uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = (v << 8) | uint8_t(b[size_t(i)]);
-    return int32_t(v);
-  }
+  int32_t i32(const std::string& what) { return littleEndian32(bytes(4, what).data()); }
   // A zero-terminated name of at most maxLength characters.
   std::string name(size_t maxLength, const std::string& what) {
     const int64_t at = offset_;
@@ -95,6 +91,13 @@ class HeaderReader {
   }
 
  private:
+  void need(int64_t n, const std::string& what) const {
+    if (n > remaining()) {
+      failAt(offset_, what + " of " + std::to_string(n) + " bytes runs past the end of the file (" +
+                          std::to_string(size_) + " bytes)");
+    }
+  }
+
   std::ifstream in_;
   std::string name_;
   int64_t size_ = 0, offset_ = 0;
@@ -106,10 +109,8 @@ struct ValueCursor {
   size_t at = 0;
   bool has(size_t n) const { return n <= bytes.size() - at; }
   int32_t i32() {
-    uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = (v << 8) | uint8_t(bytes[at + size_t(i)]);
     at += 4;
-    return int32_t(v);
+    return littleEndian32(bytes.data() + at - 4);
   }
 };
 
@@ -184,33 +185,33 @@ void checkInnerSizes(const HeaderReader& r, int64_t valueAt, const std::string& 
   }
 }
 
-// Levels of one axis of a tiled image: floor or ceil of log2(size), plus one.
-int levelCount(int64_t size, bool roundUp) {
+// Levels of one axis of a tiled image, as a file that rounds level sizes up has them:
+// ceil(log2(size)) + 1. Rounding up gives as many levels as rounding down or more, each at
+// least as large, so the tile count below bounds either file's (and is exact for round-up).
+int levelCount(int64_t size) {
   int n = 0;
-  while ((int64_t{1} << n) < size) ++n;  // n = ceil(log2(size))
-  if (!roundUp && (int64_t{1} << n) != size) --n;
+  while ((int64_t{1} << n) < size) ++n;
   return n + 1;
 }
 
-int64_t levelSize(int64_t size, int level, bool roundUp) {
-  const int64_t d = int64_t{1} << level;
-  return std::max<int64_t>(1, roundUp ? ceilDiv(size, d) : size / d);
+int64_t levelSize(int64_t size, int level) {
+  return std::max<int64_t>(1, ceilDiv(size, int64_t{1} << level));
 }
 
 // Tiles over every level. At most 26 x 26 levels of at most 2^25 tiles: no overflow.
-int64_t tileCount(const ExrLayout& l, bool roundUp) {
+int64_t tileCount(const ExrLayout& l) {
   const auto tilesOf = [&](int lx, int ly) {
-    return ceilDiv(levelSize(l.width, lx, roundUp), l.tileWidth) *
-           ceilDiv(levelSize(l.height, ly, roundUp), l.tileHeight);
+    return ceilDiv(levelSize(l.width, lx), l.tileWidth) *
+           ceilDiv(levelSize(l.height, ly), l.tileHeight);
   };
   if (l.levelMode == 0) return tilesOf(0, 0);
   int64_t total = 0;
   if (l.levelMode == 1) {
-    const int n = levelCount(std::max(l.width, l.height), roundUp);
+    const int n = levelCount(std::max(l.width, l.height));
     for (int i = 0; i < n; ++i) total += tilesOf(i, i);
     return total;
   }
-  const int nx = levelCount(l.width, roundUp), ny = levelCount(l.height, roundUp);
+  const int nx = levelCount(l.width), ny = levelCount(l.height);
   for (int y = 0; y < ny; ++y) {
     for (int x = 0; x < nx; ++x) total += tilesOf(x, y);
   }
@@ -278,8 +279,6 @@ ExrLayout readExrLayout(const std::filesystem::path& path) {
         r.failAt(valueAt + 8, "tiles: level mode " + std::to_string(mode) +
                                   ": expected levels 0 to 2 and rounding 0 or 1");
       }
-      // Rounding up gives each level at least as many pixels as rounding down: the count
-      // below is an upper bound either way (and exact for files that round up).
       haveTiles = true;
     } else if (name == "type") {
       const std::string v = r.bytes(size, what);
@@ -316,7 +315,7 @@ ExrLayout readExrLayout(const std::filesystem::path& path) {
     // a row of tiles across the data window.
     layout.chunkBytes =
         mulSat(mulSat(std::max(layout.tileWidth, w), layout.tileHeight), layout.bytesPerPixel);
-    layout.chunks = tileCount(layout, true);
+    layout.chunks = tileCount(layout);
     chunk = "tile rows of " + std::to_string(std::max(layout.tileWidth, w)) + "x" +
             std::to_string(layout.tileHeight) + " pixels";
   } else {

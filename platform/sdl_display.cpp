@@ -33,7 +33,7 @@ SdlDisplay::SdlDisplay(uint32_t width, uint32_t height, bool fullscreen)
   // accelerated texture: an EGL context on Mesa llvmpipe, with its own threads and
   // never-freed driver state (LeakSanitizer and ThreadSanitizer report both, inside Mesa).
   // A plain memory framebuffer is all a headless kiosk needs.
-  if (driver() == "offscreen") SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
+  if (showsNothing()) SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
   impl_->window = SDL_CreateWindow("penumbra kiosk", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
                                    static_cast<int>(width), static_cast<int>(height),
                                    fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0);
@@ -61,6 +61,11 @@ SdlDisplay::~SdlDisplay() = default;
 std::string SdlDisplay::driver() const {
   const char* d = SDL_GetCurrentVideoDriver();
   return d ? d : "none";
+}
+
+bool SdlDisplay::showsNothing() const {
+  const std::string d = driver();
+  return d == "offscreen" || d == "dummy" || d == "evdev";
 }
 
 bool SdlDisplay::show(const uint8_t* rgba, uint32_t width, uint32_t height) {

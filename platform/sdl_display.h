@@ -24,6 +24,9 @@ class SdlDisplay final : public kiosk::Display {
   // a frame of another size than the display's.
   bool show(const uint8_t* rgba, uint32_t width, uint32_t height) override;
   std::string driver() const;
+  // SDL's drivers that draw into memory only ("offscreen", "dummy" and its "evdev" variant):
+  // SDL falls back to them when no screen answers.
+  bool showsNothing() const;
   uint64_t framesShown() const { return shown_; }
 
  private:
