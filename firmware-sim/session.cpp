@@ -13,7 +13,6 @@ namespace {
 
 using core::JsonValue;
 
-constexpr int64_t kMs = 1'000'000;
 constexpr int64_t kHour = 3'600'000;  // ms
 
 // "board": the simulated board's cost model, its load steps and overrun frames.
@@ -24,7 +23,7 @@ void readBoard(const JsonValue& b, Session& s) {
   s.cost.perPixelPs = b.integerOr("per_pixel_ps", 0, 0, 1'000'000'000);
   for (const JsonValue& e : b.optionalArray("load_steps")) {
     e.object({"at_ms", "permille"});
-    const int64_t at = e["at_ms"].integer(0, kHour) * kMs;
+    const int64_t at = e["at_ms"].integer(0, kHour) * kNsPerMs;
     if (!s.loadSteps.empty() && at <= s.loadSteps.back().atNs) {
       e["at_ms"].fail("load steps must be in increasing time");
     }
@@ -33,7 +32,7 @@ void readBoard(const JsonValue& b, Session& s) {
   for (const JsonValue& e : b.optionalArray("overruns")) {
     e.object({"frame", "extra_ms"});
     s.overruns.push_back({static_cast<uint32_t>(e["frame"].integer(1, 1'000'000)),
-                          e["extra_ms"].integer(1, 60'000) * kMs});
+                          e["extra_ms"].integer(1, 60'000) * kNsPerMs});
   }
 }
 
@@ -51,7 +50,7 @@ CameraFault readCameraFault(const JsonValue& e) {
   // A late frame needs its delay; the other faults may leave it out.
   f.delayNs = (f.kind == CameraFaultKind::kLate ? e["delay_ms"].integer(0, 60'000)
                                                 : e.integerOr("delay_ms", 0, 0, 60'000)) *
-              kMs;
+              kNsPerMs;
   if (f.kind == CameraFaultKind::kLate && f.delayNs == 0) e["delay_ms"].fail("must be > 0");
   return f;
 }
@@ -82,7 +81,7 @@ void readCamera(const JsonValue& c, const std::filesystem::path& dir, Session& s
 ScriptedPress readPress(const JsonValue& e) {
   e.object({"at_ms", "button", "hold_ms", "bounces", "bounce_us"});
   ScriptedPress p;
-  p.atNs = e["at_ms"].integer(0, kHour) * kMs;
+  p.atNs = e["at_ms"].integer(0, kHour) * kNsPerMs;
   const std::string name = e["button"].string();
   const auto b = kiosk::parseButton(name);
   if (!b) {
@@ -90,7 +89,7 @@ ScriptedPress readPress(const JsonValue& e) {
                      "' (next, previous, left, right, forward, back, rotate, quality)");
   }
   p.button = *b;
-  p.holdNs = e.integerOr("hold_ms", 80, 1, kHour) * kMs;
+  p.holdNs = e.integerOr("hold_ms", 80, 1, kHour) * kNsPerMs;
   p.bounces = static_cast<uint32_t>(e.integerOr("bounces", 0, 0, 100));
   p.bounceNs = e.integerOr("bounce_us", 1000, 1, 100'000) * 1000;
   if (2 * static_cast<int64_t>(p.bounces) * p.bounceNs >= p.holdNs) {
@@ -110,7 +109,7 @@ void readProductFiles(const JsonValue& root, const std::filesystem::path& dir, S
   for (const JsonValue& e : root.optionalArray("product_files")) {
     e.object({"at_ms", "product", "file"});
     ScriptedProductFile f;
-    f.atNs = e.integerOr("at_ms", 0, 0, kHour) * kMs;
+    f.atNs = e.integerOr("at_ms", 0, 0, kHour) * kNsPerMs;
     if (!s.productFiles.empty() && f.atNs < s.productFiles.back().atNs) {
       e["at_ms"].fail("product files must be in time order");
     }

@@ -20,6 +20,9 @@
 
 namespace penumbra::firmware_sim {
 
+// Nanoseconds in a millisecond: sessions give times in ms, the clock counts ns.
+inline constexpr int64_t kNsPerMs = 1'000'000;
+
 class SessionError : public core::Error {
  public:
   using core::Error::Error;

@@ -7,7 +7,6 @@
 namespace penumbra::firmware_sim {
 namespace {
 
-constexpr int64_t kMs = 1'000'000;
 constexpr uint64_t kSoakKey = 0x50a4'50a4'50a4'50a4ull;
 
 // Draw `counter` of stream `stream`, in [0, n).
@@ -25,15 +24,15 @@ Session soakSession(Session base, uint32_t frames) {
 
   // A visitor: a press every 1.5-4.5 s; now and then a bouncing contact or a held button.
   s.presses.clear();
-  int64_t t = 500 * kMs;
+  int64_t t = 500 * kNsPerMs;
   for (uint64_t i = 0; t < endNs; ++i) {
     ScriptedPress p;
     p.atNs = t;
     p.button = static_cast<kiosk::Button>(draw(1, i, kiosk::kButtonCount));
     p.bounces = static_cast<uint32_t>(draw(2, i, 4));
-    p.holdNs = (draw(3, i, 10) == 0 ? 1'500 : 80) * kMs;  // 1 in 10 held (moves repeat)
+    p.holdNs = (draw(3, i, 10) == 0 ? 1'500 : 80) * kNsPerMs;  // 1 in 10 held (moves repeat)
     s.presses.push_back(p);
-    t += (1'500 + static_cast<int64_t>(draw(4, i, 3'000))) * kMs + p.holdNs;
+    t += (1'500 + static_cast<int64_t>(draw(4, i, 3'000))) * kNsPerMs + p.holdNs;
   }
 
   // The camera: a fault every 20-40 s; one in six is a 1-3 s disconnect.
@@ -46,7 +45,7 @@ Session soakSession(Session base, uint32_t frames) {
     f.frame = k;
     f.count = 1 + draw(6, i, 4);
     if (f.kind == CameraFaultKind::kLate)
-      f.delayNs = (50 + static_cast<int64_t>(draw(7, i, 200))) * kMs;
+      f.delayNs = (50 + static_cast<int64_t>(draw(7, i, 200))) * kNsPerMs;
     if (f.kind == CameraFaultKind::kDisconnect) f.count = 30 + draw(8, i, 60);
     s.camera.faults.push_back(f);
     k += f.count + 600 + draw(9, i, 600);
@@ -55,7 +54,7 @@ Session soakSession(Session base, uint32_t frames) {
   // The board: the load steps every 20-40 s to 0.5×-4× or, one in eight, 20×-100× for a
   // few seconds; back to nominal in between.
   s.loadSteps.clear();
-  t = 10'000 * kMs;
+  t = 10'000 * kNsPerMs;
   for (uint64_t i = 0; t < endNs; ++i) {
     const bool heavy = draw(10, i, 8) == 0;
     const uint32_t permille = heavy ? static_cast<uint32_t>(20'000 + draw(11, i, 80'001))
@@ -63,16 +62,16 @@ Session soakSession(Session base, uint32_t frames) {
     s.loadSteps.push_back({t, permille});
     const int64_t hold = (heavy ? 1'000 + static_cast<int64_t>(draw(12, i, 4'000))
                                 : 5'000 + static_cast<int64_t>(draw(12, i, 15'000))) *
-                         kMs;
+                         kNsPerMs;
     s.loadSteps.push_back({t + hold, 1000});
-    t += hold + (10'000 + static_cast<int64_t>(draw(13, i, 20'000))) * kMs;
+    t += hold + (10'000 + static_cast<int64_t>(draw(13, i, 20'000))) * kNsPerMs;
   }
 
   // Single-frame overruns of 20-120 ms every 10-30 s.
   s.overruns.clear();
   for (uint64_t i = 0, f = 200; f <= frames; ++i) {
     s.overruns.push_back(
-        {static_cast<uint32_t>(f), (20 + static_cast<int64_t>(draw(14, i, 101))) * kMs});
+        {static_cast<uint32_t>(f), (20 + static_cast<int64_t>(draw(14, i, 101))) * kNsPerMs});
     f += 300 + draw(15, i, 600);
   }
   return s;

@@ -11,10 +11,9 @@ namespace penumbra::lighting {
 namespace {
 
 using testutil::gradientField;
+using testutil::kBracketTimes;
 using testutil::makeBracket;
 using testutil::trueLogExposure;
-
-constexpr double kTimes[5] = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0};
 
 // Largest |recovered g - true g| over codes [lo, hi], after removing the free constant at
 // code 128 (both curves are only defined up to it).
@@ -28,7 +27,7 @@ double maxLogError(const CameraResponse& r, int c, int lo, int hi) {
 }
 
 TEST(CameraResponse, RecoversAKnownCurvePerChannel) {
-  const auto bracket = makeBracket(gradientField(320, 240), kTimes);
+  const auto bracket = makeBracket(gradientField(320, 240), kBracketTimes);
   const CameraResponse r = recoverResponse(bracket);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(r.logExposure[c][128], 0.0, 1e-9);  // the anchor
@@ -49,7 +48,7 @@ TEST(CameraResponse, RecoversAKnownCurvePerChannel) {
 }
 
 TEST(CameraResponse, IsDeterministicAndSeeded) {
-  const auto bracket = makeBracket(gradientField(160, 120), kTimes);
+  const auto bracket = makeBracket(gradientField(160, 120), kBracketTimes);
   const CameraResponse a = recoverResponse(bracket), b = recoverResponse(bracket);
   EXPECT_EQ(a.logExposure, b.logExposure);  // bit for bit
   ResponseOptions other;
@@ -61,8 +60,8 @@ TEST(CameraResponse, IsDeterministicAndSeeded) {
 
 TEST(CameraResponse, WrongExposureOrderIsNotMonotone) {
   // Exposure times given in reverse: the data say brighter codes mean less light.
-  auto bracket = makeBracket(gradientField(160, 120), kTimes);
-  for (size_t j = 0; j < bracket.size(); ++j) bracket[j].seconds = kTimes[4 - j];
+  auto bracket = makeBracket(gradientField(160, 120), kBracketTimes);
+  for (size_t j = 0; j < bracket.size(); ++j) bracket[j].seconds = kBracketTimes[4 - j];
   try {
     recoverResponse(bracket);
     FAIL() << "a reversed bracket gave a response";
@@ -73,7 +72,7 @@ TEST(CameraResponse, WrongExposureOrderIsNotMonotone) {
 
 TEST(CameraResponse, SmallNonMonotonicityIsRepairedWithAWarning) {
   // A camera whose codes 100..109 come out in reverse order: the recovered g dips there.
-  auto bracket = makeBracket(gradientField(160, 120), kTimes);
+  auto bracket = makeBracket(gradientField(160, 120), kBracketTimes);
   for (Exposure& e : bracket) {
     for (uint8_t& v : e.image.pixels) {
       if (v >= 100 && v <= 109) v = uint8_t(209 - v);
@@ -91,7 +90,7 @@ TEST(CameraResponse, SmallNonMonotonicityIsRepairedWithAWarning) {
 }
 
 TEST(CameraResponse, InvalidBracketsRejected) {
-  auto bracket = makeBracket(gradientField(32, 24), kTimes);
+  auto bracket = makeBracket(gradientField(32, 24), kBracketTimes);
   EXPECT_THROW(recoverResponse(std::span(bracket).first(1)), HdrError);
   auto dup = bracket;
   dup[3].seconds = dup[1].seconds;

@@ -10,11 +10,10 @@
 
 #include "lighting/hdr_image.h"
 #include "tests/scratch_dir.h"
+#include "tests/test_data.h"
 
 namespace penumbra::lighting {
 namespace {
-
-const std::filesystem::path kProbes = "/usr/share/blender/datafiles/studiolights/world";
 
 // An OpenEXR header written byte by byte (OpenEXR File Layout), so each test states the one
 // field it breaks. Pixel data never follows: the walk must decide from the header alone.
@@ -98,9 +97,10 @@ class ExrHeader : public ::testing::Test {
 
 // Every real probe passes, and the walk reads what OpenEXR writes.
 TEST_F(ExrHeader, BlenderProbesPass) {
-  if (!std::filesystem::exists(kProbes)) GTEST_SKIP() << "blender-data is not installed";
+  if (!std::filesystem::exists(penumbra::testing::blenderProbeDir()))
+    GTEST_SKIP() << "blender-data is not installed";
   int probes = 0;
-  for (const auto& e : std::filesystem::directory_iterator(kProbes)) {
+  for (const auto& e : std::filesystem::directory_iterator(penumbra::testing::blenderProbeDir())) {
     if (e.path().extension() != ".exr") continue;
     const ExrLayout l = readExrLayout(e.path());
     EXPECT_EQ(l.width, 2 * l.height) << e.path();

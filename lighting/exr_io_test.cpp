@@ -13,11 +13,10 @@
 #include "lighting/hdr_merge.h"
 #include "lighting/hdr_test_util.h"
 #include "tests/scratch_dir.h"
+#include "tests/test_data.h"
 
 namespace penumbra::lighting {
 namespace {
-
-const std::filesystem::path kProbes = "/usr/share/blender/datafiles/studiolights/world";
 
 class ExrFiles : public ::testing::Test {
  protected:
@@ -29,9 +28,10 @@ class ExrFiles : public ::testing::Test {
 // Real data nobody here made: Blender's eight CC0 lat-long studio-light probes, DWAB
 // compressed, with small negative values from the lossy compression.
 TEST_F(ExrFiles, ReadsEveryBlenderProbeAndClampsNegatives) {
-  if (!std::filesystem::exists(kProbes)) GTEST_SKIP() << "blender-data is not installed";
+  if (!std::filesystem::exists(penumbra::testing::blenderProbeDir()))
+    GTEST_SKIP() << "blender-data is not installed";
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(kProbes)) {
+  for (const auto& e : std::filesystem::directory_iterator(penumbra::testing::blenderProbeDir())) {
     if (e.path().extension() == ".exr") files.push_back(e.path());
   }
   std::sort(files.begin(), files.end());
@@ -124,7 +124,7 @@ TEST_F(ExrFiles, BadFilesAndImagesNamed) {
 // The response recovery and merge on real radiance: a Blender probe pushed through a known
 // response at five exposures, then recovered.
 TEST_F(ExrFiles, ProbeBracketRecoversResponseAndRadiance) {
-  const auto probe = kProbes / "interior.exr";
+  const auto probe = penumbra::testing::blenderProbeDir() / "interior.exr";
   if (!std::filesystem::exists(probe)) GTEST_SKIP() << "blender-data is not installed";
   core::ImageF truth = readExr(probe);
   // Scale so the median channel value sits mid-range at dt = 1, and lift exact zeros (a

@@ -12,13 +12,12 @@ namespace penumbra::lighting {
 namespace {
 
 using testutil::gradientField;
+using testutil::kBracketTimes;
 using testutil::makeBracket;
-
-constexpr double kTimes[5] = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0};
 
 TEST(HdrMerge, RecoversRadianceOfASyntheticBracket) {
   const core::ImageF truth = gradientField(320, 240);
-  const auto bracket = makeBracket(truth, kTimes);
+  const auto bracket = makeBracket(truth, kBracketTimes);
   const MergeResult m = mergeExposures(bracket, recoverResponse(bracket));
   ASSERT_EQ(m.radiance.width, 320);
   EXPECT_EQ(m.clippedBright, 0u);
@@ -33,7 +32,7 @@ TEST(HdrMerge, RecoversRadianceOfASyntheticBracket) {
 
 TEST(HdrMerge, ClippedCodesCarryNoWeight) {
   const core::ImageF truth = gradientField(64, 48);
-  auto bracket = makeBracket(truth, kTimes);
+  auto bracket = makeBracket(truth, kBracketTimes);
   const CameraResponse r = recoverResponse(bracket);
   const MergeResult before = mergeExposures(bracket, r);
   // Pixel 0 (the darkest corner): clip it to 255 in the longest exposure only. With a hat
@@ -46,7 +45,7 @@ TEST(HdrMerge, ClippedCodesCarryNoWeight) {
     double num = 0, den = 0;
     for (size_t j = 0; j < 4; ++j) {
       const int z = bracket[j].image.pixels[3 * p];
-      num += hatWeight(z) * (r.logExposure[0][z] - std::log(kTimes[j]));
+      num += hatWeight(z) * (r.logExposure[0][z] - std::log(kBracketTimes[j]));
       den += hatWeight(z);
     }
     return std::exp(num / den);
@@ -60,11 +59,11 @@ TEST(HdrMerge, ClippedCodesCarryNoWeight) {
   EXPECT_EQ(clipped.clippedBright, before.clippedBright + 1);
   EXPECT_EQ(clipped.clippedDark, before.clippedDark + 1);
   EXPECT_FLOAT_EQ(clipped.radiance.pixels[3 * 7 + 1],
-                  float(std::exp(r.logExposure[1][254] - std::log(kTimes[0]))));
+                  float(std::exp(r.logExposure[1][254] - std::log(kBracketTimes[0]))));
 }
 
 TEST(HdrMerge, InvalidBracketsRejected) {
-  auto bracket = makeBracket(gradientField(32, 24), kTimes);
+  auto bracket = makeBracket(gradientField(32, 24), kBracketTimes);
   const CameraResponse r = recoverResponse(bracket);
   EXPECT_THROW(mergeExposures(std::span(bracket).first(1), r), HdrError);
   bracket[1].image.height = 12;

@@ -26,6 +26,9 @@ inline double trueLogExposure(int c, int z) {
   return kGamma[c] * std::log(z / 255.0) - std::log(kGain[c]);
 }
 
+// The exposure times of the tests' brackets: five stops two apart.
+inline constexpr double kBracketTimes[5] = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0};
+
 inline std::vector<Exposure> makeBracket(const core::ImageF& radiance,
                                          std::span<const double> times) {
   std::vector<Exposure> out;

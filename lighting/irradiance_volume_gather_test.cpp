@@ -127,7 +127,7 @@ TEST(IrradianceSh, IsolatedDiscShowsTheKnownOrderTwoTruncation) {
   EXPECT_LT(err, 0.08);
 }
 
-scene::PatchMesh testRoom(bool withDesk) {
+scene::PatchMesh greyRoomMesh(bool withDesk) {
   scene::RoomDescription room;
   const scene::Material wall{dvec3(0.6), dvec3(0.0)};
   room.addRoomShell({dvec3(0.0), dvec3(4.0, 2.5, 3.0)}, wall, wall, wall);
@@ -136,7 +136,7 @@ scene::PatchMesh testRoom(bool withDesk) {
 }
 
 TEST(IrradianceVolumeBuild, UniformRoomGivesUniformIrradiance) {
-  const scene::PatchMesh mesh = testRoom(false);
+  const scene::PatchMesh mesh = greyRoomMesh(false);
   const EmbreeScene rays(mesh);
   const std::vector<dvec3> radiance(mesh.patches.size(), dvec3(1.0, 2.0, 0.5));
   IrradianceVolumeOptions o;
@@ -153,7 +153,7 @@ TEST(IrradianceVolumeBuild, UniformRoomGivesUniformIrradiance) {
 }
 
 TEST(IrradianceVolumeBuild, VerticesInsideSolidsAreInvalid) {
-  const scene::PatchMesh mesh = testRoom(true);
+  const scene::PatchMesh mesh = greyRoomMesh(true);
   const EmbreeScene rays(mesh);
   const std::vector<dvec3> radiance(mesh.patches.size(), dvec3(1.0));
   IrradianceVolumeOptions o;
@@ -212,7 +212,7 @@ TEST(IrradianceVolumeBuild, SameBytesForAnyThreadCount) {
 }
 
 TEST(IrradianceVolumeBuild, RejectsBadInput) {
-  const scene::PatchMesh mesh = testRoom(false);
+  const scene::PatchMesh mesh = greyRoomMesh(false);
   const EmbreeScene rays(mesh);
   const std::vector<dvec3> radiance(mesh.patches.size(), dvec3(1.0));
   IrradianceVolumeOptions o;

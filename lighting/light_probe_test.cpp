@@ -58,7 +58,7 @@ TEST(LightProbeMapping, PixelDirectionRoundTripForEveryMapping) {
   }
 }
 
-scene::RoomDescription testRoom(bool desk) {
+scene::RoomDescription probeTestRoom(bool desk) {
   scene::RoomDescription room;
   const uint32_t floor =
       room.addRoomShell({dvec3(0.0), dvec3(4.0, 2.5, 3.0)}, {dvec3(0.45, 0.38, 0.30), dvec3(0.0)},
@@ -76,7 +76,7 @@ scene::RoomDescription testRoom(bool desk) {
 }
 
 TEST(LightProbeProjection, UniformEnvironmentGivesUniformPatchRadiance) {
-  const scene::PatchMesh mesh = scene::buildPatchMesh(testRoom(false), 0.5);
+  const scene::PatchMesh mesh = scene::buildPatchMesh(probeTestRoom(false), 0.5);
   const EmbreeScene rays(mesh);
   LightProbe probe;
   probe.image = uniformImage(128, 64, glm::vec3(2.0f, 3.0f, 4.0f));
@@ -93,7 +93,7 @@ TEST(LightProbeProjection, UniformEnvironmentGivesUniformPatchRadiance) {
 // Renders a probe of a known room by ray casting (each pixel shows the radiance of the
 // patch its ray hits), projects it back and recovers the reflectances.
 TEST(LightProbeProjection, RecoversReflectanceOfASyntheticRoom) {
-  const scene::PatchMesh mesh = scene::buildPatchMesh(testRoom(true), 0.5);
+  const scene::PatchMesh mesh = scene::buildPatchMesh(probeTestRoom(true), 0.5);
   const EmbreeScene rays(mesh);
   // The room's own light, converged (rho <= 0.8: 0.8^40 < 1e-3 of the first bounce).
   const std::vector<dvec3> truth = solvePatchRadiance(mesh, rays, 40);
@@ -148,7 +148,7 @@ TEST(LightProbeProjection, RecoversReflectanceOfASyntheticRoom) {
 }
 
 TEST(LightProbeProjection, BadValuesAreClampedCountedAndReported) {
-  const scene::PatchMesh mesh = scene::buildPatchMesh(testRoom(false), 0.5);
+  const scene::PatchMesh mesh = scene::buildPatchMesh(probeTestRoom(false), 0.5);
   const EmbreeScene rays(mesh);
   LightProbe probe;
   probe.image = uniformImage(64, 32, glm::vec3(1.0f));
@@ -184,7 +184,7 @@ TEST(LightProbeProjection, MeasuredMaterialsFlowThroughPrecompute) {
   s.camera.eye = dvec3(0.4, 1.5, 0.4);
   s.camera.target = dvec3(3.0, 0.8, 2.5);
   s.camera.aspect = 80.0 / 60.0;
-  s.room = testRoom(true);
+  s.room = probeTestRoom(true);
   s.patchSize = 0.5;
   scene::Product box;
   box.name = "box";
@@ -247,7 +247,7 @@ TEST(LightProbeProjection, BlenderProbeProjectsOntoARoom) {
   probe.image = readExr(file, &read);
   EXPECT_GT(probe.image.width, probe.image.height);
   probe.position = dvec3(2.0, 1.2, 1.5);
-  const scene::PatchMesh mesh = scene::buildPatchMesh(testRoom(true), 0.5);
+  const scene::PatchMesh mesh = scene::buildPatchMesh(probeTestRoom(true), 0.5);
   const EmbreeScene rays(mesh);
   const ProbeProjection out = projectProbe(probe, mesh, rays);
   std::cout << file.filename() << ": " << probe.image.width << "x" << probe.image.height << ", "

@@ -10,12 +10,8 @@
 namespace penumbra::shadow {
 namespace {
 
-const SceneBundle& showroom() {
-  return testing::showroomBundle();
-}
-
 TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
-  const SceneBundle& b = showroom();
+  const SceneBundle& b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
   FrameCompositor compositor(b, {});
   raster::Renderer renderer(b.view, {});
@@ -39,20 +35,20 @@ TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
 }
 
 TEST(FrameLoop, ControllerDecisionsSetTheMapSizeFromThatFrameOn) {
-  FrameLoop loop(showroom(), 256, {});
+  FrameLoop loop(testing::showroomBundle(), 256, {});
   FrameRateController::Decision d;
   d.passes = 3;
   d.shadowMapSize = 128;
-  loop.step(showroom().startPose, d);
+  loop.step(testing::showroomBundle().startPose, d);
   ASSERT_EQ(loop.frame.passes.size(), 3u);
   for (const raster::ShadowPass& p : loop.frame.passes) EXPECT_EQ(p.shadowMapSize, 128u);
-  loop.step(showroom().startPose, 5);
+  loop.step(testing::showroomBundle().startPose, 5);
   ASSERT_EQ(loop.frame.passes.size(), 5u);
   EXPECT_EQ(loop.frame.passes[4].shadowMapSize, 128u);
 }
 
 TEST(FrameLoop, ACameraFrameReplacesThePhotograph) {
-  const SceneBundle& b = showroom();
+  const SceneBundle& b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
   const ProductPose away{0, 100.0f, 100.0f, 0.0f, 0.0f};  // nothing in view, no shadow
   loop.step(away, 10);
@@ -65,7 +61,7 @@ TEST(FrameLoop, ACameraFrameReplacesThePhotograph) {
 }
 
 TEST(FrameLoop, AReplacedModelIsPlacedAfresh) {
-  SceneBundle b = showroom();
+  SceneBundle b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
   loop.step(b.startPose, 4);
   const core::Mesh before = loop.frame.objects[0].mesh;

@@ -10,10 +10,6 @@
 namespace penumbra::shadow {
 namespace {
 
-const SceneBundle& showroom() {
-  return testing::showroomBundle();
-}
-
 TEST(FrameRuns, MedianOfOddEvenAndEmpty) {
   EXPECT_EQ(median({3, 1, 2}), 2.0);
   EXPECT_EQ(median({4, 1, 2, 3}), 2.5);
@@ -21,7 +17,7 @@ TEST(FrameRuns, MedianOfOddEvenAndEmpty) {
 }
 
 TEST(FrameRuns, ProfileSlidesTheProductAndReportsTheLastFrame) {
-  const SceneBundle& b = showroom();
+  const SceneBundle& b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
   const PassProfile p = profilePasses(loop, b.startPose, 3, 2);
   EXPECT_EQ(loop.frameNumber, 3u) << "one warm-up frame and two timed ones";
@@ -43,7 +39,7 @@ TEST(FrameRuns, ProfileSlidesTheProductAndReportsTheLastFrame) {
 }
 
 TEST(FrameRuns, AGenerousBudgetRaisesThePasses) {
-  const SceneBundle& b = showroom();
+  const SceneBundle& b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
   const FrameRateController::Options o = renderControllerOptions(1.0);  // one second a frame
   EXPECT_EQ(o.initialPasses, 8u);

@@ -19,8 +19,8 @@ scene::Patch lamp(glm::dvec3 centre, glm::dvec3 emission) {
   return p;
 }
 
-struct Room {
-  Room() {
+struct LampRoom {
+  LampRoom() {
     // Patch 0: an emitter in the source set; 1: an emitter left out of it; 2: a wall.
     mesh.patches = {lamp({0.3, 2.0, 0.3}, {4, 4, 4}), lamp({0.5, 2.5, -0.5}, {2, 1, 0.5}),
                     lamp({0, 1, 0}, {0, 0, 0})};
@@ -36,7 +36,7 @@ struct Room {
 };
 
 TEST(ProductShading, EmittersLightTheVerticesAndSourcesKeepTheirTransfers) {
-  const Room room;
+  const LampRoom room;
   ProductShading shading(room.bundle, room.mesh, scene::Aabb{{-2, 0, -2}, {2, 3, 2}}, {});
   // One triangle facing +y (cross product of length 1: the normal is exactly (0, 1, 0)).
   core::Mesh placed;
@@ -68,7 +68,7 @@ TEST(ProductShading, EmittersLightTheVerticesAndSourcesKeepTheirTransfers) {
 }
 
 TEST(ProductShading, ShadingFollowsTheLastPlacement) {
-  const Room room;
+  const LampRoom room;
   ProductShading shading(room.bundle, room.mesh, scene::Aabb{{-2, 0, -2}, {2, 3, 2}}, {});
   core::Mesh placed;
   placed.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}};

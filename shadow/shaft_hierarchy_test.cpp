@@ -72,14 +72,14 @@ bool hasDuplicates(std::vector<uint32_t> v) {
   return std::adjacent_find(v.begin(), v.end()) != v.end();
 }
 
-struct Room {
+struct ShaftRoom {
   scene::PatchMesh mesh;
   SourceReceiverSets sets;
   RadianceTransfers transfers;
 };
 
-Room smallRoom() {
-  Room r;
+ShaftRoom smallRoom() {
+  ShaftRoom r;
   buildTestRoom(10, 3, 3, true, r.mesh, r.sets, r.transfers);
   return r;
 }
@@ -116,7 +116,7 @@ TEST(ShaftGeometry, HainesPlanesHoldTheHullAndCutTheCorners) {
 }
 
 TEST(ShaftHierarchy, TreesCoverTheSetsOnce) {
-  const Room room = smallRoom();
+  const ShaftRoom room = smallRoom();
   const ShaftHierarchy h(room.mesh, room.sets, room.transfers, {8, 0.0});
   // KD-tree: one leaf per source, parents consistent, averages add up.
   ASSERT_EQ(h.sourceCount(), room.sets.sources.size());
@@ -165,7 +165,7 @@ TEST(ShaftHierarchy, TreesCoverTheSetsOnce) {
 // pair; with the paper's 2% for every pair that carries >= 2% of L_i at one of the
 // receiver's own vertices.
 void checkConservative(double pruneFraction, int boxes) {
-  const Room room = smallRoom();
+  const ShaftRoom room = smallRoom();
   const ShaftHierarchy h(room.mesh, room.sets, room.transfers, {8, pruneFraction});
   uint64_t counter = 99;
   std::vector<std::vector<glm::dvec3>> samples(room.mesh.patches.size());
@@ -224,7 +224,7 @@ TEST(ShaftHierarchy, ConservativeForSignificantPairsWhenPruned) {
 }
 
 TEST(ShaftHierarchy, FrameTagsNeverDuplicateAndNeverLeak) {
-  const Room room = smallRoom();
+  const ShaftRoom room = smallRoom();
   const ShaftHierarchy h(room.mesh, room.sets, room.transfers, {8, 0.0});
   TraversalResult reused;
   uint64_t counter = 5;
@@ -251,7 +251,7 @@ TEST(ShaftHierarchy, FrameTagsNeverDuplicateAndNeverLeak) {
 }
 
 TEST(ShaftHierarchy, FarOrEmptyBoxFindsNothing) {
-  const Room room = smallRoom();
+  const ShaftRoom room = smallRoom();
   const ShaftHierarchy h(room.mesh, room.sets, room.transfers);
   TraversalResult out;
   h.traverse(Aabb{{100, 100, 100}, {101, 101, 101}}, 1, out);
@@ -266,7 +266,7 @@ TEST(ShaftHierarchy, FarOrEmptyBoxFindsNothing) {
 }
 
 TEST(ShaftHierarchy, PruningDropsShaftsAndIsDeterministic) {
-  const Room room = smallRoom();
+  const ShaftRoom room = smallRoom();
   const ShaftHierarchy all(room.mesh, room.sets, room.transfers, {8, 0.0});
   const ShaftHierarchy pruned(room.mesh, room.sets, room.transfers, {8, 0.02});
   const ShaftHierarchy again(room.mesh, room.sets, room.transfers, {8, 0.02});
@@ -286,7 +286,7 @@ TEST(ShaftHierarchy, PruningDropsShaftsAndIsDeterministic) {
 }
 
 TEST(ShaftHierarchy, RejectsInconsistentInput) {
-  Room room = smallRoom();
+  ShaftRoom room = smallRoom();
   RadianceTransfers bad = room.transfers;
   bad.sourceAverage.pop_back();
   EXPECT_THROW(ShaftHierarchy(room.mesh, room.sets, bad), std::invalid_argument);

@@ -14,4 +14,10 @@ inline std::filesystem::path dataDir() {
 #endif
 }
 
+// Debian's blender-data light probes (CC0): real OpenEXR files, skipped when not installed.
+inline const std::filesystem::path& blenderProbeDir() {
+  static const std::filesystem::path dir = "/usr/share/blender/datafiles/studiolights/world";
+  return dir;
+}
+
 }  // namespace penumbra::testing
