@@ -66,6 +66,14 @@ void JobPool::drain(int worker) {
   }
 }
 
+namespace {
+constexpr uint64_t kClosed = uint64_t{1} << 31;
+constexpr uint64_t kJoinedMask = kClosed - 1;
+uint64_t openEntry(uint64_t generation) {
+  return generation << 32;
+}
+}  // namespace
+
 void JobPool::workerLoop(int worker) {
   uint64_t seen = 0;
   for (;;) {
@@ -76,13 +84,21 @@ void JobPool::workerLoop(int worker) {
       if (stop_) return;
       seen = generation_.load(std::memory_order_relaxed);
     }
-    drain(worker);
-    // The last worker out tells the caller, under the lock: a caller that found busy_ != 0
-    // holds the lock until it waits, so this notify cannot fall between its test and wait.
-    if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      done_.notify_one();
+    // Join the job only while it is the one we woke for and still open. The acquire on
+    // success pairs with the caller's release of the open entry, written after job_.
+    uint64_t entry = entry_.load(std::memory_order_relaxed);
+    bool joined = false;
+    while (!joined && (entry >> 32) == (seen & 0xffff'ffffu) && (entry & kClosed) == 0) {
+      joined = entry_.compare_exchange_weak(entry, entry + 1, std::memory_order_acquire,
+                                            std::memory_order_relaxed);
     }
+    if (!joined) continue;  // the caller finished without us: nothing of ours to wait for
+    drain(worker);
+    // Under the lock: a caller that found left_ short holds the lock until it waits, so this
+    // notify cannot fall between its test and its wait.
+    left_.fetch_add(1, std::memory_order_release);
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_.notify_one();
   }
 }
 
@@ -97,17 +113,24 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, 
     jobSize_ = n;
     grain_ = std::max<size_t>(1, grain);
     next_.store(0);
-    busy_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
-    generation_.fetch_add(1, std::memory_order_release);
+    left_.store(0, std::memory_order_relaxed);
+    const uint64_t generation = generation_.load(std::memory_order_relaxed) + 1;
+    entry_.store(openEntry(generation & 0xffff'ffffu), std::memory_order_release);
+    generation_.store(generation, std::memory_order_release);
   }
   wake_.notify_all();
   drain(0);
-  if (!spinUntil([&] { return busy_.load(std::memory_order_acquire) == 0; })) {
+  // Every index is claimed. Close the job: from here no worker joins, and the ones that did
+  // are the ones to wait for.
+  const int joined =
+      static_cast<int>(entry_.fetch_or(kClosed, std::memory_order_acq_rel) & kJoinedMask);
+  const auto allLeft = [&] { return left_.load(std::memory_order_acquire) == joined; };
+  if (!spinUntil(allLeft)) {
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
+    done_.wait(lock, allLeft);
   }
   job_ = nullptr;
-  // The workers stored error_ before their release of busy_, which the caller acquired.
+  // The workers stored error_ before their release of left_, which the caller acquired.
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 

@@ -60,13 +60,19 @@ class JobPool {
   const std::function<void(size_t, int)>* job_ = nullptr;
   size_t jobSize_ = 0;
   size_t grain_ = 1;
-  // The job's first exception, under mutex_; the caller reads it after busy_ reached 0.
+  // The job's first exception, under mutex_; the caller reads it after every joined worker left.
   std::exception_ptr error_;
   // On its own cache line: claims do not invalidate the fields every thread reads.
   alignas(64) std::atomic<size_t> next_{0};
   alignas(64) std::atomic<uint64_t> generation_{0};
-  std::atomic<int> busy_{0};
-  bool stop_ = false;  // under mutex_
+  // Who works on the current job. The high 32 bits hold the job's generation (its low 32
+  // bits); the low bits count the workers that joined it, plus kClosed once the caller has
+  // drained it. A worker joins by incrementing an open entry of its own generation, so the
+  // caller waits only for workers that joined (they hold claimed indices or are about to
+  // find none): a worker the OS has not scheduled yet — a busy core — delays nothing.
+  std::atomic<uint64_t> entry_{0};
+  std::atomic<int> left_{0};  // joined workers that have finished the job
+  bool stop_ = false;         // under mutex_
 };
 
 // fn(begin, end, worker) over [0, n) in chunks of `chunk` indices, on `pool`'s threads, or on

@@ -81,6 +81,30 @@ TEST(JobPool, DestructionJoinsIdleWorkers) {
   }
 }
 
+// More threads than cores, jobs shorter than a wake-up: most calls end before some workers
+// run at all, so they arrive late, find the job closed (or a newer one) and must neither run
+// an index of it nor be waited for. Every call still runs each index exactly once, and a
+// late worker never sees another call's function (each call checks its own tag).
+TEST(JobPool, LateWorkersSkipClosedJobs) {
+  const int threads = 2 * static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
+  JobPool pool(threads);
+  std::vector<std::atomic<int>> runs(3);
+  std::atomic<int> foreign{0}, onWorkers{0};
+  for (int round = 0; round < 3000; ++round) {
+    for (auto& r : runs) r.store(0);
+    const int tag = round;
+    pool.parallelFor(runs.size(), [&, tag](size_t i, int worker) {
+      if (tag != round) foreign.fetch_add(1);
+      if (worker != 0) onWorkers.fetch_add(1);
+      runs[i].fetch_add(1);
+    });
+    for (size_t i = 0; i < runs.size(); ++i) ASSERT_EQ(runs[i].load(), 1) << "round " << round;
+  }
+  EXPECT_EQ(foreign.load(), 0);
+  // The workers did join some calls: the test exercised the pool, not only the caller.
+  EXPECT_GT(onWorkers.load(), 0);
+}
+
 // threads == 0 asks for one thread per hardware thread (the offline stages' default).
 TEST(JobPool, ZeroThreadsMeansHardwareConcurrency) {
   const JobPool pool(0);
