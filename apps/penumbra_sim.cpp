@@ -4,7 +4,6 @@
 // displayed frame — HUD included — is a pure function of the session: `--hashes` writes one
 // `sha256 <64 hex>` line per frame (of the displayed RGBA8 frame, HUD included), the same
 // for any --threads, --isa or machine.
-#include <malloc.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -18,6 +17,7 @@
 
 #include "apps/render_flags.h"
 #include "core/cli.h"
+#include "core/process_memory.h"
 #include "firmware-sim/frame_time_drift.h"
 #include "firmware-sim/session.h"
 #include "firmware-sim/session_stats.h"
@@ -40,29 +40,6 @@ namespace {
 
 double ms(int64_t ns) {
   return static_cast<double>(ns) * 1e-6;
-}
-
-// VmRSS and VmHWM of this process in kB, from /proc/self/status, and the bytes the C
-// allocator holds for live blocks (glibc mallinfo2), -1 where unavailable: the soak's memory
-// check (docs/kiosk.md, "Soak"). RSS also moves with the allocator's free lists and arenas;
-// the heap in use is what a leak would grow.
-struct Memory {
-  long rssKb = -1, hwmKb = -1, heapKb = -1;
-};
-Memory memoryNow() {
-  Memory m;
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
-  const struct mallinfo2 info = mallinfo2();
-  m.heapKb = static_cast<long>((info.uordblks + info.hblkhd) / 1024);
-#endif
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    // "VmRSS:\t  109312 kB"
-    if (line.rfind("VmRSS:", 0) == 0) m.rssKb = std::strtol(line.c_str() + 6, nullptr, 10);
-    if (line.rfind("VmHWM:", 0) == 0) m.hwmKb = std::strtol(line.c_str() + 6, nullptr, 10);
-  }
-  return m;
 }
 
 // A strip of `count` frames side by side in two rows, each reduced 4× by a 4×4 box average
@@ -196,7 +173,7 @@ int main(int argc, char** argv) {
     firmware_sim::FrameTimeDrift drift(driftFrames);
     // Sampled inside the frame loop: after it, the run's statistics (sorted copies of every
     // frame's samples) would count as the kiosk's growth.
-    Memory atWarmUp, atLastFrame;
+    core::ProcessMemory atWarmUp, atLastFrame;
     uint32_t degraded = 0, stale = 0, attract = 0;
     int64_t firstStart = 0, lastEnd = 0;
     for (uint32_t f = 0; f < n; ++f) {
@@ -235,11 +212,11 @@ int main(int argc, char** argv) {
       }
 #endif
       if (soakFrames != 0 && (f + 1 == warmUpFrame || (f + 1) % 1000 == 0 || f + 1 == n)) {
-        const Memory m = memoryNow();
+        const core::ProcessMemory m = core::processMemory();
         if (f + 1 == warmUpFrame) atWarmUp = m;
         atLastFrame = m;
         std::printf("memory frame %u: VmRSS %ld kB VmHWM %ld kB heap %ld kB\n", f + 1, m.rssKb,
-                    m.hwmKb, m.heapKb);
+                    m.peakRssKb, m.heapKb);
         std::fflush(stdout);
       }
       if (strip && stripCount > 1) {
@@ -279,7 +256,7 @@ int main(int argc, char** argv) {
                 stale, attract);
     const bool replaySoak = drift.recorded() > warmUpFrame;
     if (soakFrames != 0) {
-      const Memory& end = atLastFrame;
+      const core::ProcessMemory& end = atLastFrame;
       std::printf(
           "soak memory: VmRSS %ld kB at frame %u, %ld kB at frame %u (growth %ld kB); "
           "heap in use %ld kB, %ld kB (growth %ld kB)\n",
@@ -307,7 +284,8 @@ int main(int argc, char** argv) {
       std::printf("board frame by stage, wall ms on this machine, %u frames:\n%s", n,
                   stageSamples.table().c_str());
       std::printf("peak RSS %.1f MB (VmHWM: the whole simulator, camera footage%s included)\n",
-                  double(memoryNow().hwmKb) / 1024.0, replaySoak ? " and the soak's replay" : "");
+                  double(core::processMemory().peakRssKb) / 1024.0,
+                  replaySoak ? " and the soak's replay" : "");
     }
     return 0;
   });
