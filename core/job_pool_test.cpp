@@ -101,7 +101,20 @@ TEST(JobPool, LateWorkersSkipClosedJobs) {
     for (size_t i = 0; i < runs.size(); ++i) ASSERT_EQ(runs[i].load(), 1) << "round " << round;
   }
   EXPECT_EQ(foreign.load(), 0);
-  // The workers did join some calls: the test exercised the pool, not only the caller.
+  // And workers that do arrive in time join: index 0 holds its thread (up to a second) until
+  // index 1 has run, so the two run on two threads, one of them a joined worker.
+  std::atomic<bool> secondRan{false};
+  pool.parallelFor(2, [&](size_t i, int worker) {
+    if (worker != 0) onWorkers.fetch_add(1);
+    if (i == 1) {
+      secondRan.store(true);
+      return;
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+    while (!secondRan.load() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::yield();
+    }
+  });
   EXPECT_GT(onWorkers.load(), 0);
 }
 
