@@ -18,7 +18,7 @@
 #include "platform/sdl_display.h"
 #endif
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
-#include "platform/opencv_camera.h"
+#include "platform/opencv_camera_module.h"
 #endif
 
 namespace penumbra::platform {
@@ -69,15 +69,24 @@ TEST(LibcameraBackend, BadControlsAreRefusedBeforeTheCameraIsTouched) {
 #endif
 
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+// Through the module, as the kiosk opens it: the module is found beside the program, and
+// the constructor's HardwareUnavailable reaches the caller across the module boundary.
 TEST(OpenCvCameraBackend, MissingDeviceFailsCleanly) {
   try {
-    OpenCvCamera c("/dev/video-penumbra-absent", 640, 480);
+    const auto c = openOpenCvCamera("/dev/video-penumbra-absent", 640, 480);
     FAIL();
   } catch (const HardwareUnavailable& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/video-penumbra-absent: no such device"),
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(OpenCvCameraBackend, ModuleIsLookedForBesideTheProgramThenInLibPenumbra) {
+  const auto paths = openCvCameraModulePaths("/usr/bin");
+  ASSERT_EQ(paths.size(), 2u);
+  EXPECT_EQ(paths[0], std::filesystem::path("/usr/bin/libpenumbra_opencv_camera.so"));
+  EXPECT_EQ(paths[1], std::filesystem::path("/usr/lib/penumbra/libpenumbra_opencv_camera.so"));
 }
 #endif
 
