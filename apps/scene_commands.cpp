@@ -11,6 +11,7 @@
 #include "apps/render_flags.h"
 #include "core/cli.h"
 #include "core/clock.h"
+#include "core/process_memory.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
 #include "scene/sha256.h"
@@ -263,6 +264,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
                      bundle.patches.size(), bundle.sets.sources.size(),
                      bundle.sets.receivers.size(), bundle.transfers.entryVertex.size());
          std::printf("total %.1f ms -> %s\n", watch.lap(), precompute->second.c_str());
+         std::printf("peak RSS %.1f MB\n", double(core::processMemory().peakRssKb) / 1024.0);
          return 0;
        }});
 #endif
