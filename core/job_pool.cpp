@@ -69,9 +69,6 @@ void JobPool::drain(int worker) {
 namespace {
 constexpr uint64_t kClosed = uint64_t{1} << 31;
 constexpr uint64_t kJoinedMask = kClosed - 1;
-uint64_t openEntry(uint64_t generation) {
-  return generation << 32;
-}
 }  // namespace
 
 void JobPool::workerLoop(int worker) {
@@ -115,7 +112,8 @@ void JobPool::parallelFor(size_t n, const std::function<void(size_t, int)>& fn, 
     next_.store(0);
     left_.store(0, std::memory_order_relaxed);
     const uint64_t generation = generation_.load(std::memory_order_relaxed) + 1;
-    entry_.store(openEntry(generation & 0xffff'ffffu), std::memory_order_release);
+    // The generation's low 32 bits in the high half (the shift drops the rest), no worker.
+    entry_.store(generation << 32, std::memory_order_release);
     generation_.store(generation, std::memory_order_release);
   }
   wake_.notify_all();

@@ -69,8 +69,7 @@ TEST(LibcameraBackend, BadControlsAreRefusedBeforeTheCameraIsTouched) {
 #endif
 
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
-// Through the module, as the kiosk opens it: the module is found beside the program, and
-// the constructor's HardwareUnavailable reaches the caller across the module boundary.
+// A device node that does not exist is refused before the module is loaded.
 TEST(OpenCvCameraBackend, MissingDeviceFailsCleanly) {
   try {
     const auto c = openOpenCvCamera("/dev/video-penumbra-absent", 640, 480);
@@ -78,6 +77,19 @@ TEST(OpenCvCameraBackend, MissingDeviceFailsCleanly) {
   } catch (const HardwareUnavailable& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/video-penumbra-absent: no such device"),
               std::string::npos)
+        << e.what();
+  }
+}
+
+// A node that exists but is no camera goes through the module, as the kiosk opens a webcam:
+// the module is found beside the test program (the build's bin/), and OpenCvCamera's own
+// refusal, thrown inside the module, reaches the caller as HardwareUnavailable.
+TEST(OpenCvCameraBackend, NodeThatIsNoCameraIsRefusedByTheModulesCamera) {
+  try {
+    const auto c = openOpenCvCamera("/dev/null", 640, 480);
+    FAIL();
+  } catch (const HardwareUnavailable& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open /dev/null with V4L2"), std::string::npos)
         << e.what();
   }
 }

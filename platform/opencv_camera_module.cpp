@@ -2,7 +2,6 @@
 
 #include <dlfcn.h>
 
-#include <mutex>
 #include <system_error>
 
 #include "platform/hardware.h"
@@ -16,13 +15,10 @@ std::filesystem::path programDir() {
   return ec ? std::filesystem::path() : exe.parent_path();
 }
 
-// dlopen's handle for the life of the process: a camera object's code lives in the module,
-// so it must never be unloaded while one may exist; loading twice would only count up.
-OpenCvCameraFactory loadFactory() {
-  static std::mutex mutex;
-  static OpenCvCameraFactory factory = nullptr;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (factory != nullptr) return factory;
+// The module's factory, found once: dlopen's handle is kept for the life of the process (a
+// camera object's code lives in the module, so it must never be unloaded while one may
+// exist). Throws when no path gives a working module.
+OpenCvCameraFactory findFactory() {
   std::string tried;
   for (const std::filesystem::path& path : openCvCameraModulePaths(programDir())) {
     if (!std::filesystem::exists(path)) {
@@ -36,14 +32,11 @@ OpenCvCameraFactory loadFactory() {
       tried += "\n  " + path.string() + ": " + (why != nullptr ? why : "cannot be loaded");
       continue;
     }
-    void* symbol = dlsym(handle, kOpenCvCameraFactory);
-    if (symbol == nullptr) {
-      tried += "\n  " + path.string() + ": no " + kOpenCvCameraFactory;
-      dlclose(handle);
-      continue;
+    if (void* symbol = dlsym(handle, kOpenCvCameraFactory)) {
+      return reinterpret_cast<OpenCvCameraFactory>(symbol);
     }
-    factory = reinterpret_cast<OpenCvCameraFactory>(symbol);
-    return factory;
+    tried += "\n  " + path.string() + ": no " + kOpenCvCameraFactory;
+    dlclose(handle);
   }
   throw HardwareUnavailable(std::string("camera: V4L2 needs ") + kOpenCvCameraModule +
                             " (OpenCV), which was not loaded:" + tried);
@@ -62,7 +55,10 @@ std::unique_ptr<kiosk::FrameSource> openOpenCvCamera(const std::string& device, 
   if (!std::filesystem::exists(device)) {
     throw HardwareUnavailable("camera: cannot open " + device + ": no such device");
   }
-  return std::unique_ptr<kiosk::FrameSource>(loadFactory()(device, width, height));
+  // A function-local static: initialised once, under the language's own lock; a throw leaves
+  // it uninitialised, so a later call tries again.
+  static const OpenCvCameraFactory factory = findFactory();
+  return std::unique_ptr<kiosk::FrameSource>(factory(device, width, height));
 }
 
 }  // namespace penumbra::platform
