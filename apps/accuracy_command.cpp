@@ -18,7 +18,7 @@ namespace penumbra::apps {
 namespace {
 
 struct AccuracyCommand {
-  std::string bundlePath, json, accumulation = "fixed8_8";
+  std::string bundlePath, json, accumulation = "linear";
   bool singleShare = false;
   int mapSize = 256, referenceMap = 2048;
   RenderFlags render;
@@ -103,9 +103,10 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
 #endif
   c->add_option("--accumulation", cmd->accumulation,
-                "how the passes are summed: fixed8_8 (1/256 levels, rounded once per pixel) "
-                "or u8 (whole levels per pass)")
-      ->check(CLI::IsMember({"u8", "fixed8_8"}))
+                "how the passes are summed: linear (shares of the light, one shade-table "
+                "lookup per pixel), fixed8_8 (1/256 levels, rounded once per pixel) or u8 "
+                "(whole levels per pass)")
+      ->check(CLI::IsMember({"u8", "fixed8_8", "linear"}))
       ->capture_default_str();
   c->add_flag("--single-share", cmd->singleShare,
               "graded transfers with one occluded share per vertex, not one per cluster");

@@ -41,11 +41,13 @@ using apps::RenderFlags;
 using apps::toOptions;
 
 // Loads `tracePath`; a non-empty `accumulation` ("u8" / "fixed8_8", docs/pipeline-spec.md §8)
-// replaces the trace's own.
+// replaces the trace's own (a linear trace's shade table is dropped: the other modes have
+// none, and linear cannot be asked of a trace without one).
 raster::FrameTrace loadTraceWith(const std::string& tracePath, const std::string& accumulation) {
   raster::FrameTrace trace = raster::loadTrace(tracePath);
   if (!accumulation.empty()) {
     trace.frame.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
+    trace.frame.shadeTable.clear();
   }
   return trace;
 }
@@ -54,7 +56,7 @@ void addAccumulationFlag(CLI::App* app, std::string& accumulation) {
   app->add_option("--accumulation", accumulation,
                   "sum the passes as u8 (whole levels per pass) or fixed8_8 (1/256 levels, "
                   "rounded once per pixel); "
-                  "default: the trace's field")
+                  "default: the trace's field (which may also be linear)")
       ->check(CLI::IsMember({"u8", "fixed8_8"}));
 }
 

@@ -60,6 +60,7 @@ inline DriftResult measureFaintPassDrift(const shadow::ToneCurve& tone, int pass
   std::vector<glm::dvec3> transfers(static_cast<size_t>(passes));
   std::vector<uint8_t> sets(static_cast<size_t>(passes));
   std::vector<core::Rgb8> s(static_cast<size_t>(passes));
+  std::vector<core::Rgb16> fine(static_cast<size_t>(passes));
   long sumAbs = 0, sumSigned = 0;
   for (int v = 0; v < vertices; ++v) {
     const double radiance = double(v + 1) / double(vertices);
@@ -92,9 +93,13 @@ inline DriftResult measureFaintPassDrift(const shadow::ToneCurve& tone, int pass
     }
     uint8_t dst = tone(radiance);
     if (policy == DriftPolicy::kGradedFixed8_8) {
-      uint32_t sum = 0;  // in 1/256 levels, saturating at 65535 as the u16 planes do
+      // 8.8 S and the mask as an occluded weight (spec §7-8), summed in 1/256 levels,
+      // saturating at 65535 as the u16 planes do.
+      shadow::intensityTransfersForOcclusion(total, transfers, double(mask) / 255.0, tone, fine);
+      const uint32_t occluded = (uint32_t{mask} * 65536u + 127u) / 255u;
+      uint32_t sum = 0;
       for (int j = 0; j < passes; ++j) {
-        sum = std::min(sum + simd::fixed8_8Amount(s[size_t(j)].r, mask), 65535u);
+        sum = std::min(sum + simd::fineAmount(fine[size_t(j)].r, occluded), 65535u);
       }
       const uint32_t drop = simd::fixed8_8Levels(sum);
       dst = drop >= dst ? uint8_t{0} : uint8_t(dst - drop);

@@ -53,7 +53,7 @@ void validateMesh(const core::Mesh& mesh, const std::string& where, const std::s
 
 // Receiver triangles of one pass with their S: each in range and listed once (spec §6: a
 // triangle listed twice would subtract twice), three colours per triangle.
-void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<core::Rgb8>& s,
+void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector<core::Rgb16>& s,
                        size_t available, const std::string& where, const std::string& field,
                        const std::string& sField, const char* kind) {
   std::vector<bool> listed(available, false);
@@ -69,6 +69,15 @@ void validateReceivers(const std::vector<uint32_t>& triangles, const std::vector
   }
   if (s.size() != 3 * triangles.size())
     throw TraceError(where, sField, "count must be 3 x the triangle count");
+  // The largest value first (a loop the compiler vectorizes: this runs every frame), the
+  // offending one only when there is one.
+  uint16_t top = 0;
+  for (const core::Rgb16& c : s) top = std::max(top, std::max(c.r, std::max(c.g, c.b)));
+  if (top > core::kMaxFineLevel) {
+    throw TraceError(where, sField,
+                     "value " + std::to_string(top) + " is above " +
+                         std::to_string(core::kMaxFineLevel) + " (255 levels in 8.8)");
+  }
 }
 
 // --- reading -------------------------------------------------------------------------
@@ -133,6 +142,23 @@ struct Reader {
       out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
   }
 
+  // Intensity transfers S: 8.8 levels (3 x u16) in version 2, whole levels (3 x u8) in
+  // version 1, which are the 8.8 values c * 256.
+  void transfers(const JsonValue& v, int version, std::vector<core::Rgb16>& out) {
+    if (version == 1) {
+      std::vector<core::Rgb8> whole;
+      rgbs(v, whole);
+      out.resize(whole.size());
+      for (size_t i = 0; i < out.size(); ++i) out[i] = core::Rgb16::fromLevels(whole[i]);
+      return;
+    }
+    std::vector<uint16_t> flat;
+    view(v, 3, flat);
+    out.resize(flat.size() / 3);
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+  }
+
   core::Mesh mesh(const JsonValue& v) {
     core::Mesh m;
     vec3s(v["positions"], m.positions);
@@ -161,6 +187,18 @@ struct Writer {
   json rgbs(const std::vector<core::Rgb8>& v) {
     static_assert(sizeof(core::Rgb8) == 3);
     return view(reinterpret_cast<const uint8_t*>(v.data()), v.size(), 3);
+  }
+  // S in the trace's version: whole levels as 3 x u8 (version 1), else 8.8 as 3 x u16.
+  json transfers(const std::vector<core::Rgb16>& v, int version) {
+    static_assert(sizeof(core::Rgb16) == 6);
+    if (version == 2) return view(reinterpret_cast<const uint16_t*>(v.data()), v.size(), 3);
+    std::vector<uint8_t> whole;
+    whole.reserve(3 * v.size());
+    for (const core::Rgb16& c : v) {
+      for (const uint16_t level : {c.r, c.g, c.b})
+        whole.push_back(static_cast<uint8_t>(level >> 8));
+    }
+    return view(whole.data(), v.size(), 3);
   }
   json mesh(const core::Mesh& m) {
     return {{"positions", vec3s(m.positions)},
@@ -200,6 +238,15 @@ void validateTrace(const FrameTrace& trace, const std::string& where) {
 void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
                    size_t staticTriangles, const std::string& where) {
   const size_t pixels = size_t{width} * height;
+  const size_t tableSize =
+      frame.accumulation == Accumulation::kLinear ? kShadeCodes * kShadeSteps : 0;
+  if (frame.shadeTable.size() != tableSize) {
+    throw TraceError(where, "shade_table",
+                     "has " + std::to_string(frame.shadeTable.size()) + " entries, expected " +
+                         std::to_string(tableSize) +
+                         " (256 codes x 511 shares with linear "
+                         "accumulation, none otherwise)");
+  }
   if (frame.background.size() != pixels * 4) {
     throw TraceError(where, "background",
                      "has " + std::to_string(frame.background.size()) +
@@ -259,14 +306,23 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
 }
 
 const char* accumulationName(Accumulation a) {
-  return a == Accumulation::kFixed8_8 ? "fixed8_8" : "u8";
+  switch (a) {
+    case Accumulation::kFixed8_8:
+      return "fixed8_8";
+    case Accumulation::kLinear:
+      return "linear";
+    case Accumulation::kU8:
+      break;
+  }
+  return "u8";
 }
 
 Accumulation parseAccumulation(const std::string& name, const std::string& where) {
-  if (name == "u8") return Accumulation::kU8;
-  if (name == "fixed8_8") return Accumulation::kFixed8_8;
+  for (const Accumulation a : {Accumulation::kU8, Accumulation::kFixed8_8, Accumulation::kLinear}) {
+    if (name == accumulationName(a)) return a;
+  }
   throw TraceError(where, "accumulation",
-                   "expected one of \"u8\", \"fixed8_8\", got \"" + name + "\"");
+                   "expected one of \"u8\", \"fixed8_8\", \"linear\", got \"" + name + "\"");
 }
 
 FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
@@ -276,7 +332,10 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
   if (root.stringOr("format", "") != "penumbra-frame-trace") {
     doc.fail("format", "must be \"penumbra-frame-trace\"");
   }
-  if (!root.has("version") || root["version"].json() != 1) doc.fail("version", "must be 1");
+  if (!root.has("version") || (root["version"].json() != 1 && root["version"].json() != 2)) {
+    doc.fail("version", "must be 1 or 2");
+  }
+  const int version = root["version"].json() == 1 ? 1 : 2;
   const std::vector<uint8_t> blob = core::readRegularFile(
       core::resolveAgainst(path, root["buffer"].nonEmptyString()), maxBytes,
       "a frame trace's sidecar", core::throwAs<TraceError>, where + ": buffer: ");
@@ -299,8 +358,12 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
   }
   // Optional: "u8" when absent (spec §8).
   if (const auto accumulation = root.find("accumulation")) {
-    t.frame.accumulation = accumulation->oneOf<Accumulation>(
-        {{"u8", Accumulation::kU8}, {"fixed8_8", Accumulation::kFixed8_8}});
+    t.frame.accumulation = accumulation->oneOf<Accumulation>({{"u8", Accumulation::kU8},
+                                                              {"fixed8_8", Accumulation::kFixed8_8},
+                                                              {"linear", Accumulation::kLinear}});
+  }
+  if (t.frame.accumulation == Accumulation::kLinear) {
+    r.view(root["shade_table"], 1, t.frame.shadeTable);
   }
   for (const JsonValue& pj : root["passes"].array(0, kMaxPasses)) {
     ShadowPass pass;
@@ -310,10 +373,10 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
     pass.pcf2x2 = pj["pcf2x2"].boolean();
     pass.occluder = Reader::count<uint32_t>(pj["occluder"]);
     r.view(pj["receiver_triangles"], 1, pass.receiverTriangles);
-    r.rgbs(pj["receiver_s"], pass.receiverS);
+    r.transfers(pj["receiver_s"], version, pass.receiverS);
     if (pj.has("object_triangles")) {  // optional: self-shadowing (§7.2)
       r.view(pj["object_triangles"], 1, pass.objectTriangles);
-      r.rgbs(pj["object_s"], pass.objectS);
+      r.transfers(pj["object_s"], version, pass.objectS);
       pass.objectDepthBias = static_cast<float>(pj["object_depth_bias"].number());
     }
     t.frame.passes.push_back(std::move(pass));
@@ -328,7 +391,16 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
   json doc;
   const std::filesystem::path blobName = path.stem().string() + ".bin";
   doc["format"] = "penumbra-frame-trace";
-  doc["version"] = 1;
+  // Version 1 (S in whole levels, 3 bytes each) while every S is one, so that traces of u8
+  // pipelines stay readable by version-1 readers (bench/gl_replay's Mesa build among them).
+  bool whole = true;
+  for (const ShadowPass& p : trace.frame.passes) {
+    for (const auto* list : {&p.receiverS, &p.objectS}) {
+      for (const core::Rgb16& c : *list) whole = whole && ((c.r | c.g | c.b) & 0xFF) == 0;
+    }
+  }
+  const int version = whole ? 1 : 2;
+  doc["version"] = version;
   doc["buffer"] = blobName.string();
   doc["width"] = trace.view.width;
   doc["height"] = trace.view.height;
@@ -344,6 +416,9 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
   doc["occluders"] = json::array();
   for (const core::Mesh& m : trace.frame.occluders) doc["occluders"].push_back(w.mesh(m));
   doc["accumulation"] = accumulationName(trace.frame.accumulation);
+  if (trace.frame.accumulation == Accumulation::kLinear) {
+    doc["shade_table"] = w.view(trace.frame.shadeTable.data(), trace.frame.shadeTable.size(), 1);
+  }
   doc["passes"] = json::array();
   for (const ShadowPass& p : trace.frame.passes) {
     doc["passes"].push_back(
@@ -353,11 +428,11 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
          {"pcf2x2", p.pcf2x2},
          {"occluder", p.occluder},
          {"receiver_triangles", w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
-         {"receiver_s", w.rgbs(p.receiverS)}});
+         {"receiver_s", w.transfers(p.receiverS, version)}});
     if (!p.objectTriangles.empty()) {
       json& pj = doc["passes"].back();
       pj["object_triangles"] = w.view(p.objectTriangles.data(), p.objectTriangles.size(), 1);
-      pj["object_s"] = w.rgbs(p.objectS);
+      pj["object_s"] = w.transfers(p.objectS, version);
       pj["object_depth_bias"] = static_cast<double>(p.objectDepthBias);
     }
   }

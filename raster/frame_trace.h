@@ -38,12 +38,14 @@ struct ShadowPass {
   bool pcf2x2 = false;           // fractional 2x2 mask instead of a binary one
   uint32_t occluder = 0;         // index into FrameContent::occluders
   std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
-  std::vector<core::Rgb8> receiverS;        // 3 per receiver triangle, in corner order
+  // Intensity transfers S in 8.8 levels (core::Rgb16), 3 per receiver triangle, in corner
+  // order. With u8 accumulation each pixel's S is rounded to whole levels (spec §5).
+  std::vector<core::Rgb16> receiverS;
   // Self-shadowing (Gibson 2003 §7.2): triangles of the synthetic objects that receive this
   // pass too — indices into all objects' triangles counted in order — with S per corner,
   // and the bias for them (the proxy only approximates the object's own surface).
   std::vector<uint32_t> objectTriangles;
-  std::vector<core::Rgb8> objectS;
+  std::vector<core::Rgb16> objectS;
   float objectDepthBias = 0.0f;
   bool operator==(const ShadowPass&) const = default;
 };
@@ -60,7 +62,15 @@ struct StaticView {
 // each pass adds S·M/255 rounded to 1/256 level, the sum is rounded to whole levels once per
 // pixel, so many faint passes do not accumulate one rounding each (Gibson 2003 §10;
 // docs/failure-regimes.md). Both use the same 16-bit sum planes.
-enum class Accumulation : uint8_t { kU8, kFixed8_8 };
+// How a frame's passes are summed and applied (docs/pipeline-spec.md §8): kU8, the paper's
+// 8-bit subtraction per pass; kFixed8_8, 8.8 S subtracted once per pixel; kLinear, S as the
+// share of the pixel's light each pass's sources carry, the pixel's light scaled once
+// through the frame's shade table (FrameContent::shadeTable).
+enum class Accumulation : uint8_t { kU8, kFixed8_8, kLinear };
+
+// kLinear's shade table: kShadeCodes base codes by kShadeSteps occluded shares q / 510.
+inline constexpr size_t kShadeSteps = 511;
+inline constexpr size_t kShadeCodes = 256;
 
 // "u8" / "fixed8_8" (the trace field's values).
 const char* accumulationName(Accumulation a);
@@ -73,6 +83,10 @@ struct FrameContent {
   std::vector<core::Mesh> occluders;  // simplified proxies (Gibson 2003 §7.2: 100-500 triangles)
   std::vector<ShadowPass> passes;     // applied in this order
   Accumulation accumulation = Accumulation::kU8;
+  // kLinear only (else empty): shadeTable[c * kShadeSteps + q] is the code of a pixel of
+  // code c whose light is occluded by the share q / 510: the camera response T applied to
+  // T^-1(c) (1 - q / 510) (spec §8).
+  std::vector<uint8_t> shadeTable;
   bool operator==(const FrameContent&) const = default;
 };
 

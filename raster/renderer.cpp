@@ -38,7 +38,11 @@ struct ObjectTriangle {
 // triangle, and the next thread's Worker must not share those lines.
 struct alignas(64) Worker {
   ShadowMap shadowMap;
-  AlignedVector<uint32_t> s;                // packed S of the current pass; zero between passes
+  // S of the current pass, zero between passes: packed whole levels (u8 accumulation) or
+  // r, g, b planes of 8.8 levels (fixed8_8). Each is allocated by the first frame that needs
+  // it (a kiosk renders one kind only).
+  AlignedVector<uint32_t> s;
+  AlignedVector<uint16_t> sFine;
   AlignedVector<uint16_t> acc;              // r, g, b planes: sum of this thread's per-pass amounts
   std::vector<int32_t> passBegin, passEnd;  // per row: run of the current pass
   std::vector<int32_t> touchedBegin, touchedEnd;       // per row: union over this frame
@@ -65,6 +69,8 @@ struct Renderer::Impl {
   core::JobPool pool;
   size_t stride;     // pixels per internal row (spec §8)
   size_t planeSize;  // stride * height
+  // The last linear frame's shade table, padded by 3 bytes (SpanKernels::shadeAccumulatedLinear).
+  std::vector<uint8_t> shadeTable;
   int32_t width, height, tilesX, tilesY;
   Mat4d windowToWorld;  // C^-1 V^-1 (spec §7)
 
@@ -174,7 +180,6 @@ Renderer::Impl::Impl(const StaticView& v, const RenderOptions& o)
   tileObjectStart.assign(tiles + 1, 0);
   workers.resize(size_t(pool.threads()));
   for (Worker& w : workers) {
-    w.s.assign(planeSize, 0);
     w.acc.assign(planeSize * 3, 0);
     w.passBegin.assign(v.height, width);
     w.passEnd.assign(v.height, 0);
@@ -422,6 +427,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.blocks = w.shadowMap.blocks();
   lookup.blocksPerRow = w.shadowMap.blocksPerRow();
 
+  const bool fine = frame.accumulation != Accumulation::kU8;
   // S of one (sub-)triangle's runs into the scratch, remembering which rows the sweep must
   // visit (the kernel widens passBegin / passEnd of the rows it matched; rows of the
   // triangle without a match keep an empty run, which the sweep passes over).
@@ -429,8 +435,11 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   auto addRuns = [&](const SetupTriangle& st, const std::pair<int32_t, int32_t>* runs,
                      const SpanPlanes& planes, uint32_t triangleId) {
     const uint32_t matched =
-        kernels->interpolateRuns(w.s.data(), id.data(), stride, st.minY, st.maxY, runs, planes,
-                                 triangleId, w.passBegin.data(), w.passEnd.data());
+        fine ? kernels->interpolateRunsFine(w.sFine.data(), planeSize, id.data(), stride, st.minY,
+                                            st.maxY, runs, planes, triangleId, w.passBegin.data(),
+                                            w.passEnd.data())
+             : kernels->interpolateRuns(w.s.data(), id.data(), stride, st.minY, st.maxY, runs,
+                                        planes, triangleId, w.passBegin.data(), w.passEnd.data());
     if (matched == 0) return;
     w.passPixels += matched;
     rowLo = std::min(rowLo, st.minY);
@@ -440,11 +449,13 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   auto sweep = [&](float bias) {
     if (rowLo >= rowHi) return;
     lookup.bias = bias;
-    const auto accumulate = frame.accumulation == Accumulation::kFixed8_8
-                                ? kernels->accumulateRowsFixed8_8
-                                : kernels->accumulateRows;
-    accumulate(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo, rowHi,
-               &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+    if (fine) {
+      kernels->accumulateRowsFine(depth.data(), w.sFine.data(), w.acc.data(), planeSize, stride,
+                                  rowLo, rowHi, &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+    } else {
+      kernels->accumulateRows(depth.data(), w.s.data(), w.acc.data(), planeSize, stride, rowLo,
+                              rowHi, &w.passBegin[rowLo], &w.passEnd[rowLo], lookup);
+    }
     for (int32_t y = rowLo; y < rowHi; ++y) {
       w.touchedBegin[y] = std::min(w.touchedBegin[y], w.passBegin[y]);
       w.touchedEnd[y] = std::max(w.touchedEnd[y], w.passEnd[y]);
@@ -454,11 +465,11 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     rowLo = height;
     rowHi = 0;
   };
-  auto planesOf = [](const SetupTriangle& st, core::Rgb8 s0, core::Rgb8 s1, core::Rgb8 s2) {
+  auto planesOf = [](const SetupTriangle& st, core::Rgb16 s0, core::Rgb16 s1, core::Rgb16 s2) {
     return SpanPlanes{
         st.depth,
-        {attributePlane(st, {s0.r, s1.r, s2.r}), attributePlane(st, {s0.g, s1.g, s2.g}),
-         attributePlane(st, {s0.b, s1.b, s2.b})},
+        {attributePlaneFine(st, {s0.r, s1.r, s2.r}), attributePlaneFine(st, {s0.g, s1.g, s2.g}),
+         attributePlaneFine(st, {s0.b, s1.b, s2.b})},
         st.minX,
         st.minY};
   };
@@ -466,7 +477,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   // The room's receivers: runs cached with the static depth.
   for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
     const uint32_t t = pass.receiverTriangles[k];
-    const core::Rgb8* s = &pass.receiverS[3 * k];
+    const core::Rgb16* s = &pass.receiverS[3 * k];
     for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
       const SetupTriangle& st = staticSubs[sub];
       addRuns(st, &spans[spanStart[sub]], planesOf(st, s[0], s[1], s[2]), t);
@@ -482,7 +493,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     // no id in the id buffer, so interpolateRuns would match none of its runs: leaving it out
     // changes no byte.
     if (!objectVisible[g]) continue;
-    const core::Rgb8* s = &pass.objectS[3 * k];
+    const core::Rgb16* s = &pass.objectS[3 * k];
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
       const SetupTriangle& st = objectTriangles[sub].t;
       addRuns(st, &objectSpans[objectSpanStart[sub]], planesOf(st, s[0], s[1], s[2]),
@@ -544,6 +555,7 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
   const auto subtract = frame.accumulation == Accumulation::kFixed8_8
                             ? kernels->subtractAccumulatedFixed8_8
                             : kernels->subtractAccumulated;
+  const bool linear = frame.accumulation == Accumulation::kLinear;
   std::array<uint16_t*, 256> acc;
   for (int32_t y = y0; y < y1; ++y) {
     const size_t row = stride * size_t(y);
@@ -563,7 +575,12 @@ void Renderer::Impl::finishTile(uint32_t tile, const FrameContent& frame, std::s
       xa = std::min(xa, std::max(x0, w.touchedBegin[y]));
       xb = std::max(xb, std::min(x1, w.touchedEnd[y]));
     }
-    if (count > 0) subtract(base, base, acc.data(), count, planeSize, xa, xb);
+    if (count > 0 && linear) {
+      kernels->shadeAccumulatedLinear(base, base, acc.data(), count, planeSize, xa, xb,
+                                      shadeTable.data());
+    } else if (count > 0) {
+      subtract(base, base, acc.data(), count, planeSize, xa, xb);
+    }
     if (!inOutput) std::memcpy(&out[outRow + 4 * size_t(x0)], base + 4 * x0, rowBytes);
   }
 }
@@ -609,7 +626,19 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
   validateFrame(frame, r.view.width, r.view.height, r.view.staticMesh.triangleCount(), "frame");
 
   r.stats = FrameStats{};
-  for (Worker& w : r.workers) w.mapPixels = w.passPixels = w.objectPixels = 0;
+  const bool fine = frame.accumulation != Accumulation::kU8;
+  if (frame.accumulation == Accumulation::kLinear &&
+      (r.shadeTable.size() != frame.shadeTable.size() + 3 ||
+       !std::equal(frame.shadeTable.begin(), frame.shadeTable.end(), r.shadeTable.begin()))) {
+    // The kernels fetch 4 bytes per entry: 3 bytes of padding after the last.
+    r.shadeTable.assign(frame.shadeTable.size() + 3, 0);
+    std::copy(frame.shadeTable.begin(), frame.shadeTable.end(), r.shadeTable.begin());
+  }
+  for (Worker& w : r.workers) {
+    w.mapPixels = w.passPixels = w.objectPixels = 0;
+    if (fine && w.sFine.empty()) w.sFine.assign(r.planeSize * 3, 0);
+    if (!fine && w.s.empty()) w.s.assign(r.planeSize, 0);
+  }
   const size_t tiles = size_t(r.tilesX) * size_t(r.tilesY);
   r.prepareObjects(frame);
   // Tiles are short jobs: each thread claims ~1/16 of its share at a time (JobPool).

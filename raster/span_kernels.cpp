@@ -4,8 +4,11 @@
 // the reference's bytes. tests/span_kernels_test.cpp compares them pixel by pixel.
 #include "raster/span_kernels.h"
 
+#include "raster/frame_trace.h"
+
 #include <algorithm>
 #include <array>
+#include <type_traits>
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "raster/span_kernels.cpp"
@@ -415,7 +418,7 @@ HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
   return hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
 }
 
-// The texels at `index` and `index + 1` for every lane (see maskAt). Invalid lanes carry
+// The texels at `index` and `index + 1` for every lane (see coverageAt). Invalid lanes carry
 // index 0 and read texels (0, 0) and (1, 0), which the caller masks.
 HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& second) {
   const DF df;
@@ -453,9 +456,10 @@ HWY_INLINE bool anyBlockWritten(const ShadowLookup& s, VI i, VI j, MI valid) {
   return !hn::AllFalse(di, hn::And(valid, hn::RebindMask(di, hn::Ne(written, hn::Zero(du)))));
 }
 
-// The mask M of spec §7 as int32 lanes in [0, 255]. Lanes outside `marked` (S = 0, which
-// adds nothing) may get M = 0 instead of their value.
-HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
+// The occluded weight W of spec §7 as int32 lanes in [0, 65536] (the mask before its
+// scaling: M = round(255 W / 65536)). Lanes outside `marked` (S = 0, which adds nothing) may
+// get W = 0 instead of their value.
+HWY_INLINE VI coverageAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
   const DF df;
   const DI di;
   const float* p = s.p;
@@ -481,7 +485,7 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
     const VI j = hn::ConvertTo(di, hn::IfThenElseZero(inside, v));
     if (!anyBlockWritten(s, i, j, valid)) return hn::Zero(di);
     const VF d = hn::Div(row(2), q3);
-    return hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Set(di, 255));
+    return hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Set(di, 65536));
   }
   const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
   const VF up = hn::Sub(u, half), vp = hn::Sub(v, half);
@@ -515,9 +519,8 @@ HWY_INLINE VI maskAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
   VI o00, o10, o01, o11;
   occludedPair(j, o00, o10);
   occludedPair(hn::Add(j, hn::Set(di, 1)), o01, o11);
-  const VI sum = hn::Add(hn::Add(hn::And(o00, hn::Mul(iu, iv)), hn::And(o10, hn::Mul(wu, iv))),
-                         hn::Add(hn::And(o01, hn::Mul(iu, wv)), hn::And(o11, hn::Mul(wu, wv))));
-  return hn::ShiftRight<16>(hn::Add(hn::Mul(sum, hn::Set(di, 255)), hn::Set(di, 32768)));
+  return hn::Add(hn::Add(hn::And(o00, hn::Mul(iu, iv)), hn::And(o10, hn::Mul(wu, iv))),
+                 hn::Add(hn::And(o01, hn::Mul(iu, wv)), hn::And(o11, hn::Mul(wu, wv))));
 }
 
 uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,
@@ -543,24 +546,41 @@ uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb
   return static_cast<uint32_t>(matched);
 }
 
-// InterpolateS over a triangle's rows (see SpanKernels::interpolateRuns). The planes are
-// broadcast once per triangle and the row term once per row; v is summed in another order
-// than attributeAt's (c + gy fy + 0x8000 first), which wrapping 32-bit addition allows
-// (spec §5), so every lane is the same.
-uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
-                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
-                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+// Where the pass's S goes per pixel: packed whole levels r | g << 8 | b << 16 (u8
+// accumulation), or three planes of 8.8 levels (fixed8_8), `planeSize` u16 apart.
+struct PackedS {
+  uint32_t* s;
+};
+struct FineS {
+  uint16_t* s;
+  size_t planeSize;
+};
+
+// InterpolateS over a triangle's rows (see SpanKernels::interpolateRuns and
+// interpolateRunsFine). The planes are broadcast once per triangle and the row term once per
+// row; v is summed in another order than attributeAt's (c + gy fy + rounding first), which
+// wrapping 32-bit addition allows (spec §5), so every lane is the same.
+template <class Out>
+uint32_t InterpolateRunsTo(Out out, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
+                           const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                           uint32_t triangleId, int32_t* begin, int32_t* end) {
+  constexpr bool kFine = std::is_same_v<Out, FineS>;
+  // Whole levels: (v + 0x8000) >> 16 in [0, 255]; 8.8 levels: (v + 0x80) >> 8 in
+  // [0, 255 * 256] (spec §5).
+  constexpr uint32_t kHalf = kFine ? 0x80u : 0x8000u;
+  constexpr int32_t kTop = kFine ? 255 * 256 : 255;
   const DI di;
   const DU du;
+  const hn::Rebind<uint16_t, DI> d16;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(du));
-  const AttributePlane pr = planes.rgb[0], pg = planes.rgb[1], pb = planes.rgb[2];
+  const std::array<AttributePlane, 3> p = {planes.rgb[0], planes.rgb[1], planes.rgb[2]};
   const int32_t ox = planes.ox, oy = planes.oy;
-  const VU gxR = hn::Set(du, pr.gx), gxG = hn::Set(du, pg.gx), gxB = hn::Set(du, pb.gx);
+  const std::array<VU, 3> gx = {hn::Set(du, p[0].gx), hn::Set(du, p[1].gx), hn::Set(du, p[2].gx)};
   const VU want = hn::Set(du, triangleId);
-  const VI zero = hn::Zero(di), top = hn::Set(di, 255);
-  auto channel = [&](VU rowValue, VU gx, VU fx) {
-    const VI a = hn::ShiftRight<16>(hn::BitCast(di, hn::Add(rowValue, hn::Mul(gx, fx))));
-    return hn::Min(hn::Max(a, zero), top);
+  const VI zero = hn::Zero(di), top = hn::Set(di, kTop);
+  auto channel = [&](VU rowValue, VU g, VU fx) {
+    const VI v = hn::BitCast(di, hn::Add(rowValue, hn::Mul(g, fx)));
+    return hn::Min(hn::Max(kFine ? hn::ShiftRight<8>(v) : hn::ShiftRight<16>(v), zero), top);
   };
   size_t matched = 0;
   for (int32_t y = y0; y < y1; ++y) {
@@ -568,9 +588,8 @@ uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int3
     if (xa >= xb) continue;
     const size_t row = stride * static_cast<size_t>(y);
     const uint32_t fy = static_cast<uint32_t>(y - oy);
-    const VU rowR = hn::Set(du, pr.c + pr.gy * fy + 0x8000u);
-    const VU rowG = hn::Set(du, pg.c + pg.gy * fy + 0x8000u);
-    const VU rowB = hn::Set(du, pb.c + pb.gy * fy + 0x8000u);
+    std::array<VU, 3> rowValue;
+    for (int ch = 0; ch < 3; ++ch) rowValue[ch] = hn::Set(du, p[ch].c + p[ch].gy * fy + kHalf);
     size_t rowMatched = 0;
     for (int32_t x = alignDown(xa); x < xb; x += lanes) {
       const Chunk c = chunkAt(x, xa, xb);
@@ -579,11 +598,22 @@ uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int3
       if (hn::AllFalse(du, active)) continue;
       rowMatched += hn::CountTrue(du, active);
       const VU fx = hn::BitCast(du, hn::Sub(c.px, hn::Set(di, ox)));
-      const VI packed =
-          hn::Or(hn::Or(channel(rowR, gxR, fx), hn::ShiftLeft<8>(channel(rowG, gxG, fx))),
-                 hn::ShiftLeft<16>(channel(rowB, gxB, fx)));
-      uint32_t* out = sOut + row + x;
-      hn::StoreU(hn::IfThenElse(active, hn::BitCast(du, packed), hn::LoadU(du, out)), du, out);
+      if constexpr (kFine) {
+        // Highway 1.0.3 has no mask between lane sizes: blend in 32-bit lanes.
+        const MI activeI = hn::RebindMask(di, active);
+        for (int ch = 0; ch < 3; ++ch) {
+          uint16_t* o = out.s + out.planeSize * size_t(ch) + row + x;
+          const VI value = hn::IfThenElse(activeI, channel(rowValue[ch], gx[ch], fx),
+                                          hn::PromoteTo(di, hn::LoadU(d16, o)));
+          hn::StoreU(hn::DemoteTo(d16, value), d16, o);
+        }
+      } else {
+        const VI packed = hn::Or(hn::Or(channel(rowValue[0], gx[0], fx),
+                                        hn::ShiftLeft<8>(channel(rowValue[1], gx[1], fx))),
+                                 hn::ShiftLeft<16>(channel(rowValue[2], gx[2], fx)));
+        uint32_t* o = out.s + row + x;
+        hn::StoreU(hn::IfThenElse(active, hn::BitCast(du, packed), hn::LoadU(du, o)), du, o);
+      }
     }
     if (rowMatched == 0) continue;
     matched += rowMatched;
@@ -593,21 +623,62 @@ uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int3
   return static_cast<uint32_t>(matched);
 }
 
-// kFixed8_8: spec §8's fixed-point accumulation, else the rounded product per pass (§6).
-template <bool kFixed8_8>
-void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
-                    int32_t y0, int32_t y1, const int32_t* xaRow, const int32_t* xbRow,
-                    const ShadowLookup& lookup) {
+uint32_t InterpolateRuns(uint32_t* sOut, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
+                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+  return InterpolateRunsTo(PackedS{sOut}, id, stride, y0, y1, runs, planes, triangleId, begin, end);
+}
+
+uint32_t InterpolateRunsFine(uint16_t* sOut, size_t planeSize, const uint32_t* id, size_t stride,
+                             int32_t y0, int32_t y1, const std::pair<int32_t, int32_t>* runs,
+                             const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
+                             int32_t* end) {
+  return InterpolateRunsTo(FineS{sOut, planeSize}, id, stride, y0, y1, runs, planes, triangleId,
+                           begin, end);
+}
+
+// A vector of a pass's S taken out of the scratch (which is left zero): false, touching
+// nothing, when every lane is 0 (S = 0 adds nothing, so skipping it is exact).
+HWY_INLINE bool takeS(PackedS in, size_t i, std::array<VI, 3>& c) {
+  const DU du;
+  const VU packed = hn::LoadU(du, in.s + i);
+  if (hn::AllTrue(du, hn::Eq(packed, hn::Zero(du)))) return false;
+  hn::StoreU(hn::Zero(du), du, in.s + i);
+  const VU byteMask = hn::Set(du, 0xFFu);
+  for (int ch = 0; ch < 3; ++ch) {
+    c[ch] = hn::BitCast(DI(), hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
+  }
+  return true;
+}
+
+HWY_INLINE bool takeS(FineS in, size_t i, std::array<VI, 3>& c) {
+  const DI di;
+  const hn::Rebind<uint16_t, DI> d16;
+  const auto r = hn::LoadU(d16, in.s + i);
+  const auto g = hn::LoadU(d16, in.s + in.planeSize + i);
+  const auto b = hn::LoadU(d16, in.s + 2 * in.planeSize + i);
+  if (hn::AllTrue(d16, hn::Eq(hn::Or(hn::Or(r, g), b), hn::Zero(d16)))) return false;
+  for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Zero(d16), d16, in.s + in.planeSize * ch + i);
+  c = {hn::PromoteTo(di, r), hn::PromoteTo(di, g), hn::PromoteTo(di, b)};
+  return true;
+}
+
+// The pass's amounts into the sums: u8 (PackedS) adds spec §6 step 4's rounded product
+// round(S M / 255) per pass; fixed8_8 (FineS) adds spec §8's round(S W / 65536) in 1/256
+// levels, saturating.
+template <class In>
+void AccumulateRowsFrom(const float* depth, In s, uint16_t* acc, size_t planeSize, size_t stride,
+                        int32_t y0, int32_t y1, const int32_t* xaRow, const int32_t* xbRow,
+                        const ShadowLookup& lookup) {
+  constexpr bool kFine = std::is_same_v<In, FineS>;
   const DF df;
   const DI di;
   const DU du;
   const hn::Rebind<uint16_t, DI> d16;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
-  const VU byteMask = hn::Set(du, 0xFFu);
   for (int32_t y = y0; y < y1; ++y) {
     const int32_t xa = xaRow[y - y0], xb = xbRow[y - y0];
     const size_t row = stride * static_cast<size_t>(y);
-    uint32_t* sRow = s + row;
     // The sums (three u16 planes, 1.8 MB per thread at 640x480) and the depth buffer do not
     // stay in L2 across passes, and a pass's runs are too short per row for the hardware
     // prefetchers: fetch the next row's lines while this row computes masks. Prefetches
@@ -626,23 +697,25 @@ void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
     const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
     for (int32_t x = alignDown(xa); x < xb; x += lanes) {
       // Outside [xa, xb) s is 0 too (the scratch is kept clean), so no run mask is needed.
-      const VU packed = hn::LoadU(du, sRow + x);
-      if (hn::AllTrue(du, hn::Eq(packed, hn::Zero(du)))) continue;
-      hn::StoreU(hn::Zero(du), du, sRow + x);
+      std::array<VI, 3> sValue;
+      if (!takeS(s, row + x, sValue)) continue;
       const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
       const VF sx = hn::Add(hn::ConvertTo(df, px), hn::Set(df, 0.5f));
-      const MI marked = hn::RebindMask(di, hn::Ne(packed, hn::Zero(du)));
-      const VI m = maskAt(lookup, sx, sy, hn::LoadU(df, depth + row + x), marked);
-      // M = 0 adds round(S * 0 / 255) = 0: leave the sums alone. Most vectors of a pass are
-      // lit or outside the map, so this saves most of the sweep's memory traffic.
-      if (hn::AllTrue(di, hn::Eq(m, hn::Zero(di)))) continue;
+      const MI marked = hn::Ne(hn::Or(hn::Or(sValue[0], sValue[1]), sValue[2]), hn::Zero(di));
+      const VI w = coverageAt(lookup, sx, sy, hn::LoadU(df, depth + row + x), marked);
+      // W = 0 adds 0: leave the sums alone. Most vectors of a pass are lit or outside the
+      // map, so this saves most of the sweep's memory traffic.
+      if (hn::AllTrue(di, hn::Eq(w, hn::Zero(di)))) continue;
+      // M = round(255 W / 65536) (spec §7); 255 W + 32768 < 2^24.
+      const VI m = hn::ShiftRight<16>(hn::Add(hn::Mul(w, hn::Set(di, 255)), hn::Set(di, 32768)));
       for (int ch = 0; ch < 3; ++ch) {
         uint16_t* plane = acc + planeSize * ch + row + x;
-        const VI sValue = hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
         // Unmarked lanes have S = 0 and add 0. u8 sums stay <= 65535 (at most 257 passes);
         // fixed-point sums saturate there (DemoteTo), as spec §8 allows.
-        const VI amount = kFixed8_8 ? simd::HWY_NAMESPACE::Fixed8_8Amount(di, sValue, m)
-                                    : simd::HWY_NAMESPACE::ProductU8(di, sValue, m);
+        const VI amount =
+            kFine ? hn::BitCast(di, simd::HWY_NAMESPACE::FineAmount(du, hn::BitCast(du, sValue[ch]),
+                                                                    hn::BitCast(du, w)))
+                  : simd::HWY_NAMESPACE::ProductU8(di, sValue[ch], m);
         const VI sum = hn::Add(hn::PromoteTo(di, hn::LoadU(d16, plane)), amount);
         hn::StoreU(hn::DemoteTo(d16, sum), d16, plane);
       }
@@ -650,9 +723,23 @@ void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
   }
 }
 
-template <bool kFixed8_8>
-void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
-                         size_t planeSize, int32_t xa, int32_t xb) {
+void AccumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
+                    int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                    const ShadowLookup& lookup) {
+  AccumulateRowsFrom(depth, PackedS{s}, acc, planeSize, stride, y0, y1, xa, xb, lookup);
+}
+
+void AccumulateRowsFine(const float* depth, uint16_t* s, uint16_t* acc, size_t planeSize,
+                        size_t stride, int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                        const ShadowLookup& lookup) {
+  AccumulateRowsFrom(depth, FineS{s, planeSize}, acc, planeSize, stride, y0, y1, xa, xb, lookup);
+}
+
+// See the scalar finishAccumulated: u8 subtracts the accumulators' sum, fixed8_8 its whole
+// levels, linear looks the clamped share up in the shade table (spec §8).
+template <Accumulation kMode>
+void FinishAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                       size_t planeSize, int32_t xa, int32_t xb, const uint8_t* table) {
   const DI di;
   const DU du;
   const hn::Rebind<uint16_t, DI> d16;
@@ -672,9 +759,22 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
         total = hn::Add(total, values);
         hn::StoreU(hn::DemoteTo(d16, hn::IfThenZeroElse(c.inRun, values)), d16, plane);
       }
-      if (kFixed8_8) total = simd::HWY_NAMESPACE::Fixed8_8Levels(di, total);
       const VI value = hn::BitCast(di, hn::And(hn::ShiftRightSame(old, 8 * ch), byteMask));
-      const VI left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, total);
+      VI left;
+      if constexpr (kMode == Accumulation::kLinear) {
+        // Entry base * 511 + q, fetched as the 4 bytes starting there (the table is padded),
+        // keeping the first (little-endian: the low byte).
+        const VI q = hn::ShiftRight<7>(
+            hn::Add(hn::Min(total, hn::Set(di, int32_t{core::kMaxFineLevel})), hn::Set(di, 64)));
+        const VI index = hn::Add(hn::Mul(value, hn::Set(di, int32_t{kShadeSteps})), q);
+        const VI word = hn::GatherOffset(di, reinterpret_cast<const int32_t*>(table), index);
+        left = hn::And(word, hn::Set(di, 0xFF));
+      } else {
+        if (kMode == Accumulation::kFixed8_8) {
+          total = simd::HWY_NAMESPACE::Fixed8_8Levels(di, total);
+        }
+        left = simd::HWY_NAMESPACE::SubtractSaturate(di, value, total);
+      }
       result = hn::Or(result, hn::ShiftLeftSame(hn::BitCast(du, left), 8 * ch));
     }
     hn::StoreU(hn::IfThenElse(hn::RebindMask(du, c.inRun), result, hn::LoadU(du, outPixels + x)),
@@ -682,11 +782,24 @@ void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
   }
 }
 
+template <Accumulation kMode>
+void SubtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                         size_t planeSize, int32_t xa, int32_t xb) {
+  FinishAccumulated<kMode>(out, base, acc, count, planeSize, xa, xb, nullptr);
+}
+
 const SpanKernels* Table() {
-  static const SpanKernels kernels{
-      &DepthLess,       &DepthTriangle,         &ColourLess,
-      &InterpolateS,    &AccumulateRows<false>, &SubtractAccumulated<false>,
-      &InterpolateRuns, &AccumulateRows<true>,  &SubtractAccumulated<true>};
+  static const SpanKernels kernels{&DepthLess,
+                                   &DepthTriangle,
+                                   &ColourLess,
+                                   &InterpolateS,
+                                   &AccumulateRows,
+                                   &SubtractAccumulated<Accumulation::kU8>,
+                                   &InterpolateRuns,
+                                   &InterpolateRunsFine,
+                                   &AccumulateRowsFine,
+                                   &SubtractAccumulated<Accumulation::kFixed8_8>,
+                                   &FinishAccumulated<Accumulation::kLinear>};
   return &kernels;
 }
 

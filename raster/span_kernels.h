@@ -84,14 +84,29 @@ struct SpanKernels {
                               int32_t y1, const std::pair<int32_t, int32_t>* runs,
                               const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
                               int32_t* end);
-  // 2 and 3 with fixed-point accumulation (Accumulation::kFixed8_8, spec §8): the same
-  // kernels, but 2 adds simd::fixed8_8Amount(S_c, M) (the amount in 1/256 levels) with
-  // saturation at 65535, and 3 subtracts simd::fixed8_8Levels(sum of the accumulators).
-  void (*accumulateRowsFixed8_8)(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize,
-                                 size_t stride, int32_t y0, int32_t y1, const int32_t* xa,
-                                 const int32_t* xb, const ShadowLookup& lookup);
+  // 1 for fixed-point accumulation (Accumulation::kFixed8_8, spec §5 and §8): the same,
+  // but S in 8.8 levels ((v + 0x80) >> 8, at most 255 * 256) into three u16 planes r, g, b
+  // (`s`, `s + planeSize`, `s + 2 * planeSize`, laid out like the sums).
+  uint32_t (*interpolateRunsFine)(uint16_t* s, size_t planeSize, const uint32_t* id, size_t stride,
+                                  int32_t y0, int32_t y1, const std::pair<int32_t, int32_t>* runs,
+                                  const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
+                                  int32_t* end);
+  // 2 and 3 for fixed-point accumulation: 2 reads interpolateRunsFine's planes and adds
+  // round(S_c * W / 65536) (the amount in 1/256 levels; W the occluded weight of spec §7)
+  // with saturation at 65535, clearing the planes; 3 subtracts simd::fixed8_8Levels(sum of
+  // the accumulators).
+  void (*accumulateRowsFine)(const float* depth, uint16_t* s, uint16_t* acc, size_t planeSize,
+                             size_t stride, int32_t y0, int32_t y1, const int32_t* xa,
+                             const int32_t* xb, const ShadowLookup& lookup);
   void (*subtractAccumulatedFixed8_8)(uint8_t* out, const uint8_t* base, uint16_t* const* acc,
                                       int count, size_t planeSize, int32_t xa, int32_t xb);
+  // 3 for linear accumulation (Accumulation::kLinear, spec §8): per colour channel, with
+  // the accumulators' sum t clamped to 65280 and q = (t + 64) >> 7 in [0, 510],
+  // out = table[base * kShadeSteps + q]; alpha from base; the accumulators are zeroed.
+  // `table` holds kShadeCodes * kShadeSteps entries and 3 readable bytes after them (SIMD
+  // targets fetch 4 bytes per lookup).
+  void (*shadeAccumulatedLinear)(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                                 size_t planeSize, int32_t xa, int32_t xb, const uint8_t* table);
 };
 
 // The kernels of `isa`; the caller checks simd::isSupported(isa).

@@ -1,7 +1,11 @@
 // The scalar reference of raster/span_kernels.h: docs/pipeline-spec.md line by line.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 
+#include "core/colour.h"
+#include "raster/frame_trace.h"
 #include "raster/span_kernels.h"
 #include "simd/u8_ops.h"
 
@@ -18,13 +22,20 @@ uint8_t attributeAt(const AttributePlane& p, uint32_t fx, uint32_t fy) {
   return static_cast<uint8_t>(std::clamp(a, 0, 255));
 }
 
+// The same in 8.8 levels (spec §5, fixed8_8).
+uint16_t attributeFineAt(const AttributePlane& p, uint32_t fx, uint32_t fy) {
+  const uint32_t v = p.c + p.gx * fx + p.gy * fy;
+  const int32_t a = static_cast<int32_t>(v + 0x80u) >> 8;
+  return static_cast<uint16_t>(std::clamp(a, 0, int32_t{core::kMaxFineLevel}));
+}
+
 bool occludes(const ShadowLookup& s, int32_t i, int32_t j, float d) {
   return i >= 0 && i < s.size && j >= 0 && j < s.size &&
          d > s.map[ptrdiff_t{j} * s.stride + i] + s.bias;
 }
 
-// The occlusion mask M in [0, 255] of spec §7.
-uint32_t maskAt(const ShadowLookup& s, float sx, float sy, float z) {
+// The occluded weight W in [0, 65536] of spec §7 (M = round(255 W / 65536)).
+uint32_t coverageAt(const ShadowLookup& s, float sx, float sy, float z) {
   const float* p = s.p;
   const float q0 = ((p[0] * sx + p[1] * sy) + p[2] * z) + p[3];
   const float q1 = ((p[4] * sx + p[5] * sy) + p[6] * z) + p[7];
@@ -35,7 +46,7 @@ uint32_t maskAt(const ShadowLookup& s, float sx, float sy, float z) {
   const float size = static_cast<float>(s.size);
   if (!s.pcf2x2) {
     if (!(u >= 0.0f && u < size && v >= 0.0f && v < size)) return 0;
-    return occludes(s, static_cast<int32_t>(u), static_cast<int32_t>(v), d) ? 255u : 0u;
+    return occludes(s, static_cast<int32_t>(u), static_cast<int32_t>(v), d) ? 65536u : 0u;
   }
   const float up = u - 0.5f, vp = v - 0.5f;
   if (!(up > -1.0f && up < size && vp > -1.0f && vp < size)) return 0;
@@ -52,7 +63,7 @@ uint32_t maskAt(const ShadowLookup& s, float sx, float sy, float z) {
                       (occludes(s, i + 1, j, d) ? wu * (256 - wv) : 0) +
                       (occludes(s, i, j + 1, d) ? (256 - wu) * wv : 0) +
                       (occludes(s, i + 1, j + 1, d) ? wu * wv : 0);
-  return static_cast<uint32_t>((255 * sum + 32768) >> 16);
+  return static_cast<uint32_t>(sum);
 }
 
 uint32_t depthLess(float* depth, uint32_t* id, int32_t xa, int32_t xb, int32_t y,
@@ -116,24 +127,46 @@ uint32_t interpolateS(uint32_t* s, const uint32_t* id, int32_t xa, int32_t xb, i
   return matched;
 }
 
-// kFixed8_8: the fixed-point accumulation of spec §8 (amounts in 1/256 levels, saturating),
-// else spec §6 step 4's rounded product per pass (whose sums never reach 65535).
-template <bool kFixed8_8>
-void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
-                    int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
-                    const ShadowLookup& lookup) {
+// The pass's S per pixel in the scratch: packed whole levels r | g << 8 | b << 16 (u8), or
+// three planes of 8.8 levels (fixed8_8).
+struct PackedS {
+  uint32_t* s;
+  bool take(size_t i, std::array<uint32_t, 3>& c) const {
+    if (s[i] == 0) return false;
+    for (int ch = 0; ch < 3; ++ch) c[ch] = (s[i] >> (8 * ch)) & 0xFFu;
+    s[i] = 0;
+    return true;
+  }
+};
+struct FineS {
+  uint16_t* s;
+  size_t planeSize;
+  bool take(size_t i, std::array<uint32_t, 3>& c) const {
+    for (size_t ch = 0; ch < 3; ++ch) c[ch] = s[planeSize * ch + i];
+    if ((c[0] | c[1] | c[2]) == 0) return false;
+    for (size_t ch = 0; ch < 3; ++ch) s[planeSize * ch + i] = 0;
+    return true;
+  }
+};
+
+// u8 (PackedS): spec §6 step 4's rounded product per pass (whose sums never reach 65535);
+// fixed8_8 (FineS): spec §8's amounts round(S W / 65536) in 1/256 levels, saturating.
+template <class In>
+void accumulateRowsFrom(const float* depth, In s, uint16_t* acc, size_t planeSize, size_t stride,
+                        int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                        const ShadowLookup& lookup) {
+  constexpr bool kFine = std::is_same_v<In, FineS>;
   for (int32_t y = y0; y < y1; ++y) {
     const size_t row = stride * static_cast<size_t>(y);
     const float sy = static_cast<float>(y) + 0.5f;
     for (int32_t x = xa[y - y0]; x < xb[y - y0]; ++x) {
-      const uint32_t packed = s[row + x];
-      if (packed == 0) continue;
-      s[row + x] = 0;
-      const uint8_t m =
-          static_cast<uint8_t>(maskAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[row + x]));
+      std::array<uint32_t, 3> sc;
+      if (!s.take(row + x, sc)) continue;
+      const uint32_t w = coverageAt(lookup, static_cast<float>(x) + 0.5f, sy, depth[row + x]);
+      const auto m = static_cast<uint8_t>((255 * w + 32768) >> 16);
       for (int c = 0; c < 3; ++c) {
-        const uint8_t sc = static_cast<uint8_t>(packed >> (8 * c));
-        const uint32_t amount = kFixed8_8 ? simd::fixed8_8Amount(sc, m) : simd::productU8(sc, m);
+        const uint32_t amount =
+            kFine ? simd::fineAmount(sc[c], w) : simd::productU8(static_cast<uint8_t>(sc[c]), m);
         uint16_t& sum = acc[planeSize * c + row + x];
         sum = static_cast<uint16_t>(std::min<uint32_t>(sum + amount, 65535u));
       }
@@ -141,9 +174,23 @@ void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t plane
   }
 }
 
-template <bool kFixed8_8>
-void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
-                         size_t planeSize, int32_t xa, int32_t xb) {
+void accumulateRows(const float* depth, uint32_t* s, uint16_t* acc, size_t planeSize, size_t stride,
+                    int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                    const ShadowLookup& lookup) {
+  accumulateRowsFrom(depth, PackedS{s}, acc, planeSize, stride, y0, y1, xa, xb, lookup);
+}
+
+void accumulateRowsFine(const float* depth, uint16_t* s, uint16_t* acc, size_t planeSize,
+                        size_t stride, int32_t y0, int32_t y1, const int32_t* xa, const int32_t* xb,
+                        const ShadowLookup& lookup) {
+  accumulateRowsFrom(depth, FineS{s, planeSize}, acc, planeSize, stride, y0, y1, xa, xb, lookup);
+}
+
+// The accumulators' sum per channel, zeroed, then the pixel's code: u8 subtracts the sum,
+// fixed8_8 its whole levels (spec §8), linear looks the clamped share up in `table`.
+template <Accumulation kMode>
+void finishAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                       size_t planeSize, int32_t xa, int32_t xb, const uint8_t* table) {
   for (int32_t x = xa; x < xb; ++x) {
     for (int c = 0; c < 3; ++c) {
       int32_t total = 0;
@@ -151,22 +198,51 @@ void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc
         total += acc[i][planeSize * c + x];
         acc[i][planeSize * c + x] = 0;
       }
-      if (kFixed8_8) total = static_cast<int32_t>(simd::fixed8_8Levels(uint32_t(total)));
-      out[4 * x + c] = static_cast<uint8_t>(std::max(int32_t{base[4 * x + c]} - total, 0));
+      const uint8_t b = base[4 * x + c];
+      if constexpr (kMode == Accumulation::kLinear) {
+        const int32_t q = (std::min(total, int32_t{core::kMaxFineLevel}) + 64) >> 7;
+        out[4 * x + c] = table[size_t{b} * kShadeSteps + size_t(q)];
+        continue;
+      }
+      if (kMode == Accumulation::kFixed8_8) {
+        total = static_cast<int32_t>(simd::fixed8_8Levels(uint32_t(total)));
+      }
+      out[4 * x + c] = static_cast<uint8_t>(std::max(int32_t{b} - total, 0));
     }
     out[4 * x + 3] = base[4 * x + 3];
   }
 }
 
-uint32_t interpolateRuns(uint32_t* s, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
-                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
-                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+template <Accumulation kMode>
+void subtractAccumulated(uint8_t* out, const uint8_t* base, uint16_t* const* acc, int count,
+                         size_t planeSize, int32_t xa, int32_t xb) {
+  finishAccumulated<kMode>(out, base, acc, count, planeSize, xa, xb, nullptr);
+}
+
+// interpolateS over a triangle's rows, into the packed scratch or (fine) the 8.8 planes.
+uint32_t interpolateRunsTo(uint32_t* packed, uint16_t* fine, size_t planeSize, const uint32_t* id,
+                           size_t stride, int32_t y0, int32_t y1,
+                           const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                           uint32_t triangleId, int32_t* begin, int32_t* end) {
   uint32_t matched = 0;
   for (int32_t y = y0; y < y1; ++y) {
     const auto [xa, xb] = runs[y - y0];
     if (xa >= xb) continue;
     const size_t row = stride * static_cast<size_t>(y);
-    const uint32_t n = interpolateS(s + row, id + row, xa, xb, y, planes, triangleId);
+    uint32_t n = 0;
+    if (packed != nullptr) {
+      n = interpolateS(packed + row, id + row, xa, xb, y, planes, triangleId);
+    } else {
+      const uint32_t fy = static_cast<uint32_t>(y - planes.oy);
+      for (int32_t x = xa; x < xb; ++x) {
+        if (id[row + x] != triangleId) continue;
+        ++n;
+        const uint32_t fx = static_cast<uint32_t>(x - planes.ox);
+        for (size_t c = 0; c < 3; ++c) {
+          fine[planeSize * c + row + x] = attributeFineAt(planes.rgb[c], fx, fy);
+        }
+      }
+    }
     if (n == 0) continue;
     matched += n;
     begin[y] = std::min(begin[y], xa);
@@ -175,9 +251,31 @@ uint32_t interpolateRuns(uint32_t* s, const uint32_t* id, size_t stride, int32_t
   return matched;
 }
 
-const SpanKernels kScalar{&depthLess,       &depthTriangle,         &colourLess,
-                          &interpolateS,    &accumulateRows<false>, &subtractAccumulated<false>,
-                          &interpolateRuns, &accumulateRows<true>,  &subtractAccumulated<true>};
+uint32_t interpolateRuns(uint32_t* s, const uint32_t* id, size_t stride, int32_t y0, int32_t y1,
+                         const std::pair<int32_t, int32_t>* runs, const SpanPlanes& planes,
+                         uint32_t triangleId, int32_t* begin, int32_t* end) {
+  return interpolateRunsTo(s, nullptr, 0, id, stride, y0, y1, runs, planes, triangleId, begin, end);
+}
+
+uint32_t interpolateRunsFine(uint16_t* s, size_t planeSize, const uint32_t* id, size_t stride,
+                             int32_t y0, int32_t y1, const std::pair<int32_t, int32_t>* runs,
+                             const SpanPlanes& planes, uint32_t triangleId, int32_t* begin,
+                             int32_t* end) {
+  return interpolateRunsTo(nullptr, s, planeSize, id, stride, y0, y1, runs, planes, triangleId,
+                           begin, end);
+}
+
+const SpanKernels kScalar{&depthLess,
+                          &depthTriangle,
+                          &colourLess,
+                          &interpolateS,
+                          &accumulateRows,
+                          &subtractAccumulated<Accumulation::kU8>,
+                          &interpolateRuns,
+                          &interpolateRunsFine,
+                          &accumulateRowsFine,
+                          &subtractAccumulated<Accumulation::kFixed8_8>,
+                          &finishAccumulated<Accumulation::kLinear>};
 
 }  // namespace
 

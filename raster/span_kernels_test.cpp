@@ -9,8 +9,10 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <type_traits>
 #include <vector>
 
+#include "raster/frame_trace.h"
 #include "raster/shadow_map.h"
 #include "tests/isa_params.h"
 
@@ -195,23 +197,83 @@ TEST_P(SpanKernelsOnTarget, InterpolateRunsMatchesPerRowScalar) {
   }
 }
 
-using AccumulateKernel = decltype(SpanKernels::accumulateRows);
+// The 8.8 form: the target against the scalar reference on the same runs, into three planes
+// whose unmatched pixels must keep their values; matched pixels in [0, 255 * 256].
+TEST_P(SpanKernelsOnTarget, InterpolateRunsFineMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(15);
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> any(0, 0xFFFFFFFFu);
+  constexpr int32_t kRows = 24;
+  const size_t plane = size_t(kRow) * kRows;
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<uint32_t> id(plane);
+    for (auto& v : id) v = any(rng) % 3;
+    std::vector<uint16_t> expected(3 * plane);
+    for (auto& v : expected) v = static_cast<uint16_t>(any(rng));
+    std::vector<uint16_t> got = expected;
+    std::vector<int32_t> beginA(kRows), endA(kRows);
+    for (int32_t y = 0; y < kRows; ++y) {
+      beginA[y] = pos(rng);
+      endA[y] = pos(rng);
+    }
+    std::vector<int32_t> beginB = beginA, endB = endA;
+    const int32_t y0 = trial % 5, y1 = kRows - trial % 3;
+    std::vector<std::pair<int32_t, int32_t>> runs(size_t(y1 - y0));
+    for (auto& r : runs) {
+      r = {pos(rng), pos(rng)};
+      if (trial % 4 != 0 && r.first > r.second) std::swap(r.first, r.second);
+    }
+    SpanPlanes p = randomPlanes(rng);
+    p.ox = trial % 7;
+    p.oy = y0 + trial % 2;
+    const uint32_t want = 1 + uint32_t(trial % 2);
+    const uint32_t a = ref.interpolateRunsFine(expected.data(), plane, id.data(), kRow, y0, y1,
+                                               runs.data(), p, want, beginA.data(), endA.data());
+    const uint32_t b = k.interpolateRunsFine(got.data(), plane, id.data(), kRow, y0, y1,
+                                             runs.data(), p, want, beginB.data(), endB.data());
+    ASSERT_EQ(a, b) << trial;
+    ASSERT_EQ(got, expected) << trial;
+    ASSERT_EQ(beginB, beginA) << trial;
+    ASSERT_EQ(endB, endA) << trial;
+  }
+}
 
 // One accumulation kernel of `ref` and of the target on copies of the same inputs: the same
-// sums, and the scratch left clean by both.
-void expectSameSums(AccumulateKernel refKernel, AccumulateKernel kernel,
-                    const std::vector<float>& depth, const std::vector<uint32_t>& s,
-                    std::vector<uint16_t> acc, size_t plane, int32_t rows,
-                    const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
+// sums, and the scratch (packed S, or the three 8.8 planes) left clean by both.
+template <class Scratch>
+void expectSameSums(void (*refKernel)(const float*, Scratch*, uint16_t*, size_t, size_t, int32_t,
+                                      int32_t, const int32_t*, const int32_t*, const ShadowLookup&),
+                    decltype(refKernel) kernel, const std::vector<float>& depth,
+                    const std::vector<Scratch>& s, std::vector<uint16_t> acc, size_t plane,
+                    int32_t rows, const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
                     const ShadowLookup& lookup, int trial) {
-  std::vector<uint32_t> sA = s, sB = s;
+  std::vector<Scratch> sA = s, sB = s;
   std::vector<uint16_t> accB = acc;
   refKernel(depth.data(), sA.data(), acc.data(), plane, kRow, 0, rows, xa.data(), xb.data(),
             lookup);
   kernel(depth.data(), sB.data(), accB.data(), plane, kRow, 0, rows, xa.data(), xb.data(), lookup);
   ASSERT_EQ(acc, accB) << "trial " << trial;
   ASSERT_EQ(sA, sB) << "trial " << trial;
-  for (uint32_t v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+  for (Scratch v : sA) ASSERT_EQ(v, 0u) << "scratch must be left clean";
+}
+
+// The 8.8 planes of a packed scratch: each channel's whole level with a pseudo-random
+// fraction, 0 where the channel is 0 (so unmarked pixels stay unmarked).
+std::vector<uint16_t> finePlanes(const std::vector<uint32_t>& packed) {
+  std::vector<uint16_t> planes(3 * packed.size(), 0);
+  for (size_t i = 0; i < packed.size(); ++i) {
+    const uint32_t hash = packed[i] * 2654435761u;
+    for (size_t c = 0; c < 3; ++c) {
+      const uint32_t whole = (packed[i] >> (8 * c)) & 0xFFu;
+      if (whole == 0) continue;
+      const uint32_t fraction = (hash >> (8 * c)) & 0xFFu;
+      planes[c * packed.size() + i] =
+          static_cast<uint16_t>(std::min<uint32_t>(whole * 256 + fraction, core::kMaxFineLevel));
+    }
+  }
+  return planes;
 }
 
 // Both accumulation modes (spec §8) from the sums `start`; the fixed-point ones also from
@@ -223,12 +285,13 @@ void expectSameAccumulation(const SpanKernels& ref, const SpanKernels& k,
                             const ShadowLookup& lookup, int trial) {
   expectSameSums(ref.accumulateRows, k.accumulateRows, depth, s, start, plane, rows, xa, xb, lookup,
                  trial);
-  expectSameSums(ref.accumulateRowsFixed8_8, k.accumulateRowsFixed8_8, depth, s, start, plane, rows,
-                 xa, xb, lookup, trial);
+  const std::vector<uint16_t> fine = finePlanes(s);
+  expectSameSums(ref.accumulateRowsFine, k.accumulateRowsFine, depth, fine, start, plane, rows, xa,
+                 xb, lookup, trial);
   std::vector<uint16_t> high = start;
   for (uint16_t& v : high) v = static_cast<uint16_t>(65535 - v / 3);
-  expectSameSums(ref.accumulateRowsFixed8_8, k.accumulateRowsFixed8_8, depth, s, high, plane, rows,
-                 xa, xb, lookup, trial);
+  expectSameSums(ref.accumulateRowsFine, k.accumulateRowsFine, depth, fine, high, plane, rows, xa,
+                 xb, lookup, trial);
 }
 
 TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
@@ -357,11 +420,14 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
   }
 }
 
-// One subtraction kernel of `ref` and of the target on `count` random sum planes below
-// `limit`: the same bytes, and the run's sums zeroed by both.
-void expectSameSubtraction(decltype(SpanKernels::subtractAccumulated) refKernel,
-                           decltype(SpanKernels::subtractAccumulated) kernel, std::mt19937& rng,
-                           int count, uint32_t limit, int trial) {
+using FinishKernel = decltype(SpanKernels::shadeAccumulatedLinear);
+
+// One finishing kernel of `ref` and of the target on `count` random sum planes below
+// `limit`: the same bytes, and the run's sums zeroed by both. `table` (padded by 3 bytes)
+// is passed to the linear kernels only.
+template <class Kernel>
+void expectSameFinish(Kernel refKernel, Kernel kernel, std::mt19937& rng, int count, uint32_t limit,
+                      int trial, const std::vector<uint8_t>& table = {}) {
   std::uniform_int_distribution<int32_t> pos(0, 111);
   std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFFFu);
   const size_t plane = kRow;
@@ -380,8 +446,13 @@ void expectSameSubtraction(decltype(SpanKernels::subtractAccumulated) refKernel,
   }
   int32_t xa = pos(rng), xb = pos(rng);
   if (xa > xb) std::swap(xa, xb);
-  refKernel(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb);
-  kernel(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb);
+  if constexpr (std::is_same_v<Kernel, FinishKernel>) {
+    refKernel(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb, table.data());
+    kernel(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb, table.data());
+  } else {
+    refKernel(baseA.data(), baseA.data(), pa.data(), count, plane, xa, xb);
+    kernel(baseB.data(), baseB.data(), pb.data(), count, plane, xa, xb);
+  }
   ASSERT_EQ(baseA, baseB) << "trial " << trial;
   ASSERT_EQ(accA, accB) << "trial " << trial;
 }
@@ -392,13 +463,38 @@ TEST_P(SpanKernelsOnTarget, SubtractAccumulatedMatchesScalar) {
   std::mt19937 rng(14);
   for (int trial = 0; trial < 1000; ++trial) {
     const int count = 1 + trial % 4;
-    expectSameSubtraction(ref.subtractAccumulated, k.subtractAccumulated, rng, count,
-                          trial % 2 ? 300u : 20u, trial);
+    expectSameFinish(ref.subtractAccumulated, k.subtractAccumulated, rng, count,
+                     trial % 2 ? 300u : 20u, trial);
     // Fixed-point sums: around one level (256) up to saturated planes.
-    expectSameSubtraction(ref.subtractAccumulatedFixed8_8, k.subtractAccumulatedFixed8_8, rng,
-                          count, trial % 2 ? 65536u : 2000u, trial);
+    expectSameFinish(ref.subtractAccumulatedFixed8_8, k.subtractAccumulatedFixed8_8, rng, count,
+                     trial % 2 ? 65536u : 2000u, trial);
     if (HasFatalFailure()) return;
   }
+}
+
+// Linear accumulation's shade-table lookup: a random table (every entry distinct in its
+// neighbourhood, so an index off by one shows), sums from none to saturated.
+TEST_P(SpanKernelsOnTarget, ShadeAccumulatedLinearMatchesScalar) {
+  const SpanKernels& ref = scalarSpanKernels();
+  const SpanKernels& k = spanKernelsFor(GetParam());
+  std::mt19937 rng(17);
+  std::vector<uint8_t> table(kShadeCodes * kShadeSteps + 3, 0);
+  for (size_t i = 0; i < kShadeCodes * kShadeSteps; ++i) table[i] = static_cast<uint8_t>(i * 131);
+  for (int trial = 0; trial < 1000; ++trial) {
+    expectSameFinish(ref.shadeAccumulatedLinear, k.shadeAccumulatedLinear, rng, 1 + trial % 4,
+                     trial % 3 == 0 ? 65536u : 30000u, trial, table);
+    if (HasFatalFailure()) return;
+  }
+  // The scalar reference is the spec's formula: base code 200, sums 1000 + 300 -> q = 10.
+  std::vector<uint16_t> sum(3 * kRow, 0), second(3 * kRow, 0);
+  sum[5] = 1000;
+  second[5] = 300;
+  std::vector<uint8_t> base(4 * kRow, 200), out(4 * kRow, 0);
+  uint16_t* planes[2] = {sum.data(), second.data()};
+  ref.shadeAccumulatedLinear(out.data(), base.data(), planes, 2, kRow, 5, 6, table.data());
+  EXPECT_EQ(out[20], table[200 * kShadeSteps + 10]);
+  EXPECT_EQ(out[21], table[200 * kShadeSteps]);
+  EXPECT_EQ(out[23], 200);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllTargets, SpanKernelsOnTarget,

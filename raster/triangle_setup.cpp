@@ -229,11 +229,16 @@ bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint
   return true;
 }
 
-AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners) {
+AttributePlane attributePlaneFine(const SetupTriangle& t, const std::array<uint16_t, 3>& corners) {
   std::array<int64_t, 3> v;
   for (int i = 0; i < 3; ++i) {
-    v[i] = int64_t{t.v[i].w[0]} * corners[0] + int64_t{t.v[i].w[1]} * corners[1] +
-           int64_t{t.v[i].w[2]} * corners[2];
+    // 8.8 corners times 16-bit weights are 8.24; back to 8.16 rounding half up (floor of a
+    // possibly negative sum: a clipped vertex's weights may round just below 0). For
+    // corners c * 256 the sum is 256 * sum(w c) and this is sum(w c) exactly, the 8-bit
+    // rule of spec §5.
+    const int64_t weighted = int64_t{t.v[i].w[0]} * corners[0] + int64_t{t.v[i].w[1]} * corners[1] +
+                             int64_t{t.v[i].w[2]} * corners[2];
+    v[i] = (weighted + 128) >> 8;
   }
   // |dv| < 2^24 and coordinate differences < 2^23, so nX, nY < 2^48; the origin term
   // multiplies them by another < 2^23 and needs 128 bits.

@@ -93,10 +93,18 @@ struct SetupTriangle {
 bool setupTriangle(const std::array<SnappedVertex, 3>& v, uint32_t width, uint32_t height,
                    SetupTriangle& out);
 
-// The 8-bit attribute plane of one channel (spec §5): `corners` are the channel's values at
-// the corners of the original, unclipped triangle; each snapped vertex weighs them by its
-// 16-bit weights.
-AttributePlane attributePlane(const SetupTriangle& t, const std::array<uint8_t, 3>& corners);
+// The attribute plane of one channel (spec §5): `corners` are the channel's values in 8.8
+// fixed point (at most 255 * 256) at the corners of the original, unclipped triangle; each
+// snapped vertex weighs them by its 16-bit weights.
+AttributePlane attributePlaneFine(const SetupTriangle& t, const std::array<uint16_t, 3>& corners);
+
+// The same for 8-bit corner values (colours, whole-level S): their 8.8 values c * 256.
+inline AttributePlane attributePlane(const SetupTriangle& t,
+                                     const std::array<uint8_t, 3>& corners) {
+  return attributePlaneFine(
+      t, {static_cast<uint16_t>(corners[0] << 8), static_cast<uint16_t>(corners[1] << 8),
+          static_cast<uint16_t>(corners[2] << 8)});
+}
 
 // Covered run of row `y`, clipped to [x0, x1): returns false if empty (spec §4).
 bool rowSpan(const SetupTriangle& t, int32_t y, int32_t x0, int32_t x1, int32_t& xa, int32_t& xb);

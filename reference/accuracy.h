@@ -42,7 +42,7 @@ struct AccuracyOptions {
   // The pipeline measured (shadow::CompositorOptions): how the passes are summed, one
   // occluded share per cluster (or per vertex), the receivers' depth bias, and the radius
   // of the contact band in pixels.
-  raster::Accumulation accumulation = raster::Accumulation::kFixed8_8;
+  raster::Accumulation accumulation = raster::Accumulation::kLinear;
   bool perClusterShares = true;
   float depthBias = shadow::CompositorOptions{}.depthBias;
   int contactRadius = 8;

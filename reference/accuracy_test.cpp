@@ -65,7 +65,7 @@ TEST(Accuracy, AllPassesEqualTheStandInFewerDoNot) {
   const nlohmann::json j = toJson("showroom.bundle", o, r);
   EXPECT_EQ(j["results"][1]["psnr"], nullptr) << "identical frames: PSNR is infinite";
   EXPECT_EQ(j["results"][0]["passes_asked"], 2);
-  EXPECT_EQ(j["accumulation"], "fixed8_8");
+  EXPECT_EQ(j["accumulation"], "linear");
   std::filesystem::remove_all(dir);
 }
 

@@ -56,6 +56,7 @@ void ClusterTransfers::setPool(core::JobPool* pool) {
   pool_ = pool;
   const size_t threads = pool ? size_t(pool->threads()) : 1;
   sharesScratch_.resize(threads);
+  wholeScratch_.resize(threads);
   gradedByWorker_.assign(threads, 0);
 }
 
@@ -64,24 +65,40 @@ void ClusterTransfers::setPool(core::JobPool* pool) {
 // feedback's share per vertex. Rows are independent: chunks of them run on the pool.
 template <class VertexOf>
 void ClusterTransfers::intensityRows(size_t vertices, VertexOf vertexOf,
-                                     std::span<const glm::dvec3> transfers, std::span<core::Rgb8> s,
-                                     const OcclusionFeedback& feedback) {
+                                     std::span<const glm::dvec3> transfers,
+                                     std::span<core::Rgb16> s, const OcclusionFeedback& feedback) {
   const size_t clusters = clusters_;
   std::fill(gradedByWorker_.begin(), gradedByWorker_.end(), 0u);
   core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int worker) {
     std::vector<double>& shares = sharesScratch_[size_t(worker)];
+    std::vector<core::Rgb8>& whole = wholeScratch_[size_t(worker)];
     shares.resize(clusters);
+    whole.resize(options_.kind == TransferKind::kWholeLevels ? clusters : 0);
     for (size_t slot = begin; slot < end; ++slot) {
       const auto [total, share] = vertexOf(slot);
       const std::span<const glm::dvec3> row(transfers.data() + slot * clusters, clusters);
-      const std::span<core::Rgb8> out(s.data() + slot * clusters, clusters);
-      if (options_.gradedTransfers && share >= 0.0f) {
-        feedback.clusterShares(slot * clusters, share, shares);
-        intensityTransfersForOcclusions(total, row, shares, bundle_.tone, out);
-        ++gradedByWorker_[size_t(worker)];
-      } else {
-        intensityTransfers(total, row, sets_, bundle_.tone, out);
+      const std::span<core::Rgb16> out(s.data() + slot * clusters, clusters);
+      if (options_.kind == TransferKind::kLightShares) {
+        lightShares(total, row, out);
+        continue;
       }
+      const bool graded = options_.gradedTransfers && share >= 0.0f;
+      if (graded) feedback.clusterShares(slot * clusters, share, shares);
+      const auto transfersInto = [&](auto into) {
+        if (graded) {
+          intensityTransfersForOcclusions(total, row, std::span<const double>(shares), bundle_.tone,
+                                          into);
+        } else {
+          intensityTransfers(total, row, std::span<const uint8_t>(sets_), bundle_.tone, into);
+        }
+      };
+      if (options_.kind == TransferKind::kFineLevels) {
+        transfersInto(out);
+      } else {
+        transfersInto(std::span<core::Rgb8>(whole));
+        std::transform(whole.begin(), whole.end(), out.begin(), core::Rgb16::fromLevels);
+      }
+      if (graded) ++gradedByWorker_[size_t(worker)];
     }
   });
   for (uint32_t n : gradedByWorker_) gradedVertices_ += n;

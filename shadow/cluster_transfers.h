@@ -20,6 +20,7 @@
 #include "core/job_pool.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
+#include "shadow/intensity_transfer.h"
 #include "shadow/occlusion_feedback.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/source_clusters.h"
@@ -30,6 +31,10 @@ struct ClusterTransferOptions {
   uint64_t setSeed = 1;         // Fig. 4's set assignment (stable per source patch)
   bool gradedTransfers = true;  // take S at the measured shares where there are some
   bool selfShadowing = true;    // the product's own vertices too (§7.2)
+  // What the passes carry per vertex and cluster (intensity_transfer.h): S in whole levels
+  // (u8 accumulation), S in 8.8 levels (fixed8_8), or the cluster's share of the vertex's
+  // light (linear, which needs neither Fig. 4 nor the measured shares).
+  TransferKind kind = TransferKind::kLightShares;
 };
 
 // The product as the transfers see it: its placed vertices, their unshadowed radiance and
@@ -44,8 +49,8 @@ struct ProductLight {
 struct VertexS {
   std::span<const uint32_t> receiverVertexOf;  // mesh vertex -> receiver vertex, or kNoIndex
   std::span<const uint32_t> vertexSlot;        // receiver vertex -> slot (this frame's only)
-  std::span<const core::Rgb8> receiverS;       // [slot * clusters + k]
-  std::span<const core::Rgb8> productS;        // [v * clusters + k]; empty: no self-shadowing
+  std::span<const core::Rgb16> receiverS;      // [slot * clusters + k], 8.8 (TransferKind)
+  std::span<const core::Rgb16> productS;       // [v * clusters + k]; empty: no self-shadowing
   size_t clusters = 0;
 };
 
@@ -89,7 +94,7 @@ class ClusterTransfers {
   static constexpr size_t kVertexChunk = 64;
   template <class VertexOf>
   void intensityRows(size_t vertices, VertexOf vertexOf, std::span<const glm::dvec3> transfers,
-                     std::span<core::Rgb8> s, const OcclusionFeedback& feedback);
+                     std::span<core::Rgb16> s, const OcclusionFeedback& feedback);
   void gatherFrameVertices(std::span<const uint32_t> receiverPatches, uint32_t frame);
   void computeReceivers(const ClusterSelection& selection, uint32_t frame,
                         OcclusionFeedback& feedback);
@@ -106,14 +111,15 @@ class ClusterTransfers {
   uint32_t gradedVertices_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
   core::JobPool* pool_ = nullptr;
-  std::vector<std::vector<double>> sharesScratch_{1};  // per worker: a vertex's shares
+  std::vector<std::vector<double>> sharesScratch_{1};     // per worker: a vertex's shares
+  std::vector<std::vector<core::Rgb8>> wholeScratch_{1};  // per worker: whole-level S
   std::vector<uint32_t> gradedByWorker_{0};
   std::vector<uint32_t> frameVertices_;
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
   std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]
-  std::vector<core::Rgb8> receiverS_;          // [slot * clusters + k]
+  std::vector<core::Rgb16> receiverS_;         // [slot * clusters + k]
   std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
-  std::vector<core::Rgb8> productS_;           // [v * clusters + k]
+  std::vector<core::Rgb16> productS_;          // [v * clusters + k]
   std::vector<core::Vec3> probes_;
 };
 

@@ -57,7 +57,7 @@ glm::dvec3 entry(const Strip& s, size_t e) {
 
 TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   const Strip s;
-  ClusterTransfers transfers(s.bundle, s.mesh, {});
+  ClusterTransfers transfers(s.bundle, s.mesh, {1, true, true, TransferKind::kFineLevels});
   OcclusionFeedback feedback(5, 3, true);
   feedback.productPlaced(2);
   const std::vector<uint32_t> receivers{1, 0};
@@ -87,7 +87,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   const VertexS vs = transfers.s();
   for (size_t slot = 0; slot < 5; ++slot) {
     const uint32_t rv = transfers.frameVertices()[slot];
-    std::vector<core::Rgb8> want(2);
+    std::vector<core::Rgb16> want(2);
     intensityTransfers(glm::dvec3(s.bundle.transfers.vertexRadiance[rv]),
                        std::span(expected).subspan(2 * slot, 2), sets, s.bundle.tone, want);
     EXPECT_EQ(vs.vertexSlot[rv], slot);
@@ -105,7 +105,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
   const std::span<const glm::dvec3> pt = transfers.productTransfers();
   EXPECT_EQ(std::vector<glm::dvec3>(pt.begin(), pt.end()), product);
   for (size_t v = 0; v < 2; ++v) {
-    std::vector<core::Rgb8> want(2);
+    std::vector<core::Rgb16> want(2);
     intensityTransfers(s.productRadiance[v], std::span(product).subspan(2 * v, 2), sets,
                        s.bundle.tone, want);
     EXPECT_EQ(vs.productS[2 * v], want[0]);
@@ -122,7 +122,7 @@ TEST(ClusterTransfers, SumsEachClustersSourcesAtEachVertex) {
 
 TEST(ClusterTransfers, MeasuredSharesGradeTheNextFrame) {
   const Strip s;
-  ClusterTransfers transfers(s.bundle, s.mesh, {});
+  ClusterTransfers transfers(s.bundle, s.mesh, {1, true, true, TransferKind::kFineLevels});
   OcclusionFeedback feedback(5, 3, true);
   feedback.productPlaced(2);
   const std::vector<uint32_t> receivers{1, 0};
@@ -137,7 +137,7 @@ TEST(ClusterTransfers, MeasuredSharesGradeTheNextFrame) {
   const std::vector<double> q{1.0, 1.0};
   for (size_t slot = 0; slot < 5; ++slot) {
     const uint32_t rv = transfers.frameVertices()[slot];
-    std::vector<core::Rgb8> want(2);
+    std::vector<core::Rgb16> want(2);
     intensityTransfersForOcclusions(glm::dvec3(s.bundle.transfers.vertexRadiance[rv]),
                                     transfers.receiverTransfers().subspan(2 * slot, 2), q,
                                     s.bundle.tone, want);
@@ -145,14 +145,14 @@ TEST(ClusterTransfers, MeasuredSharesGradeTheNextFrame) {
     EXPECT_EQ(transfers.s().receiverS[2 * slot + 1], want[1]) << "slot " << slot;
   }
   // Graded transfers off: Fig. 4's sets whatever was measured.
-  ClusterTransfers fig4(s.bundle, s.mesh, {1, false, true});
+  ClusterTransfers fig4(s.bundle, s.mesh, {1, false, true, TransferKind::kFineLevels});
   fig4.compute(receivers, s.selection, 3, s.product(), feedback);
   EXPECT_EQ(fig4.gradedVertices(), 0u);
 }
 
 TEST(ClusterTransfers, WithoutSelfShadowingTheProductHasNoVertices) {
   const Strip s;
-  ClusterTransfers transfers(s.bundle, s.mesh, {1, true, false});
+  ClusterTransfers transfers(s.bundle, s.mesh, {1, true, false, TransferKind::kFineLevels});
   OcclusionFeedback feedback(5, 3, true);
   feedback.productPlaced(2);
   transfers.compute(std::vector<uint32_t>{0}, s.selection, 1, s.product(), feedback);
@@ -160,6 +160,37 @@ TEST(ClusterTransfers, WithoutSelfShadowingTheProductHasNoVertices) {
   EXPECT_EQ(transfers.productVertices(), 0u);
   EXPECT_TRUE(transfers.s().productS.empty());
   EXPECT_EQ(transfers.probes().size(), 4u);
+}
+
+// Linear accumulation (the default): each cluster's share of the vertex's light, the same
+// whatever was measured, and the whole-level kind: Fig. 4's codes as 8.8.
+TEST(ClusterTransfers, LightSharesAndWholeLevels) {
+  const Strip s;
+  ClusterTransfers shares(s.bundle, s.mesh, {});
+  ClusterTransfers whole(s.bundle, s.mesh, {1, true, true, TransferKind::kWholeLevels});
+  OcclusionFeedback feedback(5, 3, true);
+  feedback.productPlaced(2);
+  const std::vector<uint32_t> receivers{1, 0};
+  shares.compute(receivers, s.selection, 1, s.product(), feedback);
+  whole.compute(receivers, s.selection, 1, s.product(), feedback);
+  const std::vector<uint8_t> sets{uint8_t(sourceSet(1, 7)), uint8_t(sourceSet(1, 8))};
+  for (size_t slot = 0; slot < 5; ++slot) {
+    const uint32_t rv = shares.frameVertices()[slot];
+    const glm::dvec3 total(s.bundle.transfers.vertexRadiance[rv]);
+    const auto row = shares.receiverTransfers().subspan(2 * slot, 2);
+    std::vector<core::Rgb16> want(2);
+    lightShares(total, row, want);
+    EXPECT_EQ(shares.s().receiverS[2 * slot], want[0]) << "slot " << slot;
+    EXPECT_EQ(shares.s().receiverS[2 * slot + 1], want[1]) << "slot " << slot;
+    for (size_t k = 0; k < 2; ++k) {
+      const double expected = row[k].y / total.y;
+      EXPECT_NEAR(want[k].g / double(core::kMaxFineLevel), std::min(expected, 1.0), 1e-4);
+    }
+    std::vector<core::Rgb8> codes(2);
+    intensityTransfers(total, row, sets, s.bundle.tone, codes);
+    EXPECT_EQ(whole.s().receiverS[2 * slot], core::Rgb16::fromLevels(codes[0])) << slot;
+    EXPECT_EQ(whole.s().receiverS[2 * slot + 1], core::Rgb16::fromLevels(codes[1])) << slot;
+  }
 }
 
 }  // namespace

@@ -24,9 +24,14 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
                {options.shadeFromVolume, options.specular, options.environmentMapSize}),
       feedback_(bundle.transfers.receiverVertices.size(), bundle.sets.sources.size(),
                 options.perClusterShares),
-      transfers_(bundle, mesh_, {options.setSeed, options.gradedTransfers, options.selfShadowing}),
+      transfers_(bundle, mesh_,
+                 {options.setSeed, options.gradedTransfers, options.selfShadowing,
+                  transferKindFor(options.accumulation)}),
       passList_(bundle, mesh_, roomBounds(hierarchy_)) {
   if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
+  if (options.accumulation == raster::Accumulation::kLinear) {
+    shadeTable_ = linearShadeTable(bundle.tone);
+  }
 }
 
 void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t frame,
@@ -73,6 +78,11 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   out.occluders.resize(1);
   out.occluders[0] = placement_.proxy();
   out.accumulation = options_.accumulation;
+  if (options_.accumulation == raster::Accumulation::kLinear) {
+    out.shadeTable.assign(shadeTable_.begin(), shadeTable_.end());
+  } else {
+    out.shadeTable.clear();
+  }
   ns[FrameStage::kFrameContent] = watch.lapNs();
   stats.skippedClusters =
       passList_.build(passListOptions(), blocked_.selection, traversal.receivers, placement_.mesh(),

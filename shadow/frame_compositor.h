@@ -57,11 +57,13 @@ struct CompositorOptions {
   // Leave out of a pass the receivers its light frustum cannot shadow (same bytes, less work).
   bool cullReceivers = true;
   float objectDepthBias = 0.01f;
-  // How the frame sums its passes (docs/pipeline-spec.md §8): fixed8_8 keeps 1/256 levels
-  // per pass and rounds each pixel's sum once, so the many faint passes of a high pass count
-  // do not drift (Gibson 2003 §10; docs/failure-regimes.md). kU8 is Gibson 2003 Fig. 2's
-  // per-pass 8-bit blending.
-  raster::Accumulation accumulation = raster::Accumulation::kFixed8_8;
+  // How the frame sums its passes (docs/pipeline-spec.md §8): linear (the default) sums
+  // each cluster's share of the pixel's light and scales the light once through the shade
+  // table, exact wherever the shares are and with no measured occlusion needed; fixed8_8
+  // subtracts 8.8 S graded at the measured occlusion, rounding each pixel's sum once, so
+  // faint passes do not drift (Gibson 2003 §10; docs/failure-regimes.md); kU8 is Gibson
+  // 2003 Fig. 2's per-pass 8-bit blending.
+  raster::Accumulation accumulation = raster::Accumulation::kLinear;
   // Shade the product from the bundle's irradiance volume when it has one (Gibson &
   // Chalmers 2003 §5); false: the emitters' form factors (the pre-volume shading).
   bool shadeFromVolume = true;
@@ -102,6 +104,11 @@ class FrameCompositor {
   // as probes, then hand the masks to observe().
   std::span<const core::Vec3> probes() const { return transfers_.probes(); }
   size_t objectProbesFrom() const { return transfers_.frameVertices().size(); }
+  // Whether the next frames' transfers depend on the occlusion observe() measures: graded
+  // transfers of S (u8, fixed8_8). Linear accumulation's light shares do not.
+  bool measuresOcclusion() const {
+    return options_.gradedTransfers && options_.accumulation != raster::Accumulation::kLinear;
+  }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded, and which sources they occluded
   // there (masks as Renderer::render fills them).
@@ -139,6 +146,7 @@ class FrameCompositor {
   BlockedLight blocked_;
   OcclusionFeedback feedback_;
   ClusterTransfers transfers_;
+  std::vector<uint8_t> shadeTable_;  // linear accumulation's (raster::FrameContent::shadeTable)
   PassList passList_;
 };
 

@@ -6,9 +6,15 @@ void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uin
   const int64_t start = clock_.nowNanoseconds();
   compositor.compose(pose, passes, ++frameNumber, frame, stats, background);
   const int64_t composed = clock_.nowNanoseconds();
-  renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
+  // Linear accumulation's transfers do not depend on occlusion: no probes, nothing to observe.
+  const bool measure = compositor.measuresOcclusion();
+  if (measure) {
+    renderer.render(frame, rgba, compositor.probes(), masks, compositor.objectProbesFrom());
+  } else {
+    renderer.render(frame, rgba);
+  }
   const int64_t rendered = clock_.nowNanoseconds();
-  compositor.observe(masks);
+  if (measure) compositor.observe(masks);
   const int64_t end = clock_.nowNanoseconds();
   frameNs = end - start;
 

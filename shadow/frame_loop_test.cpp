@@ -10,10 +10,14 @@
 namespace penumbra::shadow {
 namespace {
 
+// With graded transfers (fixed8_8 here; u8 alike) the loop renders with the probes and
+// observes them; with linear accumulation (the default) it does neither.
 TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
   const SceneBundle& b = testing::showroomBundle();
-  FrameLoop loop(b, 256, {});
-  FrameCompositor compositor(b, {});
+  CompositorOptions graded;
+  graded.accumulation = raster::Accumulation::kFixed8_8;
+  FrameLoop loop(b, graded, {});
+  FrameCompositor compositor(b, graded);
   raster::Renderer renderer(b.view, {});
   raster::FrameContent frame;
   CompositeStats stats;
@@ -32,6 +36,13 @@ TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
     EXPECT_GT(loop.frameNs, 0);
   }
   EXPECT_GT(loop.stats.gradedVertices, 0u) << "the third frame uses measured shares";
+
+  FrameLoop linear(b, 256, {});
+  EXPECT_FALSE(linear.compositor.measuresOcclusion());
+  linear.step(b.startPose, 8);
+  linear.step(b.startPose, 8);
+  EXPECT_TRUE(linear.masks.empty());
+  EXPECT_EQ(linear.stats.gradedVertices, 0u);
 }
 
 TEST(FrameLoop, ControllerDecisionsSetTheMapSizeFromThatFrameOn) {

@@ -1,6 +1,7 @@
 #include "shadow/intensity_transfer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,6 +12,34 @@
 
 namespace penumbra::shadow {
 
+TransferKind transferKindFor(raster::Accumulation accumulation) {
+  switch (accumulation) {
+    case raster::Accumulation::kFixed8_8:
+      return TransferKind::kFineLevels;
+    case raster::Accumulation::kLinear:
+      return TransferKind::kLightShares;
+    case raster::Accumulation::kU8:
+      break;
+  }
+  return TransferKind::kWholeLevels;
+}
+
+void lightShares(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                 std::span<core::Rgb16> out) {
+  if (transfers.size() != out.size()) {
+    throw std::invalid_argument("lightShares: transfers and out differ in length");
+  }
+  const auto share = [](double part, double whole) {
+    if (!(whole > 0.0) || !(part > 0.0)) return uint16_t{0};
+    const double scaled = std::floor(std::min(part / whole, 1.0) * core::kMaxFineLevel + 0.5);
+    return static_cast<uint16_t>(scaled);
+  };
+  for (size_t j = 0; j < transfers.size(); ++j) {
+    out[j] = {share(transfers[j].x, totalRadiance.x), share(transfers[j].y, totalRadiance.y),
+              share(transfers[j].z, totalRadiance.z)};
+  }
+}
+
 int sourceSet(uint64_t seed, uint64_t sourceId) {
   // State of a SplitMix64 stream seeded with `seed` after `sourceId` steps: each id draws
   // an independent, reproducible value.
@@ -18,17 +47,52 @@ int sourceSet(uint64_t seed, uint64_t sourceId) {
   return (id & 1) == 0 ? 1 : 2;
 }
 
-void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
-                        std::span<const uint8_t> sets, const ToneCurve& tone,
-                        std::span<core::Rgb8> out) {
+namespace {
+
+// T in the precision of the output: codes, whose differences are whole-level S (Rgb8), or
+// continuous levels, whose differences are S in 8.8 levels (Rgb16; ToneCurve::levels).
+template <class Out>
+struct Tone;
+
+template <>
+struct Tone<core::Rgb8> {
+  using Value = core::Rgb8;
+  static Value at(const ToneCurve& tone, const glm::dvec3& radiance) { return tone.map(radiance); }
+  // T is monotone and low <= high, so each difference is in [0, 255].
+  static core::Rgb8 drop(const Value& high, const Value& low) {
+    return {static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
+            static_cast<uint8_t>(high.b - low.b)};
+  }
+};
+
+template <>
+struct Tone<core::Rgb16> {
+  using Value = glm::dvec3;
+  static Value at(const ToneCurve& tone, const glm::dvec3& radiance) {
+    return tone.levels(radiance);
+  }
+  // round(256 (high - low)), ties up, clamped to [0, 255 * 256] (levels() is monotone up to
+  // the rounding of its slopes, ~1e-16 of a level).
+  static uint16_t fine(double high, double low) {
+    const double scaled = std::floor((high - low) * 256.0 + 0.5);
+    return static_cast<uint16_t>(std::clamp(scaled, 0.0, double(core::kMaxFineLevel)));
+  }
+  static core::Rgb16 drop(const Value& high, const Value& low) {
+    return {fine(high.x, low.x), fine(high.y, low.y), fine(high.z, low.z)};
+  }
+};
+
+template <class Out>
+void fig4Transfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                   std::span<const uint8_t> sets, const ToneCurve& tone, std::span<Out> out) {
   if (transfers.size() != sets.size() || transfers.size() != out.size()) {
     throw std::invalid_argument("intensityTransfers: transfers, sets and out differ in length");
   }
   // Gibson 2003 Fig. 4: V1 = V2 = L_i, C1 = C2 = T(L_i); each source subtracts its
   // transfer from its own set's running radiance and takes the drop in T as S_ij.
   std::array<glm::dvec3, 2> v = {totalRadiance, totalRadiance};
-  const core::Rgb8 c0 = tone.map(totalRadiance);
-  std::array<core::Rgb8, 2> c = {c0, c0};
+  const typename Tone<Out>::Value c0 = Tone<Out>::at(tone, totalRadiance);
+  std::array<typename Tone<Out>::Value, 2> c = {c0, c0};
   for (size_t j = 0; j < transfers.size(); ++j) {
     if (sets[j] != 1 && sets[j] != 2) {
       throw std::invalid_argument("intensityTransfers: set must be 1 or 2");
@@ -36,54 +100,44 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
     const int k = sets[j] - 1;
     const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
     if (l == glm::dvec3(0.0)) {  // v - 0 is v: T does not move (the product's far side)
-      out[j] = core::Rgb8{0, 0, 0};
+      out[j] = Out{};
       continue;
     }
     v[k] -= l;
-    const core::Rgb8 next = tone.map(v[k]);
-    // T is monotone and V only decreases, so each difference is in [0, 255].
-    out[j] =
-        core::Rgb8{static_cast<uint8_t>(c[k].r - next.r), static_cast<uint8_t>(c[k].g - next.g),
-                   static_cast<uint8_t>(c[k].b - next.b)};
+    const typename Tone<Out>::Value next = Tone<Out>::at(tone, v[k]);
+    out[j] = Tone<Out>::drop(c[k], next);  // V only decreases
     c[k] = next;
   }
 }
 
-namespace {
-
 // S_j = T(L_i - B_j) - T(L_i - B_j - L_ij), B_j = sum_{k<j} q_k L_ik, with q_k = shareOf(k).
-template <class ShareOf>
+template <class Out, class ShareOf>
 void gradedTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
-                     ShareOf shareOf, const ToneCurve& tone, std::span<core::Rgb8> out) {
+                     ShareOf shareOf, const ToneCurve& tone, std::span<Out> out) {
   glm::dvec3 before(0.0);  // B_j, summed in source order
   // T(L_i - B_j) is mapped again only when B_j moved: a cluster not occluded there (q = 0)
   // or without light there leaves it, and the same bits give the same code.
   glm::dvec3 mappedAt(std::numeric_limits<double>::quiet_NaN());
-  core::Rgb8 high{};
+  typename Tone<Out>::Value high{};
   for (size_t j = 0; j < transfers.size(); ++j) {
     const glm::dvec3 l = glm::max(transfers[j], glm::dvec3(0.0));
     if (l == glm::dvec3(0.0)) {  // S = T(x) - T(x - 0) = 0; B_j + q * 0 = B_j (B_j >= +0)
-      out[j] = core::Rgb8{0, 0, 0};
+      out[j] = Out{};
       continue;
     }
     const glm::dvec3 at = totalRadiance - before;
     if (at != mappedAt) {  // NaN never compares equal: the first vertex always maps
-      high = tone.map(at);
+      high = Tone<Out>::at(tone, at);
       mappedAt = at;
     }
-    const core::Rgb8 low = tone.map(at - l);
-    // T is monotone and at - l <= at, so each difference is in [0, 255].
-    out[j] = core::Rgb8{static_cast<uint8_t>(high.r - low.r), static_cast<uint8_t>(high.g - low.g),
-                        static_cast<uint8_t>(high.b - low.b)};
+    out[j] = Tone<Out>::drop(high, Tone<Out>::at(tone, at - l));  // at - l <= at
     before += shareOf(j) * l;
   }
 }
 
-}  // namespace
-
-void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
-                                    std::span<const glm::dvec3> transfers, double q,
-                                    const ToneCurve& tone, std::span<core::Rgb8> out) {
+template <class Out>
+void checkedGradedOne(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                      double q, const ToneCurve& tone, std::span<Out> out) {
   if (transfers.size() != out.size()) {
     throw std::invalid_argument(
         "intensityTransfersForOcclusion: transfers and out differ in length");
@@ -95,10 +149,9 @@ void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
       totalRadiance, transfers, [q](size_t) { return q; }, tone, out);
 }
 
-void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
-                                     std::span<const glm::dvec3> transfers,
-                                     std::span<const double> q, const ToneCurve& tone,
-                                     std::span<core::Rgb8> out) {
+template <class Out>
+void checkedGradedEach(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                       std::span<const double> q, const ToneCurve& tone, std::span<Out> out) {
   if (transfers.size() != out.size() || q.size() != out.size()) {
     throw std::invalid_argument(
         "intensityTransfersForOcclusions: transfers, q and out differ in length");
@@ -111,5 +164,27 @@ void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
   gradedTransfers(
       totalRadiance, transfers, [q](size_t j) { return q[j]; }, tone, out);
 }
+
+}  // namespace
+
+#define PENUMBRA_INTENSITY_TRANSFERS(Out)                                                         \
+  void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers, \
+                          std::span<const uint8_t> sets, const ToneCurve& tone,                   \
+                          std::span<Out> out) {                                                   \
+    fig4Transfers(totalRadiance, transfers, sets, tone, out);                                     \
+  }                                                                                               \
+  void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,                            \
+                                      std::span<const glm::dvec3> transfers, double q,            \
+                                      const ToneCurve& tone, std::span<Out> out) {                \
+    checkedGradedOne(totalRadiance, transfers, q, tone, out);                                     \
+  }                                                                                               \
+  void intensityTransfersForOcclusions(                                                           \
+      const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,                     \
+      std::span<const double> q, const ToneCurve& tone, std::span<Out> out) {                     \
+    checkedGradedEach(totalRadiance, transfers, q, tone, out);                                    \
+  }
+PENUMBRA_INTENSITY_TRANSFERS(core::Rgb8)
+PENUMBRA_INTENSITY_TRANSFERS(core::Rgb16)
+#undef PENUMBRA_INTENSITY_TRANSFERS
 
 }  // namespace penumbra::shadow

@@ -25,6 +25,31 @@ namespace penumbra::shadow {
 // frame whatever else is in the source list (the paper's "randomly generated id").
 int sourceSet(uint64_t seed, uint64_t sourceId);
 
+// What a blending pass carries per vertex, by accumulation mode (docs/pipeline-spec.md §8).
+enum class TransferKind : uint8_t {
+  kWholeLevels,  // S in whole levels, as 8.8 (u8 accumulation)
+  kFineLevels,   // S in 8.8 levels (fixed8_8)
+  kLightShares,  // the share of the vertex's light, in units of 1/65280 (linear)
+};
+
+// The kind of transfer `accumulation` sums.
+TransferKind transferKindFor(raster::Accumulation accumulation);
+
+// Linear accumulation's transfers: per channel, the share of the vertex's light L_i that
+// each source (cluster) j carries, L_ij / L_i clamped to [0, 1], in units of 1/65280 (so
+// that a share of 1 is the 8.8 value of 255 levels and the raster's 8.8 interpolation and
+// products apply unchanged), rounded half up. 0 where L_i <= 0. Unlike S, the shares do not
+// depend on T or on which other sources are occluded: summed over the occluded sources
+// they are the occluded share of the light at any pixel, exactly as the shade table needs.
+void lightShares(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                 std::span<core::Rgb16> out);
+
+// Each function below writes S in one of two precisions, chosen by the element of `out`:
+// core::Rgb8, whole levels, the differences of T's codes (the paper's 8-bit S, which u8
+// accumulation rounds each pixel to anyway); core::Rgb16, 8.8 levels, the differences of
+// ToneCurve::levels() rounded to 1/256 level, so that a shadow spread over many faint passes
+// is not quantized a whole level per pass (fixed8_8 accumulation, docs/pipeline-spec.md §8).
+
 // Fig. 4 for one receiver vertex. `totalRadiance` is L_i (per channel); `transfers` are
 // the L_ij of the contributing sources in the frame's source order (decreasing average
 // transfer, §7.1.1 pre-process); `sets[j]` is 1 or 2 (sourceSet). Writes S_ij to `out`
@@ -33,6 +58,9 @@ int sourceSet(uint64_t seed, uint64_t sourceId);
 void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
                         std::span<const uint8_t> sets, const ToneCurve& tone,
                         std::span<core::Rgb8> out);
+void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
+                        std::span<const uint8_t> sets, const ToneCurve& tone,
+                        std::span<core::Rgb16> out);
 
 // Beyond Fig. 4, whose fixed 50/50 split is wrong when most sources are occluded (the
 // paper's Fig. 3; docs/fig3.md measures it): each source's drop is taken at the point the
@@ -46,6 +74,9 @@ void intensityTransfers(const glm::dvec3& totalRadiance, std::span<const glm::dv
 void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
                                     std::span<const glm::dvec3> transfers, double q,
                                     const ToneCurve& tone, std::span<core::Rgb8> out);
+void intensityTransfersForOcclusion(const glm::dvec3& totalRadiance,
+                                    std::span<const glm::dvec3> transfers, double q,
+                                    const ToneCurve& tone, std::span<core::Rgb16> out);
 
 // The same with one expected occluded share per source (cluster): B_j = sum_{k<j} q_k L_ik.
 // With q_k the share of cluster k's sources the previous frame saw occluded at this vertex
@@ -57,5 +88,9 @@ void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
                                      std::span<const glm::dvec3> transfers,
                                      std::span<const double> q, const ToneCurve& tone,
                                      std::span<core::Rgb8> out);
+void intensityTransfersForOcclusions(const glm::dvec3& totalRadiance,
+                                     std::span<const glm::dvec3> transfers,
+                                     std::span<const double> q, const ToneCurve& tone,
+                                     std::span<core::Rgb16> out);
 
 }  // namespace penumbra::shadow

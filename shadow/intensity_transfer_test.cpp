@@ -109,6 +109,42 @@ TEST(IntensityTransfersForOcclusion, EndpointsAreExact) {
   EXPECT_THROW(intensityTransfersForOcclusion(total, l, 1.5, tone, s), std::invalid_argument);
 }
 
+// 8.8 S (core::Rgb16): the drops of ToneCurve::levels() rounded to 1/256 level. They
+// telescope like the codes' within 1/512 level per source, agree with the whole-level S
+// within a level, and resolve sources far below one level each (100 sources of a panel).
+TEST(IntensityTransfersForOcclusion, FineTransfersTelescopeToOne256thOfALevel) {
+  const ToneCurve tone = ToneCurve::gamma(1.2, 2.2);
+  const glm::dvec3 total(0.8, 0.7, 0.6);
+  std::vector<glm::dvec3> l(100, glm::dvec3(0.004, 0.0035, 0.003));
+  std::vector<core::Rgb16> fine(l.size());
+  std::vector<core::Rgb8> whole(l.size());
+  intensityTransfersForOcclusion(total, l, 1.0, tone, fine);
+  intensityTransfersForOcclusion(total, l, 1.0, tone, whole);
+  glm::dvec3 rest = total;
+  double sum = 0;
+  for (size_t j = 0; j < l.size(); ++j) {
+    rest -= l[j];
+    sum += fine[j].g / 256.0;
+    EXPECT_GT(fine[j].g, 0) << "every faint source keeps its share " << j;
+    EXPECT_LE(std::abs(fine[j].g / 256.0 - whole[j].g), 1.0) << j;
+  }
+  const double exact = tone.levels(total.y) - tone.levels(rest.y);
+  EXPECT_NEAR(sum, exact, 100 / 512.0);
+  // The whole-level S telescope too, but each is 0 or 1: the drop lands on whichever
+  // source crosses a code, so a pixel that some of the sources light sees up to a level per
+  // source wrong; the fine ones spread it evenly.
+  int wholeSum = 0;
+  auto [lo, hi] = std::minmax_element(fine.begin(), fine.end(),
+                                      [](const auto& a, const auto& b) { return a.g < b.g; });
+  for (const core::Rgb8& c : whole) {
+    wholeSum += c.g;
+    EXPECT_LE(c.g, 1);
+  }
+  EXPECT_EQ(wholeSum, tone.map(total).g - tone.map(rest).g);
+  EXPECT_NEAR(sum, wholeSum, 1.0);
+  EXPECT_LT(hi->g - lo->g, 64) << "fine S of equal sources differ by under a quarter level";
+}
+
 // Per-cluster shares: where the pattern of occluded clusters repeats (q_k = 1 for the
 // occluded ones, 0 for the others) the occluded clusters' drops telescope to exactly
 // T(L) - T(L - their sum), for every pattern; one share for all clusters (the measured

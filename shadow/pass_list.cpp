@@ -10,9 +10,9 @@
 namespace penumbra::shadow {
 namespace {
 
-bool anyS(const std::array<core::Rgb8, 3>& s) {
+bool anyS(const std::array<core::Rgb16, 3>& s) {
   bool any = false;
-  for (const core::Rgb8& c : s) any = any || c.r != 0 || c.g != 0 || c.b != 0;
+  for (const core::Rgb16& c : s) any = any || c.r != 0 || c.g != 0 || c.b != 0;
   return any;
 }
 
@@ -91,7 +91,7 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
                               mesh_.positions[v[2]])) {
         continue;
       }
-      std::array<core::Rgb8, 3> corners{};
+      std::array<core::Rgb16, 3> corners{};
       for (int c = 0; c < 3; ++c) {
         const uint32_t rv = s.receiverVertexOf[v[c]];
         if (rv == kNoIndex) continue;
@@ -125,7 +125,7 @@ void PassList::addProduct(const core::Mesh& product, const VertexS& s,
   vertexClusters_.assign(vertices * words, 0);
   core::forEachChunk(pool_, vertices, 256, [&](size_t begin, size_t end, int) {
     for (size_t v = begin; v < end; ++v) {
-      const core::Rgb8* row = &s.productS[v * clusters];
+      const core::Rgb16* row = &s.productS[v * clusters];
       uint64_t* bits = &vertexClusters_[v * words];
       for (size_t k = 0; k < clusters; ++k) {
         if (row[k].r != 0 || row[k].g != 0 || row[k].b != 0)

@@ -42,7 +42,7 @@ struct Floor {
     receiverS[2 * vertexSlot[2]] = {};
     receiverS[2 * vertexSlot[3]] = {};  // ...and its other corners too: nothing to subtract
     productS.resize(4 * 2);
-    for (uint8_t v = 0; v < 4; ++v) productS[2 * v] = {0, 0, uint8_t(30 + v)};
+    for (uint8_t v = 0; v < 4; ++v) productS[2 * v] = {0, 0, uint16_t(30 + v)};
     productS[2 * 3] = {};  // triangles 1 and 2 keep corner 0 or 1 or 2 lit
   }
   VertexS s() const { return {receiverVertexOf, vertexSlot, receiverS, productS, 2}; }
@@ -53,7 +53,7 @@ struct Floor {
   core::Mesh product;
   scene::Aabb bounds;
   std::vector<uint32_t> receiverVertexOf, vertexSlot;
-  std::vector<core::Rgb8> receiverS, productS;
+  std::vector<core::Rgb16> receiverS, productS;
 };
 
 const scene::Aabb kRoom{{-2, 0, -2}, {12, 3, 2}};
@@ -96,9 +96,9 @@ TEST(PassList, OnePassPerClusterWithSInCornerOrder) {
   }
   // Self-shadowing: cluster 0's S on the product's triangles; cluster 1 has none there.
   EXPECT_EQ(passes[0].objectTriangles, (std::vector<uint32_t>{0, 1, 2}));
-  const std::vector<core::Rgb8> objectS{f.productS[0], f.productS[2], f.productS[4],
-                                        f.productS[0], f.productS[2], f.productS[6],
-                                        f.productS[2], f.productS[4], f.productS[6]};
+  const std::vector<core::Rgb16> objectS{f.productS[0], f.productS[2], f.productS[4],
+                                         f.productS[0], f.productS[2], f.productS[6],
+                                         f.productS[2], f.productS[4], f.productS[6]};
   EXPECT_EQ(passes[0].objectS, objectS);
   EXPECT_TRUE(passes[1].objectTriangles.empty());
   EXPECT_TRUE(passes[1].objectS.empty());
@@ -122,7 +122,7 @@ TEST(PassList, TrianglesWithoutSAndOutsideTheFrustumAreLeftOut) {
   list.build(all, f.selection, both, f.product, f.bounds, f.s(), passes);
   EXPECT_EQ(passes[0].receiverTriangles, (std::vector<uint32_t>{0, 2, 3}));
   ASSERT_EQ(passes[0].receiverS.size(), 9u);
-  EXPECT_EQ(passes[0].receiverS[8], core::Rgb8{});
+  EXPECT_EQ(passes[0].receiverS[8], core::Rgb16{});
   EXPECT_EQ(passes[0].receiverS[7], f.receiverS[2 * f.vertexSlot[6]]);
 }
 

@@ -398,7 +398,8 @@ raster::FrameTrace buildLitTrace(const LitScene& s, size_t& receiverTriangles) {
     pass.occluder = 0;
     pass.receiverTriangles = sources[j].receivers;
     for (uint32_t t : sources[j].receivers) {
-      for (int k = 0; k < 3; ++k) pass.receiverS.push_back(cornerS[t][k][j]);
+      for (int k = 0; k < 3; ++k)
+        pass.receiverS.push_back(core::Rgb16::fromLevels(cornerS[t][k][j]));
     }
     receiverTriangles += pass.receiverTriangles.size();
     trace.frame.passes.push_back(std::move(pass));
@@ -708,7 +709,7 @@ raster::FrameTrace buildEdgesTrace(size_t& receiverTriangles) {
         }
         std::array<Rgb8, 3> out{};
         shadow::intensityTransfers(total, l, sets, tone, out);
-        pass.receiverS.push_back(out[j]);
+        pass.receiverS.push_back(core::Rgb16::fromLevels(out[j]));
       }
     }
     receiverTriangles += pass.receiverTriangles.size();

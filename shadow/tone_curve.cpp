@@ -1,5 +1,7 @@
 #include "shadow/tone_curve.h"
 
+#include "raster/frame_trace.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -98,6 +100,32 @@ void ToneCurve::buildBuckets() {
     (*table)[b] = bySearch(double(std::bit_cast<float>(b << 16)));  // NaN buckets: never read
   }
   buckets_ = std::move(table);
+  // The segments of levels(): code k covers [threshold(k), threshold(k + 1)) and runs from
+  // k - 0.5 to k + 0.5 over it.
+  auto segments = std::make_shared<Segments>();
+  for (int k = 0; k < 256; ++k) {
+    const double from = k == 0 ? 0.0 : thresholds_[size_t(k - 1)];
+    const double to = k == 255 ? std::numeric_limits<double>::infinity() : thresholds_[size_t(k)];
+    const double span = k == 0 ? 0.5 : 1.0;
+    const double width = to - from;
+    if (std::isfinite(from) && std::isfinite(to) && width > 0) {
+      segments->base[size_t(k)] = k == 0 ? 0.0 : k - 0.5;
+      segments->from[size_t(k)] = from;
+      segments->slope[size_t(k)] = span / width;
+    } else {
+      segments->base[size_t(k)] = k;  // flat: never left, or never reached
+    }
+  }
+  segments_ = std::move(segments);
+}
+
+double ToneCurve::levels(double radiance) const {
+  if (std::isnan(radiance)) return 0.0;
+  if (segments_ == nullptr) return 255.0;  // a default curve: every radiance saturates
+  const size_t k = (*this)(radiance);
+  const Segments& s = *segments_;
+  // Code 0 below radiance 0 would go negative.
+  return std::max(0.0, s.base[k] + (radiance - s.from[k]) * s.slope[k]);
 }
 
 uint8_t ToneCurve::operator()(double radiance) const {
@@ -139,6 +167,23 @@ ToneInverse::ToneInverse(const ToneCurve& curve) {
   for (float& v : table_) {
     if (!std::isfinite(v)) v = 0.0f;  // a code the curve never reaches
   }
+}
+
+std::vector<uint8_t> linearShadeTable(const ToneCurve& tone) {
+  const ToneInverse inverse(tone);
+  constexpr size_t kSteps = raster::kShadeSteps;
+  std::vector<uint8_t> table(raster::kShadeCodes * kSteps);
+  for (size_t c = 0; c < raster::kShadeCodes; ++c) {
+    const double radiance = inverse(static_cast<uint8_t>(c));
+    // q = 0 is the unshadowed pixel itself, also for a code whose interval is empty (where
+    // T^-1 has no middle and T(T^-1(c)) may be another code).
+    table[c * kSteps] = static_cast<uint8_t>(c);
+    for (size_t q = 1; q < kSteps; ++q) {
+      const uint8_t code = tone(radiance * (1.0 - double(q) / double(kSteps - 1)));
+      table[c * kSteps + q] = std::min(code, table[c * kSteps + q - 1]);  // never brighter
+    }
+  }
+  return table;
 }
 
 }  // namespace penumbra::shadow

@@ -68,6 +68,21 @@ class ToneCurve {
   // The smallest radiance with code >= k, k in 1..255 (+inf if never reached).
   double threshold(int code) const { return thresholds_[code - 1]; }
 
+  // T(L) in continuous levels, for intensity transfers finer than a code
+  // (docs/pipeline-spec.md §5): piecewise linear through (threshold(k), k - 0.5) — the points
+  // where rounding the curve's own interpolated value steps from k - 1 to k — from (0, 0)
+  // and flat at 255 from threshold(255) on, so it stays within half a level of operator()
+  // (rounding it gives the code, ties aside). Non-decreasing, as the telescoping of Fig. 4
+  // needs. Exactly: with k = operator()(L), value = base_k + (L - threshold(k)) * slope_k
+  // in binary64 (no FMA), slope_k = 1 / (threshold(k + 1) - threshold(k)) rounded once;
+  // code 0 runs from radiance 0 at slope 0.5 / threshold(1) and clamps at 0; a code whose
+  // interval has an infinite end is flat at k. NaN maps to 0.
+  double levels(double radiance) const;
+  template <typename T>
+  glm::dvec3 levels(const glm::vec<3, T>& radiance) const {
+    return {levels(radiance.x), levels(radiance.y), levels(radiance.z)};
+  }
+
  private:
   static constexpr size_t kBuckets = size_t{1} << 15;  // sign-free float bits >> 16
   void buildBuckets();
@@ -80,7 +95,19 @@ class ToneCurve {
   std::array<double, 255> thresholds_{};
   // Per bucket: bySearch of its lowest float.
   std::shared_ptr<const Buckets> buckets_ = saturatedBuckets();
+  // Per code k: levels() = base[k] + (L - from[k]) * slope[k] (built with the buckets).
+  struct Segments {
+    std::array<double, 256> base{}, from{}, slope{};
+  };
+  std::shared_ptr<const Segments> segments_;
 };
+
+// Linear accumulation's shade table (raster::FrameContent::shadeTable, spec §8): entry
+// c * 511 + q is T(T^-1(c) (1 - q / 510)), the code of a pixel of code c once the share
+// q / 510 of its light is occluded, with T^-1 = ToneInverse (the middle of c's radiance
+// interval, so q = 0 gives c back). Multiplying the radiance rather than subtracting codes is
+// what makes the shadow exact wherever the shares are: T's curvature never enters the sums.
+std::vector<uint8_t> linearShadeTable(const ToneCurve& tone);
 
 // T^-1 at the middle of each code's radiance interval (code 0 → 0; code 255 → its
 // threshold, the least radiance that saturates).

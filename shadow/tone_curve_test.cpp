@@ -106,5 +106,39 @@ TEST(ToneInverse, CodesRoundTripThroughT) {
   for (int c = 1; c < 256; ++c) EXPECT_EQ(tone(double(inverse(uint8_t(c)))), c) << c;
 }
 
+// levels(): the continuous T behind the codes. Non-decreasing, within half a level of the
+// code (so rounding it gives the code, ties aside), through k - 0.5 at each threshold,
+// continuous inside a code's interval, and flat where the curve never steps.
+TEST(ToneCurveLevels, ContinuousMonotoneAndWithinHalfALevelOfTheCode) {
+  for (const ToneCurve& tone : {ToneCurve::gamma(1.2, 2.2), ToneCurve::gamma(3.0, 1.0)}) {
+    double last = 0;
+    for (int i = 0; i <= 200000; ++i) {
+      const double radiance = 1.2 * i / 200000.0;
+      const double value = tone.levels(radiance);
+      ASSERT_GE(value, last - 1e-9) << radiance;
+      ASSERT_LE(std::abs(value - tone(radiance)), 0.5 + 1e-9) << radiance;
+      last = value;
+    }
+    for (int k = 1; k < 255; ++k) {
+      ASSERT_NEAR(tone.levels(tone.threshold(k)), k - 0.5, 1e-9) << k;
+    }
+    EXPECT_EQ(tone.levels(0.0), 0.0);
+    EXPECT_EQ(tone.levels(-1.0), 0.0);
+    EXPECT_EQ(tone.levels(std::numeric_limits<double>::quiet_NaN()), 0.0);
+    EXPECT_EQ(tone.levels(1e9), 255.0);
+  }
+  // Linear samples: levels() is the line itself, not the staircase of the codes.
+  const std::vector<ToneCurve::Sample> line{{0.0, 0.0}, {1.0, 255.0}};
+  const ToneCurve linear = ToneCurve::fromSamples(line);
+  for (double radiance : {0.1, 0.25, 0.3337, 0.5, 0.9}) {
+    EXPECT_NEAR(linear.levels(radiance), 255.0 * radiance, 1e-9) << radiance;
+  }
+  // A curve that never leaves code 0 above its samples' top, and one that starts at 200.
+  const std::vector<ToneCurve::Sample> dim{{0.0, 0.0}, {1.0, 100.0}};
+  EXPECT_EQ(ToneCurve::fromSamples(dim).levels(5.0), 100.0);
+  const std::vector<ToneCurve::Sample> bright{{1.0, 200.0}, {2.0, 255.0}};
+  EXPECT_EQ(ToneCurve::fromSamples(bright).levels(0.5), 200.0);
+}
+
 }  // namespace
 }  // namespace penumbra::shadow

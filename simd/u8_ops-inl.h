@@ -22,10 +22,10 @@ HWY_INLINE V ProductU8(D d, V a, V b) {
   return hn::ShiftRight<8>(hn::Add(t, hn::ShiftRight<8>(t)));
 }
 
-// fixed8_8Amount() on int32 / u32 lanes holding a, b in [0, 255]: at most 65280.
+// fineAmount() on u32 lanes holding S <= 65280 and W <= 65536.
 template <class D, class V>
-HWY_INLINE V Fixed8_8Amount(D d, V a, V b) {
-  return hn::Add(hn::Mul(a, b), ProductU8(d, a, b));
+HWY_INLINE V FineAmount(D d, V s, V w) {
+  return hn::ShiftRight<16>(hn::Add(hn::Mul(s, w), hn::Set(d, 32768u)));
 }
 
 // fixed8_8Levels() on int32 / u32 lanes holding sums below 2^31 - 128.

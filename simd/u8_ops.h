@@ -22,11 +22,12 @@ constexpr uint8_t productU8(uint8_t a, uint8_t b) {
   return static_cast<uint8_t>((uint32_t{a} * b * 257u + 0x8080u) >> 16);
 }
 
-// Fixed-point accumulation (docs/pipeline-spec.md §8): one pass's masked amount S·M/255 in
-// units of 1/256 level, round(S·M·256/255) = S·M + round(S·M/255) because S·M is an
-// integer; at most 65280, no ties (255 is odd). M = 255 gives exactly 256·S.
-constexpr uint32_t fixed8_8Amount(uint8_t s, uint8_t m) {
-  return uint32_t{s} * m + productU8(s, m);
+// Fixed-point accumulation (docs/pipeline-spec.md §8): one pass's masked amount in units of
+// 1/256 level, S·W/65536 rounded half up, for S in 8.8 levels (at most 65280) and the
+// occluded weight W in [0, 65536]. S·W + 32768 < 2^32, so u32 arithmetic is exact;
+// W = 65536 (the umbra) gives exactly S.
+constexpr uint32_t fineAmount(uint32_t s, uint32_t w) {
+  return (s * w + 32768u) >> 16;
 }
 
 // A pixel's summed 8.8 amounts back to whole levels: round(sum / 256), ties up.

@@ -35,19 +35,18 @@ TEST(ProductU8, OftenQuotedFormulaIsWrong) {
   EXPECT_EQ(wrong, 24);
 }
 
-// Fixed-point accumulation (spec §8): each pass's amount is round(s·m·256/255) exactly, for
-// every pair; in the umbra (m = 255) exactly 256·s, so one pass subtracts what u8 does.
+// Fixed-point accumulation (spec §8): each pass's amount is S·W/65536 rounded half up, in
+// u32 without overflow up to S = 65280, W = 65536; the umbra (W = 65536) gives S exactly.
 TEST(Fixed8_8, AmountIsRoundedToOne256thOfALevel) {
-  for (uint32_t a = 0; a < 256; ++a) {
-    for (uint32_t b = 0; b < 256; ++b) {
-      const uint32_t expected = (2 * 256 * a * b + 255) / 510;
-      ASSERT_EQ(fixed8_8Amount(uint8_t(a), uint8_t(b)), expected) << a << " * " << b;
-      ASSERT_EQ(fixed8_8Levels(fixed8_8Amount(uint8_t(a), uint8_t(b))),
-                productU8(uint8_t(a), uint8_t(b)))
-          << "one pass: the same level as u8, " << a << " * " << b;
+  for (uint32_t s = 0; s <= 65280; s += 17) {
+    for (uint32_t w : {0u, 1u, 255u, 256u, 32767u, 32768u, 40000u, 65535u, 65536u}) {
+      const uint64_t exact2 = 2 * uint64_t{s} * w;  // twice S·W, to round half up exactly
+      const uint64_t expected = (exact2 + 65536) / 131072;
+      ASSERT_EQ(fineAmount(s, w), expected) << s << " * " << w;
     }
-    ASSERT_EQ(fixed8_8Amount(uint8_t(a), 255), 256 * a);
+    ASSERT_EQ(fineAmount(s, 65536), s);
   }
+  ASSERT_EQ(fineAmount(65280, 65536), 65280u);
   EXPECT_EQ(fixed8_8Levels(127), 0u);
   EXPECT_EQ(fixed8_8Levels(128), 1u);
   EXPECT_EQ(fixed8_8Levels(65535), 256u);

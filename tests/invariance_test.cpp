@@ -97,15 +97,39 @@ TEST(Invariance, GeneratedScenes) {
   }
 }
 
-// Fixed-point accumulation (spec §8) with PCF masks, where its rounding differs from u8's.
-TEST(Invariance, GeneratedSceneWithFixedPointAccumulation) {
+// Fixed-point and linear accumulation (spec §8) with PCF masks and S with fractions of a
+// level (8.8, spec §5), where their rounding differs from u8's.
+TEST(Invariance, GeneratedSceneWithFixedPointAndLinearAccumulation) {
   testing::TestSceneOptions o;
   o.pcf2x2 = true;
   o.width = 150;
   o.height = 97;
   raster::FrameTrace trace = testing::makeTestScene(o);
   trace.frame.accumulation = raster::Accumulation::kFixed8_8;
+  uint32_t fraction = 0;
+  for (raster::ShadowPass& pass : trace.frame.passes) {
+    for (auto* list : {&pass.receiverS, &pass.objectS}) {
+      for (core::Rgb16& s : *list) {
+        for (uint16_t* c : {&s.r, &s.g, &s.b}) {
+          fraction = (fraction * 1103515245u + 12345u) & 0x7FFFFFFFu;
+          if (*c != 0 && *c < core::kMaxFineLevel)
+            *c = static_cast<uint16_t>(*c + (fraction >> 23));
+        }
+      }
+    }
+  }
   expectInvariant(trace, "generated pcf fixed8_8");
+  trace.frame.accumulation = raster::Accumulation::kLinear;
+  // A linear camera response's table (shadow::linearShadeTable builds a real one): the
+  // pixel's code scaled by the unoccluded share, rounded half up.
+  trace.frame.shadeTable.resize(raster::kShadeCodes * raster::kShadeSteps);
+  for (size_t c = 0; c < raster::kShadeCodes; ++c) {
+    for (size_t q = 0; q < raster::kShadeSteps; ++q) {
+      trace.frame.shadeTable[c * raster::kShadeSteps + q] =
+          static_cast<uint8_t>((c * (raster::kShadeSteps - 1 - q) * 2 + 510) / 1020);
+    }
+  }
+  expectInvariant(trace, "generated pcf linear");
 }
 
 TEST(Invariance, BundledTraces) {

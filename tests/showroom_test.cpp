@@ -182,7 +182,9 @@ TEST(Showroom, CullingReceiversByFrustumKeepsEveryByte) {
 // that share. Deterministic whatever the thread count.
 TEST(Showroom, MeasuredOcclusionFeedsTheNextFrame) {
   auto run = [](int threads) {
-    shadow::FrameCompositor compositor(showroom(), {});
+    shadow::CompositorOptions graded;  // S graded at measured shares: fixed8_8 (u8 alike)
+    graded.accumulation = raster::Accumulation::kFixed8_8;
+    shadow::FrameCompositor compositor(showroom(), graded);
     raster::Renderer renderer(showroom().view, {simd::bestIsa(), threads, 32});
     raster::FrameContent frame;
     shadow::CompositeStats stats;

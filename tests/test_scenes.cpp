@@ -115,8 +115,9 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
       for (int c = 0; c < 3; ++c) {
         const uint64_t r = mix((o.seed << 20) + tri * 3u + static_cast<uint64_t>(c) +
                                100000u * static_cast<uint64_t>(p));
-        pass.receiverS.push_back({static_cast<uint8_t>(r % 41), static_cast<uint8_t>((r >> 8) % 41),
-                                  static_cast<uint8_t>((r >> 16) % 41)});
+        pass.receiverS.push_back(core::Rgb16::fromLevels({static_cast<uint8_t>(r % 41),
+                                                          static_cast<uint8_t>((r >> 8) % 41),
+                                                          static_cast<uint8_t>((r >> 16) % 41)}));
       }
     }
     // Self-shadowing receivers (§7.2): every object triangle, S from the same hash.
@@ -127,8 +128,9 @@ raster::FrameTrace makeTestScene(const TestSceneOptions& o) {
         for (int c = 0; c < 3; ++c) {
           const uint64_t r = mix((o.seed << 24) + tri * 3u + static_cast<uint64_t>(c) +
                                  7777u * static_cast<uint64_t>(p));
-          pass.objectS.push_back({static_cast<uint8_t>(r % 31), static_cast<uint8_t>((r >> 8) % 31),
-                                  static_cast<uint8_t>((r >> 16) % 31)});
+          pass.objectS.push_back(core::Rgb16::fromLevels({static_cast<uint8_t>(r % 31),
+                                                          static_cast<uint8_t>((r >> 8) % 31),
+                                                          static_cast<uint8_t>((r >> 16) % 31)}));
         }
       }
     }

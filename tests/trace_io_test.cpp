@@ -77,7 +77,7 @@ TEST_F(TraceFiles, WrongSizesAndIndicesAreNamed) {
   d["static_mesh"]["indices"]["count"] = d["static_mesh"]["indices"]["count"].get<int>() - 1;
   EXPECT_NE(errorFor(d).find("static_mesh.indices"), std::string::npos);
   d = doc_;
-  d["version"] = 2;
+  d["version"] = 3;
   EXPECT_NE(errorFor(d).find("version"), std::string::npos);
   d = doc_;
   d["passes"][0]["receiver_s"]["count"] = 1;
@@ -198,11 +198,58 @@ TEST_F(TraceFiles, AccumulationIsOptionalAndChecked) {
   fixed.frame.accumulation = raster::Accumulation::kFixed8_8;
   raster::saveTrace(fixed, dir_ / "fixed.json");
   EXPECT_EQ(raster::loadTrace(dir_ / "fixed.json"), fixed);
+  // Linear accumulation carries its shade table; without one (or with one elsewhere) the
+  // frame is refused, naming the field.
+  raster::FrameTrace linear = trace_;
+  linear.frame.accumulation = raster::Accumulation::kLinear;
+  linear.frame.shadeTable.resize(raster::kShadeCodes * raster::kShadeSteps);
+  for (size_t i = 0; i < linear.frame.shadeTable.size(); ++i) {
+    linear.frame.shadeTable[i] = static_cast<uint8_t>(i * 7);
+  }
+  raster::saveTrace(linear, dir_ / "linear.json");
+  EXPECT_EQ(raster::loadTrace(dir_ / "linear.json"), linear);
+  raster::FrameTrace noTable = linear;
+  noTable.frame.shadeTable.pop_back();
+  try {
+    raster::validateTrace(noTable, "short.json");
+    ADD_FAILURE() << "a short shade table must be refused";
+  } catch (const raster::TraceError& e) {
+    EXPECT_NE(std::string(e.what()).find("short.json: shade_table"), std::string::npos) << e.what();
+  }
+  raster::FrameTrace stray = trace_;
+  stray.frame.shadeTable.resize(3);
+  EXPECT_THROW(raster::validateTrace(stray, "stray.json"), raster::TraceError);
   for (const json& value : {json("u16"), json(1), json("FIXED8_8"), json("wide")}) {
     d["accumulation"] = value;
     const std::string e = errorFor(d);
     EXPECT_NE(e.find("bad.json: accumulation"), std::string::npos) << e;
   }
+}
+
+// S in 8.8 levels (spec §5): a trace whose S are all whole levels is written as version 1
+// (3 bytes per S, as before), one with fractions as version 2 (3 x u16); both read back
+// exactly, and a version-2 value above 255 levels is named.
+TEST_F(TraceFiles, FineTransfersRoundTripAsVersion2) {
+  EXPECT_EQ(doc_["version"], 1);
+  raster::FrameTrace fine = trace_;
+  fine.frame.passes[1].receiverS[4].g = 0x1234;
+  fine.frame.passes[2].objectS[0].r = core::kMaxFineLevel;
+  raster::saveTrace(fine, dir_ / "fine.json");
+  std::ifstream in(dir_ / "fine.json");
+  json d = json::parse(in);
+  EXPECT_EQ(d["version"], 2);
+  EXPECT_EQ(raster::loadTrace(dir_ / "fine.json"), fine);
+  // The sidecar of fine.json is fine.bin: point bad.json at it, and corrupt one S there.
+  d["buffer"] = "fine.bin";
+  const size_t offset = d["passes"][1]["receiver_s"]["offset"].get<size_t>() + 2;
+  std::fstream bin(dir_ / "fine.bin", std::ios::in | std::ios::out | std::ios::binary);
+  bin.seekp(static_cast<std::streamoff>(offset));
+  const char above[2] = {char(0x01), char(0xFF)};  // 0xFF01 = 65281
+  bin.write(above, 2);
+  bin.close();
+  const std::string e = errorFor(d);
+  EXPECT_NE(e.find("bad.json: passes[1].receiver_s"), std::string::npos) << e;
+  EXPECT_NE(e.find("65281"), std::string::npos) << e;
 }
 
 TEST_F(TraceFiles, NotJsonAndMissingFilesAreRefused) {

@@ -155,9 +155,10 @@ FrameTrace builtInTrace(uint32_t width = 256, uint32_t height = 192, uint32_t gr
       if ((t + static_cast<uint32_t>(salt)) % 7 == 0) continue;  // not every triangle
       p.receiverTriangles.push_back(t);
       for (uint32_t k = 0; k < 3; ++k) {
-        p.receiverS.push_back({static_cast<uint8_t>(40 + (t * 7 + k * 31 + salt) % 90),
-                               static_cast<uint8_t>(30 + (t * 11 + k * 13) % 100),
-                               static_cast<uint8_t>(50 + (t * 5 + k * 17 + salt) % 70)});
+        p.receiverS.push_back(
+            core::Rgb16::fromLevels({static_cast<uint8_t>(40 + (t * 7 + k * 31 + salt) % 90),
+                                     static_cast<uint8_t>(30 + (t * 11 + k * 13) % 100),
+                                     static_cast<uint8_t>(50 + (t * 5 + k * 17 + salt) % 70)}));
       }
     }
     frame.passes.push_back(p);

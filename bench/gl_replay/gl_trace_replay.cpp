@@ -318,7 +318,13 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
     for (size_t t = 0; t < pass.receiverTriangles.size(); ++t) {
       const size_t tri = pass.receiverTriangles[t];
       for (size_t k = 0; k < 3; ++k) {
-        push(staticMesh.positions[staticMesh.indices[3 * tri + k]], pass.receiverS[3 * t + k]);
+        // GL blends in 8 bits: S in whole levels (traces replayed here have u8 accumulation,
+        // whose S are whole levels; a fraction would be rounded per pixel, not per vertex).
+        const core::Rgb16 s = pass.receiverS[3 * t + k];
+        push(staticMesh.positions[staticMesh.indices[3 * tri + k]],
+             core::Rgb8{static_cast<uint8_t>((s.r + 128) >> 8),
+                        static_cast<uint8_t>((s.g + 128) >> 8),
+                        static_cast<uint8_t>((s.b + 128) >> 8)});
       }
     }
     passRanges.emplace_back(first, vertexCount() - first);
