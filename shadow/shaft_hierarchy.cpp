@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "core/colour.h"
 
@@ -230,22 +231,30 @@ struct ShaftHierarchy::ShaftTree {
   uint32_t root = kNoIndex;
 };
 
-// §6: a shaft is kept when its sources carry at least pruneFraction of L_i at one vertex
-// of its receiver node (luminances, both sides). With pruneFraction = 0 every shaft is
-// kept, even one with no transfer at all: culling is then purely geometric.
-class ShaftHierarchy::PruneTest {
+// §6's significance test of a shaft (source node s, receiver node r), and the budget of
+// ShaftBuildOptions::boundLostLight: T(s, v) is the luminance the node's sources send to
+// a vertex v of r, lost[v] the luminance pruned at v so far. An insignificant shaft is
+// pruned when lost[v] + T(s, v) < pruneFraction x L_v at every v, and T(s, v) is then
+// added to lost[v] once per distinct vertex of r. Without the budget lost[] stays 0 and
+// every insignificant shaft is pruned. The answers depend on the earlier prunes, so the
+// build asks in its fixed order. With pruneFraction = 0 every shaft is significant, even
+// one with no transfer at all: culling is then purely geometric.
+class ShaftHierarchy::PruneBudget {
  public:
-  PruneTest(const scene::PatchMesh& mesh, const RadianceTransfers& transfers,
-            std::span<const uint32_t> receiverOrder, std::span<const uint32_t> sourcePosition,
-            std::span<const SourceNode> sourceNodes, std::span<const ReceiverNode> receiverNodes,
-            double pruneFraction)
+  enum class Fate : uint8_t { kSplit, kPrune, kCoarseLeaf };
+
+  PruneBudget(const scene::PatchMesh& mesh, const RadianceTransfers& transfers,
+              std::span<const uint32_t> receiverOrder, std::span<const uint32_t> sourcePosition,
+              std::span<const SourceNode> sourceNodes, std::span<const ReceiverNode> receiverNodes,
+              const ShaftBuildOptions& options)
       : sourceNodes_(sourceNodes),
         receiverNodes_(receiverNodes),
-        pruneFraction_(pruneFraction),
+        pruneFraction_(options.pruneFraction),
+        charge_(options.boundLostLight),
         rows_(transfers, sourcePosition) {
     // Receiver vertices of each receiver patch, in octree order, so a receiver node's
-    // vertices are one contiguous range (duplicates across patches are harmless for the
-    // "every vertex" test).
+    // vertices are one contiguous range; a vertex shared by patches of the node appears
+    // more than once, and eachTransfer() visits it once.
     std::vector<uint32_t> receiverVertexOf(mesh.positions.size(), kNoIndex);
     for (uint32_t i = 0; i < transfers.receiverVertices.size(); ++i) {
       receiverVertexOf[transfers.receiverVertices[i]] = i;
@@ -265,35 +274,76 @@ class ShaftHierarchy::PruneTest {
       nodeVertices_.insert(nodeVertices_.end(), list.begin(), list.end());
       vertexStart_[k + 1] = static_cast<uint32_t>(nodeVertices_.size());
     }
-    threshold_.resize(transfers.receiverVertices.size());
-    for (size_t v = 0; v < threshold_.size(); ++v) {
+    const size_t vertexCount = transfers.receiverVertices.size();
+    threshold_.resize(vertexCount);
+    for (size_t v = 0; v < vertexCount; ++v) {
       threshold_[v] =
-          pruneFraction * static_cast<double>(core::luminance(transfers.vertexRadiance[v]));
+          pruneFraction_ * static_cast<double>(core::luminance(transfers.vertexRadiance[v]));
     }
+    lost_.assign(vertexCount, 0.0);
+    seen_.assign(vertexCount, 0);
   }
 
-  // Whether the shaft from source node s to receiver node r is significant.
-  bool operator()(uint32_t s, uint32_t r) const {
+  // §6 alone: whether the shaft carries at least pruneFraction of L_i at one vertex (the
+  // negated comparison makes a NaN L_i significant).
+  bool significant(uint32_t s, uint32_t r) {
     if (pruneFraction_ <= 0) return true;
+    return !eachTransfer(s, r, [&](uint32_t v, double t) { return t < threshold_[v]; });
+  }
+
+  // kSplit when significant; else kPrune, charging the budget, when the shaft fits in it;
+  // else kCoarseLeaf.
+  Fate fate(uint32_t s, uint32_t r) {
+    if (pruneFraction_ <= 0) return Fate::kSplit;
+    charges_.clear();
+    bool fits = true;
+    const bool insignificant = eachTransfer(s, r, [&](uint32_t v, double t) {
+      if (!(t < threshold_[v])) return false;
+      fits = fits && lost_[v] + t < threshold_[v];
+      charges_.push_back({v, t});
+      return true;
+    });
+    if (!insignificant) return Fate::kSplit;
+    if (!fits) return Fate::kCoarseLeaf;
+    if (charge_) {
+      for (const auto& [v, t] : charges_) lost_[v] += t;
+    }
+    return Fate::kPrune;
+  }
+
+ private:
+  // Calls visit(v, T(s, v)) once for each distinct receiver vertex v of node r while it
+  // returns true; whether it always did.
+  template <class Visit>
+  bool eachTransfer(uint32_t s, uint32_t r, Visit visit) {
+    if (++call_ == 0) {  // the tags wrapped: restart them
+      std::fill(seen_.begin(), seen_.end(), 0);
+      call_ = 1;
+    }
     const SourceNode& sn = sourceNodes_[s];
     const ReceiverNode& rn = receiverNodes_[r];
     for (uint32_t k = vertexStart_[rn.firstPatch]; k < vertexStart_[rn.firstPatch + rn.patchCount];
          ++k) {
       const uint32_t v = nodeVertices_[k];
-      if (rows_.rangeSum(v, sn.firstLeaf, sn.firstLeaf + sn.leafCount) >= threshold_[v])
-        return true;
+      if (seen_[v] == call_) continue;
+      seen_[v] = call_;
+      if (!visit(v, rows_.rangeSum(v, sn.firstLeaf, sn.firstLeaf + sn.leafCount))) return false;
     }
-    return false;
+    return true;
   }
 
- private:
   std::span<const SourceNode> sourceNodes_;
   std::span<const ReceiverNode> receiverNodes_;
   double pruneFraction_;
+  bool charge_;
   VertexTransferRows rows_;
   std::vector<uint32_t> vertexStart_;
   std::vector<uint32_t> nodeVertices_;
-  std::vector<double> threshold_;
+  std::vector<double> threshold_;  // pruneFraction x luminance of L_i, per receiver vertex
+  std::vector<double> lost_;       // luminance pruned so far, per receiver vertex
+  std::vector<uint32_t> seen_;     // per receiver vertex: the last eachTransfer() that met it
+  uint32_t call_ = 0;
+  std::vector<std::pair<uint32_t, double>> charges_;  // (v, T(s, v)) of one fate()
 };
 
 ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceiverSets& sets,
@@ -305,9 +355,9 @@ ShaftHierarchy::ShaftHierarchy(const scene::PatchMesh& mesh, const SourceReceive
   std::vector<uint32_t> sourcePosition(sourceCount);
   for (uint32_t p = 0; p < sourceCount; ++p) sourcePosition[sourceOrder_[p]] = p;
   buildReceiverTree(sets, patchBox, options.maxReceiversPerLeaf);
-  const PruneTest significant(mesh, transfers, receiverOrder_, sourcePosition, sourceNodes_,
-                              receiverNodes_, options.pruneFraction);
-  flatten(buildShaftTree(significant, options.keepCoarseLeaves));
+  PruneBudget pruning(mesh, transfers, receiverOrder_, sourcePosition, sourceNodes_, receiverNodes_,
+                      options);
+  flatten(buildShaftTree(pruning));
   shafts_.shrink_to_fit();
   planes_.shrink_to_fit();
   sourceNodes_.shrink_to_fit();
@@ -421,39 +471,55 @@ void ShaftHierarchy::buildReceiverTree(const SourceReceiverSets& sets,
 }
 
 // Shaft hierarchy (§6), first as a temporary tree: recursion decides which children
-// survive before the parent is emitted.
-ShaftHierarchy::ShaftTree ShaftHierarchy::buildShaftTree(const PruneTest& significant,
-                                                         bool keepCoarseLeaves) {
+// survive before the parent is emitted. Depth first, children in a fixed order: the order
+// in which the prune budget is spent.
+ShaftHierarchy::ShaftTree ShaftHierarchy::buildShaftTree(PruneBudget& pruning) {
   ShaftTree tree;
   auto& temp = tree.temp;
   auto& tempChildren = tree.tempChildren;
   using TempShaft = ShaftTree::TempShaft;
-  const auto buildShaft = [&](auto& self, uint32_t s, uint32_t r) -> uint32_t {
-    if (!significant(s, r)) return kNoIndex;
+  // The shafts a split of (s, r) makes: on the node with the larger box (the receiver on a
+  // tie), so a shaft narrows where it is widest; a leaf is never split. None when both
+  // nodes are leaves.
+  using NodePair = std::pair<uint32_t, uint32_t>;
+  const auto splitOf = [&](uint32_t s, uint32_t r, std::array<NodePair, 8>& out) -> uint32_t {
     const SourceNode& sn = sourceNodes_[s];
     const ReceiverNode& rn = receiverNodes_[r];
+    if (sn.isLeaf() && rn.isLeaf()) return 0;
+    const bool splitSource =
+        !sn.isLeaf() && (rn.isLeaf() || squaredDiagonal(sn.bounds) > squaredDiagonal(rn.bounds));
+    if (splitSource) {
+      out[0] = {sn.child[0], r};
+      out[1] = {sn.child[1], r};
+      return 2;
+    }
+    for (uint32_t c = 0; c < rn.childCount; ++c) out[c] = {s, rn.firstChild + c};
+    return rn.childCount;
+  };
+  const auto buildShaft = [&](auto& self, uint32_t s, uint32_t r) -> uint32_t {
+    using Fate = PruneBudget::Fate;
+    const Fate fate = pruning.fate(s, r);
+    if (fate == Fate::kPrune) return kNoIndex;
+    std::array<NodePair, 8> split{};
+    uint32_t splitCount = splitOf(s, r, split);
+    // An insignificant shaft the budget cannot take ends as a coarse leaf. So does a
+    // significant one none of whose children is significant on its own: its light is
+    // spread too thin for §6 to follow, and one coarse leaf costs less than its children
+    // as up to 8 (each pruned within the budget or coarse), for a little culling, where
+    // there are many small sources (the showroom at 0.1 m patches: 105k shafts, not 178k).
+    if (splitCount > 0 &&
+        (fate == Fate::kCoarseLeaf ||
+         std::none_of(split.begin(), split.begin() + splitCount,
+                      [&](const NodePair& c) { return pruning.significant(c.first, c.second); }))) {
+      ++coarseLeafShaftCount_;
+      splitCount = 0;
+    }
+    // Children pruned are dropped; the significant one at least is kept.
     std::array<uint32_t, 8> kids{};
     uint32_t kidCount = 0;
-    if (!sn.isLeaf() || !rn.isLeaf()) {
-      // Split the node with the larger box (the receiver on a tie) so a shaft narrows
-      // where it is widest; a leaf is never split.
-      const bool splitSource =
-          !sn.isLeaf() && (rn.isLeaf() || squaredDiagonal(sn.bounds) > squaredDiagonal(rn.bounds));
-      if (splitSource) {
-        for (uint32_t c : sn.child) {
-          const uint32_t k = self(self, c, r);
-          if (k != kNoIndex) kids[kidCount++] = k;
-        }
-      } else {
-        for (uint32_t c = rn.firstChild; c < rn.firstChild + rn.childCount; ++c) {
-          const uint32_t k = self(self, s, c);
-          if (k != kNoIndex) kids[kidCount++] = k;
-        }
-      }
-      if (kidCount == 0) {
-        ++deadEndShaftCount_;
-        if (!keepCoarseLeaves) return kNoIndex;
-      }
+    for (uint32_t c = 0; c < splitCount; ++c) {
+      const uint32_t k = self(self, split[c].first, split[c].second);
+      if (k != kNoIndex) kids[kidCount++] = k;
     }
     const auto first = static_cast<uint32_t>(tempChildren.size());
     tempChildren.insert(tempChildren.end(), kids.begin(), kids.begin() + kidCount);

@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 #include <vector>
 
-#include "shadow/intensity_transfer.h"  // core::splitmix64, a seeded counter-based generator
 #include "tests/shaft_test_room.h"
 
 namespace penumbra::shadow {
@@ -157,7 +157,7 @@ TEST(ShaftHierarchy, TreesCoverTheSetsOnce) {
   size_t receiverLeaves = 0;
   for (const auto& node : h.receiverNodes()) receiverLeaves += node.isLeaf();
   EXPECT_EQ(h.leafShaftCount(), h.sourceCount() * receiverLeaves);
-  EXPECT_EQ(h.deadEndShaftCount(), 0u);
+  EXPECT_EQ(h.coarseLeafShaftCount(), 0u);
 }
 
 // The central promise of §6.1: whenever a segment from a source patch to a receiver patch
@@ -283,6 +283,213 @@ TEST(ShaftHierarchy, PruningDropsShaftsAndIsDeterministic) {
   TraversalResult out;
   none.traverse(Aabb{{0, 0, 0}, {4, 2.5, 4}}, 1, out);
   EXPECT_TRUE(out.sources.empty());
+}
+
+// The room of issue 15 "No light lost": a diffuse ceiling panel split into 10 x 10 equal
+// patch sources over a 16 x 16 floor and nothing else, so each source sends about 1% of a
+// floor vertex's light, under the 2% of §6.
+ShaftRoom panelRoom() {
+  ShaftRoom r;
+  buildTestRoom(16, 10, 10, false, r.mesh, r.sets, r.transfers, true);
+  return r;
+}
+
+// The receiver vertices (indices into RadianceTransfers::receiverVertices) of each patch.
+std::vector<std::vector<uint32_t>> receiverVerticesOfPatches(const ShaftRoom& room) {
+  std::vector<uint32_t> receiverVertexOf(room.mesh.positions.size(), kNoIndex);
+  for (uint32_t i = 0; i < room.transfers.receiverVertices.size(); ++i) {
+    receiverVertexOf[room.transfers.receiverVertices[i]] = i;
+  }
+  std::vector<std::vector<uint32_t>> out(room.mesh.patches.size());
+  for (uint32_t p : room.sets.receivers) {
+    const uint32_t* tri = &room.mesh.indices[3 * room.mesh.patches[p].firstTriangle];
+    for (int k = 0; k < 6; ++k) {
+      const uint32_t i = receiverVertexOf[tri[k]];
+      if (i != kNoIndex && std::find(out[p].begin(), out[p].end(), i) == out[p].end()) {
+        out[p].push_back(i);
+      }
+    }
+  }
+  return out;
+}
+
+// Transfer luminance of every (source, receiver vertex) entry, dense.
+std::vector<std::vector<double>> denseTransfers(const ShaftRoom& room) {
+  const RadianceTransfers& t = room.transfers;
+  std::vector<std::vector<double>> out(room.sets.sources.size(),
+                                       std::vector<double>(t.receiverVertices.size(), 0.0));
+  for (uint32_t s = 0; s < room.sets.sources.size(); ++s) {
+    for (uint32_t e = t.sourceStart[s]; e < t.sourceStart[s + 1]; ++e) {
+      out[s][t.entryVertex[e]] = std::max(0.0, double(core::luminance(t.entryTransfer[e])));
+    }
+  }
+  return out;
+}
+
+// Brute force over every (source, receiver patch) pair: the light, per receiver vertex
+// over its L_i, of the sources unreported with some patch around the vertex (the "Bounded
+// loss" invariant's sum). A pair is reported when a leaf shaft joins the two: a box cutting
+// any of its segments then hits that shaft. The room box hits every leaf shaft, and its
+// traversal must list exactly the leaves' sources and receivers: the leaves are all that
+// traverse() reports from.
+std::vector<double> unreportedFraction(const ShaftRoom& room, const ShaftHierarchy& h) {
+  const size_t sourceCount = room.sets.sources.size();
+  std::vector<std::vector<char>> reported(sourceCount,
+                                          std::vector<char>(room.mesh.patches.size(), 0));
+  std::vector<char> leafSource(sourceCount, 0), leafReceiver(room.mesh.patches.size(), 0);
+  for (const auto& shaft : h.shafts()) {
+    if (shaft.childCount != 0) continue;
+    const auto& sn = h.sourceNodes()[shaft.sourceNode];
+    const auto& rn = h.receiverNodes()[shaft.receiverNode];
+    for (uint32_t j = sn.firstLeaf; j < sn.firstLeaf + sn.leafCount; ++j) {
+      leafSource[h.sourceOrder()[j]] = 1;
+      for (uint32_t k = rn.firstPatch; k < rn.firstPatch + rn.patchCount; ++k) {
+        leafReceiver[h.receiverOrder()[k]] = 1;
+        reported[h.sourceOrder()[j]][h.receiverOrder()[k]] = 1;
+      }
+    }
+  }
+  TraversalResult everything;
+  h.traverse(Aabb{{-1, -1, -1}, {5, 5, 5}}, 1, everything);
+  EXPECT_EQ(everything.leafShaftsHit, h.leafShaftCount());
+  EXPECT_EQ(everything.sources.size(), size_t(std::count(leafSource.begin(), leafSource.end(), 1)));
+  for (uint32_t s : everything.sources) EXPECT_TRUE(leafSource[s]);
+  EXPECT_EQ(everything.receivers.size(),
+            size_t(std::count(leafReceiver.begin(), leafReceiver.end(), 1)));
+  for (uint32_t p : everything.receivers) EXPECT_TRUE(leafReceiver[p]);
+
+  const auto vertices = receiverVerticesOfPatches(room);
+  const auto transfer = denseTransfers(room);
+  const size_t vertexCount = room.transfers.receiverVertices.size();
+  std::vector<double> out(vertexCount, 0.0);
+  for (uint32_t s = 0; s < sourceCount; ++s) {
+    std::vector<char> lost(vertexCount, 0);
+    for (uint32_t p : room.sets.receivers) {
+      if (reported[s][p]) continue;
+      for (uint32_t i : vertices[p]) lost[i] = 1;
+    }
+    for (size_t i = 0; i < vertexCount; ++i) out[i] += lost[i] ? transfer[s][i] : 0.0;
+  }
+  for (size_t i = 0; i < vertexCount; ++i) {
+    out[i] /= double(core::luminance(room.transfers.vertexRadiance[i]));
+  }
+  return out;
+}
+
+// (a) Bounded loss: at every receiver vertex, the unreported light stays within
+// pruneFraction of L_i, in the panel room and in the small room (wall, window, varied
+// sources). Pruning every insignificant shaft, as before issue 15, loses a third of the
+// light at some vertices of the panel room.
+TEST(ShaftHierarchy, PanelOfManySourcesLosesAtMostThePruneFraction) {
+  const ShaftRoom panel = panelRoom();
+  ASSERT_GE(panel.sets.sources.size(), 100u);
+  for (const ShaftRoom& room : {panel, smallRoom()}) {
+    const ShaftHierarchy budget(room.mesh, room.sets, room.transfers);
+    const std::vector<double> lost = unreportedFraction(room, budget);
+    for (size_t i = 0; i < lost.size(); ++i) {
+      EXPECT_LE(lost[i], 0.02 * (1 + 1e-12)) << "receiver vertex " << i;
+    }
+  }
+  const ShaftHierarchy budget(panel.mesh, panel.sets, panel.transfers);
+  const ShaftHierarchy unbounded(panel.mesh, panel.sets, panel.transfers, {8, 0.02, false});
+  const ShaftHierarchy all(panel.mesh, panel.sets, panel.transfers, {8, 0.0});
+  const std::vector<double> lost = unreportedFraction(panel, budget);
+  const std::vector<double> lostUnbounded = unreportedFraction(panel, unbounded);
+  const double worst = *std::max_element(lost.begin(), lost.end());
+  const double worstUnbounded = *std::max_element(lostUnbounded.begin(), lostUnbounded.end());
+  std::cout << "most light unreported at a vertex: " << 100 * worst << "% with the budget ("
+            << budget.shaftCount() << " shafts, " << budget.coarseLeafShaftCount()
+            << " coarse leaves), " << 100 * worstUnbounded << "% without ("
+            << unbounded.shaftCount() << " shafts, " << unbounded.coarseLeafShaftCount()
+            << " coarse leaves); unpruned " << all.shaftCount() << " shafts\n";
+  EXPECT_GT(worstUnbounded, 0.2);                    // the failure the budget fixes
+  EXPECT_LT(budget.shaftCount(), all.shaftCount());  // and pruning still prunes
+}
+
+// What the traversal for an object box leaves out at the floor vertices: the light of the
+// sources the object blocks (at least one sample segment cut) whose source or a patch
+// around the vertex is not listed, over L_i; and in the object's umbra (every source fully
+// blocked) the (vertex, source) pairs listed.
+struct UmbraReport {
+  double worstMissing = 0;  // max over vertices of missed blocked light / L_i
+  size_t umbraVertices = 0;
+  size_t blockedPairs = 0;          // (umbra vertex, source with light there) pairs
+  size_t reportedBlockedPairs = 0;  // ... whose source and a patch around the vertex are listed
+};
+
+UmbraReport umbraReport(const ShaftRoom& room, const ShaftHierarchy& h, const Aabb& object) {
+  TraversalResult out;
+  h.traverse(object, 1, out);
+  std::vector<char> sourceListed(room.sets.sources.size(), 0);
+  for (uint32_t s : out.sources) sourceListed[s] = 1;
+  const auto vertices = receiverVerticesOfPatches(room);
+  std::vector<char> vertexListed(room.transfers.receiverVertices.size(), 0);
+  for (uint32_t p : out.receivers) {
+    for (uint32_t i : vertices[p]) vertexListed[i] = 1;
+  }
+  uint64_t counter = 7;
+  std::vector<std::vector<glm::dvec3>> samples;
+  for (uint32_t p : room.sets.sources) samples.push_back(patchSamples(room.mesh, p, counter));
+  const auto transfer = denseTransfers(room);
+  UmbraReport r;
+  for (uint32_t i = 0; i < room.transfers.receiverVertices.size(); ++i) {
+    const glm::dvec3 v = room.mesh.positions[room.transfers.receiverVertices[i]];
+    double missing = 0;
+    bool umbra = true;
+    size_t blocked = 0, reported = 0;
+    for (uint32_t s = 0; s < room.sets.sources.size(); ++s) {
+      if (transfer[s][i] <= 0) continue;
+      size_t cut = 0;
+      for (const auto& q : samples[s]) cut += segmentHitsBox(v, q, object);
+      umbra = umbra && cut == samples[s].size();
+      if (cut == 0) continue;
+      const bool listed = sourceListed[s] && vertexListed[i];
+      if (!listed) missing += transfer[s][i];
+      ++blocked;
+      reported += listed;
+    }
+    r.worstMissing = std::max(r.worstMissing,
+                              missing / double(core::luminance(room.transfers.vertexRadiance[i])));
+    if (!umbra) continue;
+    ++r.umbraVertices;
+    r.blockedPairs += blocked;
+    r.reportedBlockedPairs += reported;
+  }
+  return r;
+}
+
+// (b) Objects between the panel and the floor: the blocked light the traversal leaves out
+// stays within pruneFraction of L_i at every vertex (what the bound promises), so an umbra
+// can be black to within it. Under the middle of the panel, a chair-sized box gets every
+// blocked source listed at every umbra vertex; that is this room's outcome, not a
+// guarantee. Without the budget, 7% of the blocked sources are missing there, with 7% of
+// the light.
+TEST(ShaftHierarchy, ObjectsUnderThePanelGetDarkUmbras) {
+  const ShaftRoom room = panelRoom();
+  const ShaftHierarchy budget(room.mesh, room.sets, room.transfers);
+  const ShaftHierarchy unbounded(room.mesh, room.sets, room.transfers, {8, 0.02, false});
+  const Aabb middle{{1.75, 0.0, 1.75}, {2.25, 0.2, 2.25}};
+  const Aabb objects[] = {middle,
+                          {{2.6, 0.0, 2.6}, {3.2, 0.3, 3.2}},
+                          {{0.5, 0.0, 1.5}, {1.0, 0.5, 2.0}},
+                          {{1.2, 0.3, 1.2}, {2.8, 0.6, 2.8}}};
+  for (const Aabb& object : objects) {
+    const UmbraReport b = umbraReport(room, budget, object);
+    const UmbraReport u = umbraReport(room, unbounded, object);
+    std::cout << "object x " << object.min.x << ".." << object.max.x << " y " << object.min.y
+              << ".." << object.max.y << ": " << b.umbraVertices << " umbra vertices, "
+              << b.blockedPairs << " (vertex, source) pairs there, listed "
+              << b.reportedBlockedPairs << " with the budget, " << u.reportedBlockedPairs
+              << " without; most blocked light missed at a vertex " << 100 * b.worstMissing
+              << "% vs " << 100 * u.worstMissing << "%\n";
+    EXPECT_GE(b.umbraVertices, 5u);
+    EXPECT_LT(b.worstMissing, 0.02);
+  }
+  const UmbraReport b = umbraReport(room, budget, middle);
+  EXPECT_EQ(b.reportedBlockedPairs, b.blockedPairs);
+  const UmbraReport u = umbraReport(room, unbounded, middle);
+  EXPECT_LT(u.reportedBlockedPairs, b.blockedPairs);
+  EXPECT_GT(u.worstMissing, 0.05);
 }
 
 TEST(ShaftHierarchy, RejectsInconsistentInput) {

@@ -230,6 +230,7 @@ TEST(SourceClusters, SlidingObjectReusesStorageAndPruningOnlyRemovesSources) {
   EXPECT_EQ(sel.clusters.data(), clusterData);  // no reallocation after warm-up
   EXPECT_GT(sources, 0u);
 
+  // Unbudgeted pruning (boundLostLight = false) loses light the budget keeps.
   const ShaftHierarchy dropped(f.mesh, f.sets, f.transfers, {8, 0.02, false});
   EXPECT_LT(dropped.shaftCount(), h.shaftCount());
   EXPECT_GE(coveredLight(f, h), coveredLight(f, dropped));

@@ -43,7 +43,8 @@ void addGrid(scene::PatchMesh& mesh, const glm::dvec3& origin, const glm::dvec3&
 }  // namespace
 
 void buildTestRoom(int floorCells, int lightCols, int lightRows, bool wallAndWindow,
-                   scene::PatchMesh& mesh, SourceReceiverSets& sets, RadianceTransfers& t) {
+                   scene::PatchMesh& mesh, SourceReceiverSets& sets, RadianceTransfers& t,
+                   bool equalSources) {
   mesh = {};
   sets = {};
   t = {};
@@ -55,7 +56,7 @@ void buildTestRoom(int floorCells, int lightCols, int lightRows, bool wallAndWin
   if (wallAndWindow) addGrid(mesh, {0, 0.9, 1.0}, {0, 0, 1.2}, {0, 1.2, 0}, 2, 2, glm::dvec3(3));
   for (uint32_t p = receiverEnd; p < mesh.patches.size(); ++p) {
     // Varied brightness so averages differ (and some tie: period 5).
-    mesh.patches[p].emission *= 1.0 + 0.37 * ((p * 7) % 5);
+    if (!equalSources) mesh.patches[p].emission *= 1.0 + 0.37 * ((p * 7) % 5);
     sets.sources.push_back(p);
   }
   std::vector<uint32_t> receiverVertexOf(mesh.positions.size(), kNoIndex);
