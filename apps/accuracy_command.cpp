@@ -8,6 +8,7 @@
 
 #ifdef PENUMBRA_HAVE_METRICS
 #include "apps/render_flags.h"
+#include "apps/scene_commands.h"
 #include "core/cli.h"
 #include "reference/accuracy.h"
 #endif
@@ -19,6 +20,8 @@ namespace {
 
 struct AccuracyCommand {
   std::string bundlePath, json, accumulation = "linear";
+  std::string pose;  // empty: the start pose's
+  int product = -1;  // -1: the pose's product
   bool singleShare = false;
   int mapSize = 256, referenceMap = 2048;
   RenderFlags render;
@@ -30,8 +33,19 @@ struct AccuracyCommand {
     options.referenceMapSize = uint32_t(referenceMap);
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
-    const reference::AccuracyReport report = reference::measureAccuracy(
-        shadow::loadBundle(bundlePath), options, [](const reference::AccuracyRow& r) {
+    const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
+    if (!pose.empty() || product >= 0) {
+      shadow::ProductPose p = bundle.startPose;
+      if (!pose.empty()) p = parsePose(pose, p.product);
+      if (product >= 0) p.product = static_cast<uint32_t>(product);
+      if (p.product >= bundle.products.size()) {
+        throw cli::UsageError("--product " + std::to_string(p.product) + ": the bundle has " +
+                              std::to_string(bundle.products.size()) + " products");
+      }
+      options.pose = p;
+    }
+    const reference::AccuracyReport report =
+        reference::measureAccuracy(bundle, options, [](const reference::AccuracyRow& r) {
           const reference::ImageComparison& c = r.comparison;
           std::printf(
               "passes %3d (%3u) ms %7.3f mean_abs_shadow %.3f p99 %u ssim %.5f psnr %.2f "
@@ -66,8 +80,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->check(cli::NumberRange::list(0, 100000))
       ->capture_default_str();
   c->add_option("--json", cmd->json, "write the JSON here instead of stdout");
+  c->add_option("--pose", cmd->pose,
+                "product position measured: X,Y,Z[,YAW_DEGREES] (Y: lift above the floor, "
+                "metres); default: the bundle's start pose");
+  c->add_option("--product", cmd->product, "product index (default: the start pose's)");
   c->add_option("--reference", cmd->options.referencePath,
-                "reference image (PNG, the bundle's view size) at the start pose");
+                "reference image (PNG, the bundle's view size) at the measured pose");
   c->add_option("--mask", cmd->options.maskPath,
                 "shadow-region mask PNG (default: from the reference)");
   c->add_option("--frames", cmd->options.frames, "timed frames per pass count (median)")

@@ -38,7 +38,7 @@ nlohmann::json orNull(double v) {
 // The reference image and, from the ray tracer, its own shadow mask (else left empty).
 core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
                            nlohmann::json& info, [[maybe_unused]] core::Image8& mask) {
-  const shadow::ProductPose pose = bundle.startPose;
+  const shadow::ProductPose pose = measuredPose(bundle, o);
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   if (!o.referencePath.empty()) {
     info = {{"kind", "image"}, {"file", o.referencePath}};
@@ -82,9 +82,18 @@ bool accuracyHasRayTracer() {
 #endif
 }
 
+shadow::ProductPose measuredPose(const shadow::SceneBundle& bundle, const AccuracyOptions& o) {
+  const shadow::ProductPose pose = o.pose.value_or(bundle.startPose);
+  if (pose.product >= bundle.products.size()) {
+    throw std::invalid_argument("product " + std::to_string(pose.product) + ": the bundle has " +
+                                std::to_string(bundle.products.size()) + " products");
+  }
+  return pose;
+}
+
 AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
                                const std::function<void(const AccuracyRow&)>& onRow) {
-  const shadow::ProductPose pose = bundle.startPose;
+  const shadow::ProductPose pose = measuredPose(bundle, o);
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   AccuracyReport report;
   report.width = w;
@@ -133,6 +142,14 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
 
 nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
                       const AccuracyReport& report) {
+  nlohmann::json pose = nullptr;  // the start pose
+  if (o.pose) {
+    pose = {{"product", o.pose->product},
+            {"x", o.pose->x},
+            {"lift", o.pose->lift},
+            {"z", o.pose->z},
+            {"yaw_deg", o.pose->yawDegrees}};
+  }
   nlohmann::json rows = nlohmann::json::array();
   for (const AccuracyRow& r : report.rows) {
     const ImageComparison& c = r.comparison;
@@ -160,6 +177,7 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
           {"width", report.width},
           {"height", report.height},
           {"frames_timed", o.frames},
+          {"pose", pose},
           {"results", rows},
           {"accumulation", raster::accumulationName(o.accumulation)},
           {"per_cluster_shares", o.perClusterShares},

@@ -1,6 +1,7 @@
 // `penumbra accuracy` as a library function (design §4, issue 5): per pass count, the
 // median ms/frame of the per-frame loop (shadow::FrameLoop) with the product sliding a
-// little, and the error of the still frame at the bundle's start pose against a reference
+// little, and the error of the still frame at one pose (the bundle's start pose unless
+// AccuracyOptions::pose says otherwise; issue 15) against a reference
 // image — in its shadow region (reference/shadow_region.h), in the contact band and over
 // the whole frame (reference/image_metrics.h).
 //
@@ -17,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,7 +57,13 @@ struct AccuracyOptions {
   ReferenceOptions rays;  // the ray-traced reference's sampling
 
   std::string referenceOut, maskOut;  // when set, the reference and region used as PNG
+  // The product and pose measured (`--product`, `--pose`); unset: the bundle's start pose.
+  std::optional<shadow::ProductPose> pose;
 };
+
+// The pose `o` measures: o.pose or the bundle's start pose. Throws std::invalid_argument
+// for a product the bundle does not have.
+shadow::ProductPose measuredPose(const shadow::SceneBundle& bundle, const AccuracyOptions& o);
 
 // One pass count's result (the still frame at the start pose against the reference).
 struct AccuracyRow {

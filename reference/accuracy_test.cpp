@@ -85,5 +85,26 @@ TEST(Accuracy, AReferenceOfAnotherSizeIsRefused) {
   std::filesystem::remove_all(dir);
 }
 
+// `--product` / `--pose` (issue 15 item 7): another product at another pose is measured
+// there — its own shadow region, its own stand-in — and says so in the JSON; a product the
+// bundle lacks is refused.
+TEST(Accuracy, AnotherProductAtAnotherPose) {
+  AccuracyOptions o = standIn();
+  o.passes = {1000};
+  const AccuracyReport start = measureAccuracy(showroom(), o);
+  o.pose = shadow::ProductPose{2, 2.6f, 2.0f, 90.0f, 0.0f};  // the teapot, rotated
+  const AccuracyReport teapot = measureAccuracy(showroom(), o);
+  ASSERT_TRUE(teapot.rows[0].comparison.masked.has_value());
+  EXPECT_GT(teapot.rows[0].comparison.masked->pixels, 0u);
+  EXPECT_NE(teapot.rows[0].comparison.masked->pixels, start.rows[0].comparison.masked->pixels);
+  EXPECT_EQ(teapot.rows[0].comparison.masked->meanAbs, 0.0) << "all passes equal the stand-in";
+  const nlohmann::json j = toJson("showroom.bundle", o, teapot);
+  EXPECT_EQ(j["pose"]["product"], 2);
+  EXPECT_EQ(j["pose"]["yaw_deg"], 90.0);
+  EXPECT_EQ(toJson("showroom.bundle", standIn(), start)["pose"], nullptr);
+  o.pose->product = 3;
+  EXPECT_THROW(measureAccuracy(showroom(), o), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace penumbra::reference
