@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "firmware-sim/session.h"
@@ -166,6 +167,48 @@ TEST(KioskFaults, WrongSizeAndFormatFramesAreRefused) {
   EXPECT_TRUE(said);
   EXPECT_TRUE(run.log().contains("frame 21 refused: frame size 320x240"));
   EXPECT_TRUE(run.log().contains("frame 31 refused: frame format 640x480 YUYV"));
+}
+
+// A visitor walks between the camera and the product (issue 15 item 5): wherever the camera
+// films the person, the kiosk shows the person, not the chair or its shadow — through the
+// camera's exposure drift. Without the foreground mask the chair is painted over the
+// person, so the test would see it.
+TEST(KioskForeground, PasserByStaysInFrontOfTheProduct) {
+  const std::string camera = R"("camera": {"drift": {"permille": 60, "period_frames": 40},
+      "person": {"from_frame": 0, "to_frame": 48, "width_px": 70, "height_px": 320}})";
+  auto run = [&](bool hide) {
+    Session s = session("passer-by", camera, 40);
+    s.kiosk.hud = kiosk::HudMode::kOff;
+    s.kiosk.hideForeground = hide;
+    SimRun sim(s, bestTargetOneThread());
+    size_t personPixels = 0, paintedOver = 0, foregroundPixels = 0;
+    for (uint32_t i = 0; i < 40; ++i) {
+      const FrameReport r = sim.step();
+      if (r.backgroundSequence == 0) continue;
+      const uint64_t k = r.backgroundSequence - 1;
+      const std::vector<uint8_t>& shown = sim.frame();
+      for (uint32_t y = 0; y < sim.height(); ++y) {
+        for (uint32_t x = 0; x < sim.width(); ++x) {
+          if (!sim.camera()->personCovers(k, x, y)) continue;
+          ++personPixels;
+          const uint8_t* p = &shown[4 * (size_t{y} * sim.width() + x)];
+          paintedOver += !(p[0] == 36 && p[1] == 40 && p[2] == 52);  // the dark clothes
+        }
+      }
+      foregroundPixels += r.foregroundPixels;
+    }
+    return std::tuple{personPixels, paintedOver, foregroundPixels};
+  };
+  const auto [person, hidden, found] = run(true);
+  EXPECT_GT(person, 100'000u);
+  EXPECT_EQ(hidden, 0u) << "the person must stay in front wherever the camera films them";
+  // The mask holds the person and its 2-pixel rim, no more (the drift makes no foreground).
+  EXPECT_GE(found, person);
+  EXPECT_LE(found, person + person / 10);
+  const auto [personAgain, paintedOver, unused] = run(false);
+  EXPECT_EQ(personAgain, person);
+  EXPECT_GT(paintedOver, 1000u) << "without the mask the chair covers the person";
+  EXPECT_EQ(unused, 0u);
 }
 
 TEST(KioskFaults, GpioChipMissing) {

@@ -77,6 +77,29 @@ int64_t VirtualCamera::arrivalNs(uint64_t k) const {
   return static_cast<int64_t>(k) * script_.periodNs + script_.transportNs + delay;
 }
 
+// The walking person: a body and a head, bottom on the lower third of the frame.
+VirtualCamera::PersonShape VirtualCamera::personShape(uint64_t k) const {
+  PersonShape p;
+  if (script_.personTo > script_.personFrom && k >= script_.personFrom && k < script_.personTo) {
+    const int64_t w = script_.personWidth, h = script_.personHeight;
+    const int64_t span = static_cast<int64_t>(width_) + w;
+    const int64_t t = static_cast<int64_t>(k - script_.personFrom);
+    const int64_t n = static_cast<int64_t>(script_.personTo - script_.personFrom);
+    p.px0 = -w + span * t / n;
+    p.px1 = p.px0 + w - 1;
+    p.bottom = static_cast<int64_t>(height_) * 9 / 10;
+    p.headTop = p.bottom - h;
+    p.bodyTop = p.headTop + w / 2 + 4;
+    p.hx0 = p.px0 + w / 4;
+    p.hx1 = p.px1 - w / 4;
+  }
+  return p;
+}
+
+bool VirtualCamera::personCovers(uint64_t k, uint32_t x, uint32_t y) const {
+  return personShape(k).covers(x, y);
+}
+
 void VirtualCamera::render(uint64_t k, CameraFrame& out) const {
   out.width = width_;
   out.height = height_;
@@ -94,30 +117,13 @@ void VirtualCamera::render(uint64_t k, CameraFrame& out) const {
     const int64_t tri = phase < p / 2 ? 4 * phase - p : 3 * p - 4 * phase;  // in [-p, p]
     gain = 1000 + static_cast<int64_t>(script_.driftPermille) * tri / p;
   }
-  // The walking person: a body and a head, bottom on the lower third of the frame.
-  int64_t px0 = 0, px1 = -1, bodyTop = 0, headTop = 0, bottom = 0, hx0 = 0, hx1 = -1;
-  if (script_.personTo > script_.personFrom && k >= script_.personFrom && k < script_.personTo) {
-    const int64_t w = script_.personWidth, h = script_.personHeight;
-    const int64_t span = static_cast<int64_t>(width_) + w;
-    const int64_t t = static_cast<int64_t>(k - script_.personFrom);
-    const int64_t n = static_cast<int64_t>(script_.personTo - script_.personFrom);
-    px0 = -w + span * t / n;
-    px1 = px0 + w - 1;
-    bottom = static_cast<int64_t>(height_) * 9 / 10;
-    headTop = bottom - h;
-    bodyTop = headTop + w / 2 + 4;
-    hx0 = px0 + w / 4;
-    hx1 = px1 - w / 4;
-  }
+  const PersonShape person = personShape(k);
   const std::vector<uint8_t>& filmed = frames_[k % frames_.size()];
   for (uint32_t y = 0; y < height_; ++y) {
     const uint8_t* src = filmed.data() + static_cast<size_t>(y) * width_ * 4;
     uint8_t* dst = out.data.data() + static_cast<size_t>(y) * out.stride;
     for (uint32_t x = 0; x < width_; ++x, src += 4, dst += 4) {
-      const int64_t xi = x, yi = y;
-      const bool body = xi >= px0 && xi <= px1 && yi >= bodyTop && yi < bottom;
-      const bool head = xi >= hx0 && xi <= hx1 && yi >= headTop && yi < bodyTop - 4;
-      if (body || head) {
+      if (person.covers(x, y)) {
         dst[0] = 52, dst[1] = 40, dst[2] = 36, dst[3] = 255;  // B, G, R, X: dark clothes
         continue;
       }

@@ -54,11 +54,23 @@ class VirtualCamera final : public kiosk::FrameSource {
   // tests that compare what is shown with what was filmed.
   void render(uint64_t k, kiosk::CameraFrame& out) const;
   int64_t arrivalNs(uint64_t k) const;  // -1: dropped
+  // Whether the walking person covers pixel (x, y) of camera frame k (the dark silhouette
+  // render() draws there).
+  bool personCovers(uint64_t k, uint32_t x, uint32_t y) const;
   // Wall time grab() spent rendering frames since the last call (the simulator's own work,
   // which a board's camera does in hardware: reported apart from the board's frame).
   int64_t takeRenderNs();
 
  private:
+  // The person's body and head in camera frame k (empty boxes when nobody walks).
+  struct PersonShape {
+    int64_t px0 = 0, px1 = -1, bodyTop = 0, headTop = 0, bottom = 0, hx0 = 0, hx1 = -1;
+    bool covers(int64_t x, int64_t y) const {
+      return (x >= px0 && x <= px1 && y >= bodyTop && y < bottom) ||
+             (x >= hx0 && x <= hx1 && y >= headTop && y < bodyTop - 4);
+    }
+  };
+  PersonShape personShape(uint64_t k) const;
   bool faulted(CameraFaultKind kind, uint64_t k, const CameraFault** which = nullptr) const;
   void timedRender(uint64_t k, kiosk::CameraFrame& out);  // render(), timed into renderNs_
   bool disconnectedAt(int64_t nowNs) const;

@@ -77,7 +77,10 @@ std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
 
 struct KioskLoop::State {
   State(const shadow::SceneBundle& b, const KioskOptions& o, const raster::RenderOptions& r)
-      : debouncer(o.debounce), loop(b, shadow::CompositorOptions{}, r), background(b.background) {}
+      : debouncer(o.debounce),
+        loop(b, shadow::CompositorOptions{}, r),
+        background(b.background),
+        foreground(b.background, b.view.width, b.view.height, o.foreground) {}
 
   Debouncer debouncer;
   std::unique_ptr<shadow::FrameRateController> controller;
@@ -100,6 +103,7 @@ struct KioskLoop::State {
   CameraFrame grabbed;
   std::vector<uint8_t> background;  // the last good camera frame, or the bundle's photograph
   std::vector<uint8_t> converted;
+  ForegroundMask foreground;  // against the bundle's photograph, the empty room
   uint64_t backgroundSequence = 0;
   int64_t backgroundCaptureNs = -1;  // -1: no camera frame yet
   bool haveSequence = false;
@@ -476,6 +480,13 @@ FrameReport KioskLoop::step() {
   other += watch.lapNs() - s.loop.frameNs;
   r.stages = s.loop.stages;
   r.stages[FrameStage::kCamera] = cameraNs;
+  // Whatever the camera shows in front of the empty room stays in front of the product and
+  // its shadow. Over the bundle's own photograph (no camera frame yet) nothing can.
+  if (options_.hideForeground && camera.haveFrame) {
+    r.foregroundPixels = static_cast<uint32_t>(s.foreground.update(s.background));
+    s.foreground.applyTo(s.loop.rgba, s.background);
+  }
+  r.stages[FrameStage::kForeground] = watch.lapNs();
   r.frame = s.loop.frameNumber;
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;

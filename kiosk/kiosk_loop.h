@@ -24,6 +24,7 @@
 
 #include "core/clock.h"
 #include "kiosk/buttons.h"
+#include "kiosk/foreground_mask.h"
 #include "kiosk/frame_source.h"
 #include "kiosk/hud.h"
 #include "kiosk/status.h"
@@ -86,6 +87,10 @@ struct KioskOptions {
   int64_t serviceHoldNs = 3'000'000'000;
   FrameOrientation cameraOrientation;  // the camera mounting: toRgba mirrors every frame
   Debouncer::Options debounce;
+  // Real things in front (issue 15 item 5): where the camera frame differs from the empty
+  // room, its pixels are shown over the product and its shadow (kiosk/foreground_mask.h).
+  bool hideForeground = true;
+  ForegroundOptions foreground;
 };
 
 struct Peripherals {
@@ -103,6 +108,7 @@ struct FrameReport {
   int64_t startNs = 0, endNs = 0;  // work start, frame shown
   int64_t workNs = 0;              // reported to the controller
   uint32_t passes = 0, passesAsked = 0, shadowMapSize = 0;
+  uint32_t foregroundPixels = 0;  // shown from the camera in front of the product
   uint64_t passPixels = 0;
   shadow::ProductPose pose;
   bool attract = false, quality = false;

@@ -32,6 +32,7 @@ enum class FrameStage : uint8_t {
   kRasterPasses,      // renderer: shadow maps, S, probes' masks
   kRasterFinish,      // renderer: subtracting the sums, RGBA output
   kObserve,           // occlusion feedback for the next frame (docs/fig3.md)
+  kForeground,        // the kiosk's mask of real things in front (kiosk/foreground_mask.h)
   kHud,               // the HUD drawn over the frame
   kDisplay,           // the frame handed to the display
   kOther,             // the rest of the kiosk's step: buttons, controller, log
