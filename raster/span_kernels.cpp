@@ -573,9 +573,10 @@ uint32_t InterpolateRunsTo(Out out, const uint32_t* id, size_t stride, int32_t y
   const DU du;
   const hn::Rebind<uint16_t, DI> d16;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(du));
-  const std::array<AttributePlane, 3> p = {planes.rgb[0], planes.rgb[1], planes.rgb[2]};
+  const AttributePlane pr = planes.rgb[0], pg = planes.rgb[1], pb = planes.rgb[2];
   const int32_t ox = planes.ox, oy = planes.oy;
-  const std::array<VU, 3> gx = {hn::Set(du, p[0].gx), hn::Set(du, p[1].gx), hn::Set(du, p[2].gx)};
+  // Separate vectors, not std::array's of them: see DepthTriangle.
+  const VU gxR = hn::Set(du, pr.gx), gxG = hn::Set(du, pg.gx), gxB = hn::Set(du, pb.gx);
   const VU want = hn::Set(du, triangleId);
   const VI zero = hn::Zero(di), top = hn::Set(di, kTop);
   auto channel = [&](VU rowValue, VU g, VU fx) {
@@ -588,8 +589,9 @@ uint32_t InterpolateRunsTo(Out out, const uint32_t* id, size_t stride, int32_t y
     if (xa >= xb) continue;
     const size_t row = stride * static_cast<size_t>(y);
     const uint32_t fy = static_cast<uint32_t>(y - oy);
-    std::array<VU, 3> rowValue;
-    for (int ch = 0; ch < 3; ++ch) rowValue[ch] = hn::Set(du, p[ch].c + p[ch].gy * fy + kHalf);
+    const VU rowR = hn::Set(du, pr.c + pr.gy * fy + kHalf);
+    const VU rowG = hn::Set(du, pg.c + pg.gy * fy + kHalf);
+    const VU rowB = hn::Set(du, pb.c + pb.gy * fy + kHalf);
     size_t rowMatched = 0;
     for (int32_t x = alignDown(xa); x < xb; x += lanes) {
       const Chunk c = chunkAt(x, xa, xb);
@@ -601,16 +603,18 @@ uint32_t InterpolateRunsTo(Out out, const uint32_t* id, size_t stride, int32_t y
       if constexpr (kFine) {
         // Highway 1.0.3 has no mask between lane sizes: blend in 32-bit lanes.
         const MI activeI = hn::RebindMask(di, active);
-        for (int ch = 0; ch < 3; ++ch) {
-          uint16_t* o = out.s + out.planeSize * size_t(ch) + row + x;
-          const VI value = hn::IfThenElse(activeI, channel(rowValue[ch], gx[ch], fx),
-                                          hn::PromoteTo(di, hn::LoadU(d16, o)));
-          hn::StoreU(hn::DemoteTo(d16, value), d16, o);
-        }
+        const auto store = [&](size_t ch, VI value) {
+          uint16_t* o = out.s + out.planeSize * ch + row + x;
+          const VI kept = hn::IfThenElse(activeI, value, hn::PromoteTo(di, hn::LoadU(d16, o)));
+          hn::StoreU(hn::DemoteTo(d16, kept), d16, o);
+        };
+        store(0, channel(rowR, gxR, fx));
+        store(1, channel(rowG, gxG, fx));
+        store(2, channel(rowB, gxB, fx));
       } else {
-        const VI packed = hn::Or(hn::Or(channel(rowValue[0], gx[0], fx),
-                                        hn::ShiftLeft<8>(channel(rowValue[1], gx[1], fx))),
-                                 hn::ShiftLeft<16>(channel(rowValue[2], gx[2], fx)));
+        const VI packed =
+            hn::Or(hn::Or(channel(rowR, gxR, fx), hn::ShiftLeft<8>(channel(rowG, gxG, fx))),
+                   hn::ShiftLeft<16>(channel(rowB, gxB, fx)));
         uint32_t* o = out.s + row + x;
         hn::StoreU(hn::IfThenElse(active, hn::BitCast(du, packed), hn::LoadU(du, o)), du, o);
       }
@@ -639,27 +643,29 @@ uint32_t InterpolateRunsFine(uint16_t* sOut, size_t planeSize, const uint32_t* i
 
 // A vector of a pass's S taken out of the scratch (which is left zero): false, touching
 // nothing, when every lane is 0 (S = 0 adds nothing, so skipping it is exact).
-HWY_INLINE bool takeS(PackedS in, size_t i, std::array<VI, 3>& c) {
+HWY_INLINE bool takeS(PackedS in, size_t i, VI& r, VI& g, VI& b) {
   const DU du;
   const VU packed = hn::LoadU(du, in.s + i);
   if (hn::AllTrue(du, hn::Eq(packed, hn::Zero(du)))) return false;
   hn::StoreU(hn::Zero(du), du, in.s + i);
   const VU byteMask = hn::Set(du, 0xFFu);
-  for (int ch = 0; ch < 3; ++ch) {
-    c[ch] = hn::BitCast(DI(), hn::And(hn::ShiftRightSame(packed, 8 * ch), byteMask));
-  }
+  r = hn::BitCast(DI(), hn::And(packed, byteMask));
+  g = hn::BitCast(DI(), hn::And(hn::ShiftRight<8>(packed), byteMask));
+  b = hn::BitCast(DI(), hn::And(hn::ShiftRight<16>(packed), byteMask));
   return true;
 }
 
-HWY_INLINE bool takeS(FineS in, size_t i, std::array<VI, 3>& c) {
+HWY_INLINE bool takeS(FineS in, size_t i, VI& r, VI& g, VI& b) {
   const DI di;
   const hn::Rebind<uint16_t, DI> d16;
-  const auto r = hn::LoadU(d16, in.s + i);
-  const auto g = hn::LoadU(d16, in.s + in.planeSize + i);
-  const auto b = hn::LoadU(d16, in.s + 2 * in.planeSize + i);
-  if (hn::AllTrue(d16, hn::Eq(hn::Or(hn::Or(r, g), b), hn::Zero(d16)))) return false;
-  for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Zero(d16), d16, in.s + in.planeSize * ch + i);
-  c = {hn::PromoteTo(di, r), hn::PromoteTo(di, g), hn::PromoteTo(di, b)};
+  const auto r16 = hn::LoadU(d16, in.s + i);
+  const auto g16 = hn::LoadU(d16, in.s + in.planeSize + i);
+  const auto b16 = hn::LoadU(d16, in.s + 2 * in.planeSize + i);
+  if (hn::AllTrue(d16, hn::Eq(hn::Or(hn::Or(r16, g16), b16), hn::Zero(d16)))) return false;
+  for (size_t ch = 0; ch < 3; ++ch) hn::StoreU(hn::Zero(d16), d16, in.s + in.planeSize * ch + i);
+  r = hn::PromoteTo(di, r16);
+  g = hn::PromoteTo(di, g16);
+  b = hn::PromoteTo(di, b16);
   return true;
 }
 
@@ -697,28 +703,31 @@ void AccumulateRowsFrom(const float* depth, In s, uint16_t* acc, size_t planeSiz
     const VF sy = hn::Set(df, static_cast<float>(y) + 0.5f);
     for (int32_t x = alignDown(xa); x < xb; x += lanes) {
       // Outside [xa, xb) s is 0 too (the scratch is kept clean), so no run mask is needed.
-      std::array<VI, 3> sValue;
-      if (!takeS(s, row + x, sValue)) continue;
+      VI sR, sG, sB;
+      if (!takeS(s, row + x, sR, sG, sB)) continue;
       const VI px = hn::Add(hn::Set(di, x), hn::Iota(di, 0));
       const VF sx = hn::Add(hn::ConvertTo(df, px), hn::Set(df, 0.5f));
-      const MI marked = hn::Ne(hn::Or(hn::Or(sValue[0], sValue[1]), sValue[2]), hn::Zero(di));
+      const MI marked = hn::Ne(hn::Or(hn::Or(sR, sG), sB), hn::Zero(di));
       const VI w = coverageAt(lookup, sx, sy, hn::LoadU(df, depth + row + x), marked);
       // W = 0 adds 0: leave the sums alone. Most vectors of a pass are lit or outside the
       // map, so this saves most of the sweep's memory traffic.
       if (hn::AllTrue(di, hn::Eq(w, hn::Zero(di)))) continue;
       // M = round(255 W / 65536) (spec §7); 255 W + 32768 < 2^24.
       const VI m = hn::ShiftRight<16>(hn::Add(hn::Mul(w, hn::Set(di, 255)), hn::Set(di, 32768)));
-      for (int ch = 0; ch < 3; ++ch) {
+      const auto add = [&](size_t ch, VI sValue) {
         uint16_t* plane = acc + planeSize * ch + row + x;
         // Unmarked lanes have S = 0 and add 0. u8 sums stay <= 65535 (at most 257 passes);
         // fixed-point sums saturate there (DemoteTo), as spec §8 allows.
         const VI amount =
-            kFine ? hn::BitCast(di, simd::HWY_NAMESPACE::FineAmount(du, hn::BitCast(du, sValue[ch]),
+            kFine ? hn::BitCast(di, simd::HWY_NAMESPACE::FineAmount(du, hn::BitCast(du, sValue),
                                                                     hn::BitCast(du, w)))
-                  : simd::HWY_NAMESPACE::ProductU8(di, sValue[ch], m);
+                  : simd::HWY_NAMESPACE::ProductU8(di, sValue, m);
         const VI sum = hn::Add(hn::PromoteTo(di, hn::LoadU(d16, plane)), amount);
         hn::StoreU(hn::DemoteTo(d16, sum), d16, plane);
-      }
+      };
+      add(0, sR);
+      add(1, sG);
+      add(2, sB);
     }
   }
 }

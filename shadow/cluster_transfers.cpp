@@ -75,7 +75,11 @@ void ClusterTransfers::intensityRows(size_t vertices, VertexOf vertexOf,
     shares.resize(clusters);
     whole.resize(options_.kind == TransferKind::kWholeLevels ? clusters : 0);
     for (size_t slot = begin; slot < end; ++slot) {
-      const auto [total, share] = vertexOf(slot);
+      // Named copies, not a structured binding: the lambda below captures them (clang < 16
+      // refuses to capture bindings).
+      const auto vertex = vertexOf(slot);
+      const glm::dvec3 total = vertex.first;
+      const auto share = vertex.second;
       const std::span<const glm::dvec3> row(transfers.data() + slot * clusters, clusters);
       const std::span<core::Rgb16> out(s.data() + slot * clusters, clusters);
       if (options_.kind == TransferKind::kLightShares) {
