@@ -243,11 +243,14 @@ TEST_P(SpanKernelsOnTarget, InterpolateRunsFineMatchesScalar) {
 // One accumulation kernel of `ref` and of the target on copies of the same inputs: the same
 // sums, and the scratch (packed S, or the three 8.8 planes) left clean by both.
 template <class Scratch>
-void expectSameSums(void (*refKernel)(const float*, Scratch*, uint16_t*, size_t, size_t, int32_t,
-                                      int32_t, const int32_t*, const int32_t*, const ShadowLookup&),
-                    decltype(refKernel) kernel, const std::vector<float>& depth,
-                    const std::vector<Scratch>& s, std::vector<uint16_t> acc, size_t plane,
-                    int32_t rows, const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
+using AccumulateKernelOf = void (*)(const float*, Scratch*, uint16_t*, size_t, size_t, int32_t,
+                                    int32_t, const int32_t*, const int32_t*, const ShadowLookup&);
+
+template <class Scratch>
+void expectSameSums(AccumulateKernelOf<Scratch> refKernel, AccumulateKernelOf<Scratch> kernel,
+                    const std::vector<float>& depth, const std::vector<Scratch>& s,
+                    std::vector<uint16_t> acc, size_t plane, int32_t rows,
+                    const std::vector<int32_t>& xa, const std::vector<int32_t>& xb,
                     const ShadowLookup& lookup, int trial) {
   std::vector<Scratch> sA = s, sB = s;
   std::vector<uint16_t> accB = acc;
