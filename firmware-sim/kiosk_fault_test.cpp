@@ -202,8 +202,9 @@ TEST(KioskForeground, PasserByStaysInFrontOfTheProduct) {
   const auto [person, hidden, found] = run(true);
   EXPECT_GT(person, 100'000u);
   EXPECT_EQ(hidden, 0u) << "the person must stay in front wherever the camera films them";
-  // The mask holds the person and its 2-pixel rim, no more (the drift makes no foreground).
-  EXPECT_GE(found, person);
+  // Pixels of the product or its shadow the person hid: some, and never more than the
+  // person and its 2-pixel rim cover (the drift makes no foreground).
+  EXPECT_GT(found, 1000u);
   EXPECT_LE(found, person + person / 10);
   const auto [personAgain, paintedOver, unused] = run(false);
   EXPECT_EQ(personAgain, person);

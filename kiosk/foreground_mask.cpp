@@ -1,6 +1,7 @@
 #include "kiosk/foreground_mask.h"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -10,17 +11,6 @@ namespace {
 // Rec. 709 luma in 8.8 weights summing to 256 (54 + 183 + 19), rounded.
 uint32_t luma(const uint8_t* p) {
   return (54u * p[0] + 183u * p[1] + 19u * p[2] + 128u) >> 8;
-}
-
-// out[x] = max of in[x - r .. x + r] over one line of `n` values `step` apart.
-void maxLine(const uint8_t* in, uint8_t* out, size_t n, size_t step, int r) {
-  for (size_t i = 0; i < n; ++i) {
-    const size_t lo = i >= size_t(r) ? i - size_t(r) : 0;
-    const size_t hi = std::min(n - 1, i + size_t(r));
-    uint8_t m = 0;
-    for (size_t k = lo; k <= hi && m == 0; ++k) m = in[k * step];
-    out[i * step] = m;
-  }
 }
 
 }  // namespace
@@ -53,9 +43,52 @@ void ForegroundMask::reset() {
 }
 
 size_t ForegroundMask::update(std::span<const uint8_t> frame) {
+  return update(frame, 0, height_);
+}
+
+size_t ForegroundMask::showInFront(std::span<uint8_t> rendered, std::span<const uint8_t> frame) {
+  const size_t w = width_, h = height_, rowBytes = 4 * w;
+  if (rendered.size() != h * rowBytes || frame.size() != h * rowBytes) {
+    throw std::invalid_argument("foreground mask: images must be RGBA8 of the view's size");
+  }
+  // Only rows where the product or its shadow changed a pixel can be affected; the mask
+  // there needs the difference flags of 1 + grow rows around them.
+  size_t first = h, last = 0;
+  for (size_t y = 0; y < h; ++y) {
+    if (std::memcmp(&rendered[y * rowBytes], &frame[y * rowBytes], rowBytes) != 0) {
+      first = std::min(first, y);
+      last = y + 1;
+    }
+  }
+  if (first >= last) {
+    update(frame, 0, 0);  // the gain, and no history
+    return 0;
+  }
+  const size_t margin = 1 + size_t(options_.grow);
+  update(frame, first >= margin ? first - margin : 0, std::min(h, last + margin));
+  size_t shown = 0;
+  for (size_t y = first; y < last; ++y) {
+    for (size_t x = 0; x < w; ++x) {
+      const size_t i = y * w + x;
+      if (mask_[i] == 0) continue;
+      std::copy_n(&frame[4 * i], 4, &rendered[4 * i]);
+      ++shown;
+    }
+  }
+  return shown;
+}
+
+size_t ForegroundMask::update(std::span<const uint8_t> frame, size_t rowBegin, size_t rowEnd) {
   const size_t w = width_, h = height_, pixels = w * h;
   if (frame.size() != pixels * 4) {
     throw std::invalid_argument("foreground mask: the frame is not RGBA8 of the view's size");
+  }
+  rowEnd = std::min(rowEnd, h);
+  rowBegin = std::min(rowBegin, rowEnd);
+  // Outside the rows: no flags, no history, no mask.
+  for (auto* plane : {&scratch_, &raw_, &mask_}) {
+    std::fill(plane->begin(), plane->begin() + std::ptrdiff_t(rowBegin * w), uint8_t{0});
+    std::fill(plane->begin() + std::ptrdiff_t(rowEnd * w), plane->end(), uint8_t{0});
   }
   // 1. The exposure gain: median of the luma ratios on the grid.
   ratios_.clear();
@@ -74,33 +107,60 @@ size_t ForegroundMask::update(std::span<const uint8_t> frame) {
     gain256_ = std::clamp(*middle, 64u, 1024u);
   }
   // 2. Differences against the gained photograph, with hysteresis on the last frame's
-  // filtered mask (raw_ holds it from step 3 of the last call).
+  // filtered mask (raw_ holds it from step 3 of the last call). Branch-free per pixel, so
+  // that the compiler vectorizes it: this runs over every pixel of every frame.
   const int threshold = options_.threshold, release = options_.release;
-  for (size_t i = 0; i < pixels; ++i) {
+  const int gain = static_cast<int>(gain256_);
+  const uint8_t* room = emptyRoom_.data();
+  const uint8_t* seen = frame.data();
+  for (size_t i = rowBegin * w; i < rowEnd * w; ++i) {
     int d = 0;
     for (size_t c = 0; c < 3; ++c) {
-      const int room = int(std::min<uint32_t>((emptyRoom_[4 * i + c] * gain256_ + 128) >> 8, 255));
-      d = std::max(d, std::abs(int(frame[4 * i + c]) - room));
+      const int expected = std::min((room[4 * i + c] * gain + 128) >> 8, 255);
+      const int diff = seen[4 * i + c] - expected;
+      d = std::max(d, diff < 0 ? -diff : diff);
     }
-    scratch_[i] = d > threshold || (raw_[i] != 0 && d > release) ? 1 : 0;
+    const int limit = raw_[i] != 0 ? release : threshold;
+    scratch_[i] = static_cast<uint8_t>(d > limit);
   }
   // 3. Majority of the 3x3 neighbourhood (at least 5 of 9; pixels outside count as
-  // background), kept in raw_ for the next frame's hysteresis; then the growth into mask_.
-  column_.resize(w + 2);  // column sums of three rows, one zero on each side
-  for (size_t y = 0; y < h; ++y) {
-    const uint8_t* above = y > 0 ? &scratch_[(y - 1) * w] : nullptr;
+  // background), kept in raw_ for the next frame's hysteresis: column sums of three rows
+  // (a zero row beyond the edges), then sums of three columns.
+  zeroRow_.assign(w, 0);
+  column_.assign(w + 2, 0);  // one zero column on each side
+  for (size_t y = rowBegin; y < rowEnd; ++y) {
+    const uint8_t* above = y > 0 ? &scratch_[(y - 1) * w] : zeroRow_.data();
     const uint8_t* row = &scratch_[y * w];
-    const uint8_t* below = y + 1 < h ? &scratch_[(y + 1) * w] : nullptr;
+    const uint8_t* below = y + 1 < h ? &scratch_[(y + 1) * w] : zeroRow_.data();
+    uint8_t* sums = column_.data() + 1;
+    for (size_t x = 0; x < w; ++x) sums[x] = static_cast<uint8_t>(above[x] + row[x] + below[x]);
+    uint8_t* out = &raw_[y * w];
     for (size_t x = 0; x < w; ++x) {
-      column_[x + 1] =
-          static_cast<uint8_t>(row[x] + (above ? above[x] : 0) + (below ? below[x] : 0));
-    }
-    for (size_t x = 0; x < w; ++x) {
-      raw_[y * w + x] = column_[x] + column_[x + 1] + column_[x + 2] >= 5 ? 1 : 0;
+      out[x] = static_cast<uint8_t>(column_[x] + column_[x + 1] + column_[x + 2] >= 5);
     }
   }
-  for (size_t y = 0; y < h; ++y) maxLine(&raw_[y * w], &scratch_[y * w], w, 1, options_.grow);
-  for (size_t x = 0; x < w; ++x) maxLine(&scratch_[x], &mask_[x], h, w, options_.grow);
+  // Growth by `grow` pixels: the maximum over a (2 grow + 1)^2 square, rows first (each row
+  // padded with `grow` zeros on both sides), then rows of those maxima ORed together.
+  const size_t r = size_t(options_.grow);
+  column_.assign(w + 2 * r, 0);
+  for (size_t y = rowBegin; y < rowEnd; ++y) {
+    std::copy_n(&raw_[y * w], w, column_.data() + r);
+    uint8_t* out = &scratch_[y * w];
+    for (size_t x = 0; x < w; ++x) {
+      uint8_t m = 0;
+      for (size_t k = 0; k <= 2 * r; ++k) m |= column_[x + k];
+      out[x] = m;
+    }
+  }
+  for (size_t y = rowBegin; y < rowEnd; ++y) {
+    uint8_t* out = &mask_[y * w];
+    std::fill_n(out, w, uint8_t{0});
+    const size_t lo = y >= r ? y - r : 0, hi = std::min(h - 1, y + r);
+    for (size_t yy = lo; yy <= hi; ++yy) {
+      const uint8_t* in = &scratch_[yy * w];
+      for (size_t x = 0; x < w; ++x) out[x] |= in[x];
+    }
+  }
   size_t count = 0;
   for (uint8_t m : mask_) count += m;
   return count;

@@ -483,8 +483,7 @@ FrameReport KioskLoop::step() {
   // Whatever the camera shows in front of the empty room stays in front of the product and
   // its shadow. Over the bundle's own photograph (no camera frame yet) nothing can.
   if (options_.hideForeground && camera.haveFrame) {
-    r.foregroundPixels = static_cast<uint32_t>(s.foreground.update(s.background));
-    s.foreground.applyTo(s.loop.rgba, s.background);
+    r.foregroundPixels = static_cast<uint32_t>(s.foreground.showInFront(s.loop.rgba, s.background));
   }
   r.stages[FrameStage::kForeground] = watch.lapNs();
   r.frame = s.loop.frameNumber;

@@ -108,7 +108,7 @@ struct FrameReport {
   int64_t startNs = 0, endNs = 0;  // work start, frame shown
   int64_t workNs = 0;              // reported to the controller
   uint32_t passes = 0, passesAsked = 0, shadowMapSize = 0;
-  uint32_t foregroundPixels = 0;  // shown from the camera in front of the product
+  uint32_t foregroundPixels = 0;  // of the product or its shadow, shown from the camera instead
   uint64_t passPixels = 0;
   shadow::ProductPose pose;
   bool attract = false, quality = false;
