@@ -34,16 +34,7 @@ struct AccuracyCommand {
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
     const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
-    if (!pose.empty() || product >= 0) {
-      shadow::ProductPose p = bundle.startPose;
-      if (!pose.empty()) p = parsePose(pose, p.product);
-      if (product >= 0) p.product = static_cast<uint32_t>(product);
-      if (p.product >= bundle.products.size()) {
-        throw cli::UsageError("--product " + std::to_string(p.product) + ": the bundle has " +
-                              std::to_string(bundle.products.size()) + " products");
-      }
-      options.pose = p;
-    }
+    if (!pose.empty() || product >= 0) options.pose = requestedPose(bundle, pose, product);
     const reference::AccuracyReport report =
         reference::measureAccuracy(bundle, options, [](const reference::AccuracyRow& r) {
           const reference::ImageComparison& c = r.comparison;

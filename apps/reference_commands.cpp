@@ -46,14 +46,7 @@ struct ReferenceCommand {
     const shadow::SceneBundle b = shadow::loadBundle(bundle);
     std::optional<shadow::ProductPose> placed;
     if (!noProduct) {
-      shadow::ProductPose p = b.startPose;
-      if (!pose.empty()) p = parsePose(pose, p.product);
-      if (product >= 0) p.product = static_cast<uint32_t>(product);
-      if (p.product >= b.products.size()) {
-        throw cli::UsageError("--product " + std::to_string(p.product) + ": the bundle has " +
-                              std::to_string(b.products.size()) + " products");
-      }
-      placed = p;
+      placed = requestedPose(b, pose, product);
     }
     const reference::ReferenceScene scene = reference::referenceSceneOf(b, placed);
     const auto t0 = std::chrono::steady_clock::now();

@@ -44,6 +44,18 @@ shadow::ProductPose parsePose(const std::string& text, uint32_t product) {
   return {product, values[0], values[2], values.size() == 4 ? values[3] : 0.0f, values[1]};
 }
 
+shadow::ProductPose requestedPose(const shadow::SceneBundle& b, const std::string& pose,
+                                  int product) {
+  shadow::ProductPose p = b.startPose;
+  if (!pose.empty()) p = parsePose(pose, p.product);
+  if (product >= 0) p.product = static_cast<uint32_t>(product);
+  if (p.product >= b.products.size()) {
+    throw cli::UsageError("--product " + std::to_string(p.product) + ": the bundle has " +
+                          std::to_string(b.products.size()) + " products");
+  }
+  return p;
+}
+
 namespace {
 
 // bench/plot_profile.py: installed at bin/../share/penumbra/scripts (packaging/CMakeLists.txt),
@@ -75,14 +87,7 @@ void addSceneFlags(CLI::App* cmd, SceneFlags& f) {
 }
 
 shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
-  shadow::ProductPose pose = b.startPose;
-  if (!f.pose.empty()) pose = parsePose(f.pose, pose.product);
-  if (f.product >= 0) pose.product = static_cast<uint32_t>(f.product);
-  if (pose.product >= b.products.size()) {
-    throw cli::UsageError("--product " + std::to_string(pose.product) + ": the bundle has " +
-                          std::to_string(b.products.size()) + " products");
-  }
-  return pose;
+  return requestedPose(b, f.pose, f.product);
 }
 
 // One product in the showroom, frame after frame (design §1, per frame): the bundle, the

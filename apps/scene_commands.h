@@ -24,4 +24,9 @@ std::vector<Command> addSceneCommands(CLI::App& app);
 // yaw in degrees. Throws std::invalid_argument naming the bad item.
 shadow::ProductPose parsePose(const std::string& text, uint32_t product);
 
+// The pose `--pose` and `--product` ask for: the bundle's start pose with either replaced
+// (empty / negative: kept). Throws cli::UsageError for a product the bundle does not have.
+shadow::ProductPose requestedPose(const shadow::SceneBundle& b, const std::string& pose,
+                                  int product);
+
 }  // namespace penumbra::apps
