@@ -115,9 +115,9 @@ constexpr double kPenumbraBelow = 0.98;
 constexpr std::array<size_t, 4> kPassCounts{10, 25, 50, 100};
 constexpr double kTargetPenumbraP99 = 6, kTargetUmbraMeanAbs = 2;
 // Levels of chroma a grey product's shadow may gain (issue 15: 2), asserted for 99% of the
-// shadowed pixels: the spread also holds each pixel's error in the shadow factor, which the
-// channels show as different numbers of levels on a coloured floor (T's slope differs with
-// the code), so a few pixels with the largest errors may spread by one level more.
+// shadowed pixels; the maximum (3 when this was written) was not traced to its pixels. The
+// spread also holds each pixel's error in the shadow factor, which on a coloured floor the
+// channels may show as different numbers of levels.
 constexpr double kTargetTintP99 = 2;
 
 struct Sphere {
