@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 namespace penumbra::scene {
@@ -79,7 +80,7 @@ uint32_t RoomDescription::addRoomShell(const Aabb& room, const Material& floor,
   for (size_t i = 0; i < faces.size(); ++i) {
     const Material& m = i == 0 ? floor : (i == 1 ? ceiling : walls);
     const uint32_t id =
-        addQuad(Quad{faces[i].name, faces[i].origin, faces[i].u, faces[i].v, m, {}});
+        addQuad(Quad{faces[i].name, faces[i].origin, faces[i].u, faces[i].v, m, {}, {}});
     if (i == 0) first = id;
   }
   return first;
@@ -91,10 +92,58 @@ uint32_t RoomDescription::addSolidBox(const std::string& name, const Aabb& box,
   const auto faces = inwardFaces(box);
   uint32_t first = static_cast<uint32_t>(quads.size());
   for (size_t i = withBottom ? 0 : 1; i < faces.size(); ++i) {
-    addQuad(Quad{name + "_" + kSide[i], faces[i].origin, faces[i].v, faces[i].u, material, {}});
+    addQuad(Quad{name + "_" + kSide[i], faces[i].origin, faces[i].v, faces[i].u, material, {}, {}});
   }
   solids.push_back(box);
   return first;
+}
+
+void RoomDescription::refineAroundSolids(double patchSize) {
+  if (!(patchSize > 0) || !std::isfinite(patchSize)) {
+    throw std::invalid_argument("refineAroundSolids: patch size must be positive and finite");
+  }
+  // A box closer to a quad's plane than this rests on it (the scene file's boxes stand on
+  // the floor exactly; the tolerance absorbs a parsed 1e-12).
+  constexpr double kTouch = 1e-6;
+  for (Quad& q : quads) {
+    const glm::dvec3 n = q.normal();
+    const double lengthU = glm::length(q.edgeU), lengthV = glm::length(q.edgeV);
+    for (const Aabb& box : solids) {
+      std::array<glm::dvec3, 8> corners;
+      for (size_t c = 0; c < 8; ++c) {
+        corners[c] = glm::dvec3((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                                (c & 4) ? box.max.z : box.min.z);
+      }
+      double below = std::numeric_limits<double>::infinity(), height = -below;
+      for (const glm::dvec3& corner : corners) {
+        const double d = glm::dot(corner - q.origin, n);
+        below = std::min(below, d);
+        height = std::max(height, d);
+      }
+      // The box's own faces have it behind them (height <= 0); a box floating above the
+      // quad casts no contact band.
+      if (std::abs(below) > kTouch || !(height > kTouch)) continue;
+      // The footprint in (s, t), grown by the height in metres along each edge. The quads
+      // here are rectangles, so s and t are the projections on the edges.
+      double s0 = std::numeric_limits<double>::infinity(), s1 = -s0, t0 = s0, t1 = -s0;
+      for (const glm::dvec3& corner : corners) {
+        const double s = glm::dot(corner - q.origin, q.edgeU) / (lengthU * lengthU);
+        const double t = glm::dot(corner - q.origin, q.edgeV) / (lengthV * lengthV);
+        s0 = std::min(s0, s), s1 = std::max(s1, s), t0 = std::min(t0, t), t1 = std::max(t1, t);
+      }
+      // Grown, clipped to the quad, and run on to its edge when that is closer than one
+      // patch: a band stopping 5 cm short of a wall would leave a 5 cm sliver of patches
+      // along it (seen by few probe pixels in capture, and no finer where it matters).
+      const auto grow = [patchSize](double a, double b, double by, double length) {
+        a -= by / length, b += by / length;
+        const double slack = patchSize / length;
+        return std::pair(a < slack ? 0.0 : a, b > 1.0 - slack ? 1.0 : b);
+      };
+      std::tie(s0, s1) = grow(s0, s1, height, lengthU);
+      std::tie(t0, t1) = grow(t0, t1, height, lengthV);
+      if (s0 < s1 && t0 < t1) q.refinements.push_back({s0, s1, t0, t1, patchSize});
+    }
+  }
 }
 
 std::optional<RayHit> RoomDescription::intersect(const glm::dvec3& origin, const glm::dvec3& dir,
@@ -207,11 +256,13 @@ struct QuadSpans {
   std::vector<std::pair<double, double>> s, t;
   std::vector<double> sizes;
   explicit QuadSpans(const Quad& q) {
-    for (const Region& r : q.regions) {
-      s.emplace_back(r.s0, r.s1);
-      t.emplace_back(r.t0, r.t1);
-      sizes.push_back(r.patchSize);
-    }
+    for (const Region& r : q.regions) add(r.s0, r.s1, r.t0, r.t1, r.patchSize);
+    for (const Refinement& r : q.refinements) add(r.s0, r.s1, r.t0, r.t1, r.patchSize);
+  }
+  void add(double s0, double s1, double t0, double t1, double size) {
+    s.emplace_back(s0, s1);
+    t.emplace_back(t0, t1);
+    sizes.push_back(size);
   }
 };
 

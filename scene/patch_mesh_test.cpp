@@ -84,6 +84,96 @@ TEST(PatchMesh, PatchSizeAndRegions) {
   EXPECT_NEAR(emittingArea, 0.6 * 0.6, 1e-9);
 }
 
+// The patch's side lengths along its quad's edges (patches are grid cells of one quad).
+glm::dvec2 patchSides(const PatchMesh& mesh, const Patch& p) {
+  const uint32_t* t = &mesh.indices[3 * size_t{p.firstTriangle}];
+  // Triangle v00, v10, v11 of the cell: the first two edges run along u and v.
+  return {glm::length(mesh.positions[t[1]] - mesh.positions[t[0]]),
+          glm::length(mesh.positions[t[2]] - mesh.positions[t[1]])};
+}
+
+TEST(PatchMesh, ContactRefinementCutsTheFloorFinerAroundABoxBase) {
+  // The desk of testRoom() stands on the floor: x 4-5.5, z 3-4, 0.75 m high. Its band on
+  // the floor is that footprint grown by 0.75 m, clipped by the room: x 3.25-6, z 2.25-4.75
+  // (0.25 m short of the wall, more than a 0.1 m patch: not run on to it).
+  RoomDescription room = testRoom();
+  room.refineAroundSolids(0.1);
+  ASSERT_EQ(room.quads[0].refinements.size(), 1u);  // the floor
+  for (size_t i = 1; i < room.quads.size(); ++i) {
+    // Walls and ceiling do not carry the desk; the desk's own faces have it behind them.
+    EXPECT_TRUE(room.quads[i].refinements.empty()) << room.quads[i].name;
+  }
+  const PatchMesh mesh = buildPatchMesh(room, 0.45);
+  const PatchMesh plain = buildPatchMesh(testRoom(), 0.45);
+  size_t inBand = 0, outside = 0;
+  for (const Patch& p : mesh.patches) {
+    if (p.quad != 0) continue;
+    const glm::dvec2 sides = patchSides(mesh, p);
+    const bool bandX = p.centre.x > 3.25;
+    const bool bandZ = p.centre.z > 2.25 && p.centre.z < 4.75;
+    // Strips run across the quad: a patch is fine along x inside the band's x range and
+    // along z inside its z range, wherever it is. The floor's u runs along z, v along x.
+    EXPECT_LE(sides.x, (bandZ ? 0.1 : 0.45) + 1e-9);
+    EXPECT_LE(sides.y, (bandX ? 0.1 : 0.45) + 1e-9);
+    if (bandX && bandZ) {
+      ++inBand;
+      EXPECT_LE(std::max(sides.x, sides.y), 0.1 + 1e-9);
+    } else if (!bandX && !bandZ) {
+      ++outside;
+      EXPECT_GT(std::max(sides.x, sides.y), 0.3);
+    }
+  }
+  EXPECT_GT(inBand, 0u);
+  EXPECT_GT(outside, 0u);
+  // Only the floor changed, and its area is still covered exactly.
+  EXPECT_GT(mesh.patches.size(), plain.patches.size());
+  double floorArea = 0;
+  for (const Patch& p : mesh.patches) floorArea += p.quad == 0 ? p.area : 0;
+  EXPECT_NEAR(floorArea, 30.0, 1e-9);
+  for (uint32_t q = 1; q < room.quads.size(); ++q) {
+    size_t a = 0, b = 0;
+    for (const Patch& p : mesh.patches) a += p.quad == q;
+    for (const Patch& p : plain.patches) b += p.quad == q;
+    EXPECT_EQ(a, b) << room.quads[q].name;
+  }
+}
+
+TEST(PatchMesh, ContactRefinementNeedsABoxOnTheQuad) {
+  RoomDescription room;
+  room.addRoomShell(Aabb{glm::dvec3(0), glm::dvec3(4, 3, 4)}, Material{}, Material{}, Material{});
+  // A shelf hanging 1 m above the floor, touching no quad but its own.
+  room.addSolidBox("shelf", Aabb{glm::dvec3(1, 1, 1), glm::dvec3(2, 1.2, 2)}, Material{}, true);
+  // A cabinet against the x = 4 wall: it stands on the floor and touches that wall, so both
+  // get a band (the wall's: the footprint grown by the cabinet's 0.5 m depth).
+  room.addSolidBox("cabinet", Aabb{glm::dvec3(3.5, 0, 1), glm::dvec3(4, 2, 2)}, Material{}, false);
+  room.refineAroundSolids(0.2);
+  EXPECT_EQ(room.quads[0].refinements.size(), 1u);  // floor: the cabinet only
+  EXPECT_EQ(room.quads[3].refinements.size(), 1u);  // wall x = 4
+  EXPECT_TRUE(room.quads[1].refinements.empty());   // ceiling
+  EXPECT_TRUE(room.quads[2].refinements.empty());   // wall x = 0
+  const Refinement& wall = room.quads[3].refinements[0];
+  // wall_xmax: u along z, v along y (inwardFaces); z 1-2 grown by 0.5, y 0-2 grown by 0.5.
+  EXPECT_NEAR(wall.s0, 0.5 / 4, 1e-12);
+  EXPECT_NEAR(wall.s1, 2.5 / 4, 1e-12);
+  EXPECT_NEAR(wall.t0, 0.0, 1e-12);
+  EXPECT_NEAR(wall.t1, 2.5 / 3, 1e-12);  // 0.5 m below the ceiling: more than a patch
+  // A crate at z 3.0-3.2, 0.7 m high: its band ends at z = 3.9, 0.1 m (less than a patch)
+  // short of the floor's edge at z = 4, and runs on to it.
+  RoomDescription near;
+  near.addRoomShell(Aabb{glm::dvec3(0), glm::dvec3(4, 3, 4)}, Material{}, Material{}, Material{});
+  near.addSolidBox("crate", Aabb{glm::dvec3(1, 0, 3.0), glm::dvec3(1.5, 0.7, 3.2)}, Material{},
+                   false);
+  near.refineAroundSolids(0.2);
+  ASSERT_EQ(near.quads[0].refinements.size(), 1u);
+  // Floor: u along z (2.3 .. 3.9, run on to 4), v along x (0.3 .. 2.2).
+  EXPECT_NEAR(near.quads[0].refinements[0].s0, 2.3 / 4, 1e-12);
+  EXPECT_EQ(near.quads[0].refinements[0].s1, 1.0);
+  EXPECT_NEAR(near.quads[0].refinements[0].t0, 0.3 / 4, 1e-12);
+  EXPECT_NEAR(near.quads[0].refinements[0].t1, 2.2 / 4, 1e-12);
+  EXPECT_THROW(room.refineAroundSolids(0), std::invalid_argument);
+  EXPECT_THROW(room.refineAroundSolids(std::nan("")), std::invalid_argument);
+}
+
 TEST(PatchMesh, RayHitsNearestQuad) {
   const RoomDescription room = testRoom();
   // Straight down onto the desk top from above it.

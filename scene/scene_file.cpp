@@ -100,7 +100,7 @@ class SceneParser {
 
   SceneDescription parse(const JsonValue& doc) {
     doc.object({"format", "version", "image", "camera", "materials", "room", "patch_size",
-                "power_share", "tone", "products", "start_pose"});
+                "contact_patch_size", "power_share", "tone", "products", "start_pose"});
     const JsonValue format = doc["format"];
     if (!format.json().is_string() || format.string() != "penumbra-scene") {
       format.fail("must be \"penumbra-scene\"");
@@ -121,12 +121,17 @@ class SceneParser {
     if (const auto m = doc.find("materials")) parseMaterials(*m);
     s.room = parseRoom(doc["room"]);
     s.patchSize = patchSize(doc["patch_size"]);
+    if (const auto contact = doc.find("contact_patch_size")) {
+      s.contactPatchSize = patchSize(*contact);
+      s.room.refineAroundSolids(s.contactPatchSize);
+    }
     const double patches = patchCount(s.room, s.patchSize);
     if (patches > kMaxPatches) {
       doc["patch_size"].fail(core::formatNumber(s.patchSize) + " m cuts the room into " +
                              core::formatNumber(patches) + " patches, more than the " +
                              core::formatNumber(kMaxPatches) +
-                             " precompute handles: use a larger patch_size");
+                             " precompute handles: use a larger patch_size" +
+                             (s.contactPatchSize > 0 ? " or contact_patch_size" : ""));
     }
     const Aabb bounds = roomBounds(s.room);
     const double eyeDistance = distanceToBox(s.camera.eye, bounds);

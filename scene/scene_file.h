@@ -103,6 +103,9 @@ struct SceneDescription {
   Camera camera;  // aspect = width / height
   RoomDescription room;
   double patchSize = 0;  // metres
+  // Patches at most this size around solid boxes' bases (RoomDescription::refineAroundSolids,
+  // scene key "contact_patch_size"); 0: none.
+  double contactPatchSize = 0;
   // Gibson 2003 §4: share of the emitted power the source set holds (optional field
   // `power_share`); the rest of the light is never shadowed.
   double powerShare = 0.7;

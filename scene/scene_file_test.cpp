@@ -74,6 +74,12 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
   EXPECT_DOUBLE_EQ(window.t1, 4.3 / 6.0);
   EXPECT_EQ(window.material.emission, glm::dvec3(5.0, 6.0, 7.5));
   EXPECT_EQ(s.room.quads[0].materialAt(0.5, 0.5).reflectance, glm::dvec3(0.45, 0.38, 0.30));
+  // The desk stands on the floor: the floor alone is cut finer around its base.
+  EXPECT_EQ(s.contactPatchSize, 0.2);
+  ASSERT_EQ(s.room.quads[0].refinements.size(), 1u);
+  for (size_t q = 1; q < s.room.quads.size(); ++q) {
+    EXPECT_TRUE(s.room.quads[q].refinements.empty()) << s.room.quads[q].name;
+  }
 
   // The radiosity mesh stays in the 1,000-2,000 patch range the pre-process is sized for.
   const PatchMesh mesh = buildPatchMesh(s.room, s.patchSize);
@@ -151,6 +157,10 @@ TEST(SceneFile, BadValuesAreNamed) {
   expectError([](json& d) { d["camera"]["target"] = d["camera"]["eye"]; }, {"camera: "});
   expectError([](json& d) { d["camera"]["fov_y_deg"] = 180; }, {"camera.fov_y_deg"});
   expectError([](json& d) { d["patch_size"] = 0; }, {"patch_size: 0 is not in [0.02, 10]"});
+  expectError([](json& d) { d["contact_patch_size"] = 0.001; },
+              {"contact_patch_size: 0.001 is not in [0.02, 10]"});
+  expectError([](json& d) { d["contact_patch_size"] = "fine"; },
+              {"contact_patch_size: expected a number, got a string"});
   expectError([](json& d) { d["tone"]["exposure"] = -1; }, {"tone.exposure: must be positive"});
   expectError([](json& d) { d["products"][2]["scale"] = "big"; },
               {"products[2].scale: expected a number, got a string"});
@@ -241,8 +251,8 @@ TEST(SceneFile, RoomLimits) {
       [](json& d) {
         d["room"]["shell"]["max"] = {60, 3, 60};
       },
-      {"patch_size: 0.4 m cuts the room into 51708 patches, more than the 20000 "
-       "precompute handles: use a larger patch_size"});
+      {"patch_size: 0.4 m cuts the room into 54171 patches, more than the 20000 "
+       "precompute handles: use a larger patch_size or contact_patch_size"});
   expectError([](json& d) { d["patch_size"] = 0.001; }, {"patch_size: 0.001 is not in [0.02, 10]"});
   expectError([](json& d) { d["room"]["regions"][0]["patch_size"] = 1e-9; },
               {"room.regions[0].patch_size: 1e-09 is not in [0.02, 10]"});

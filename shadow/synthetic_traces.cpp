@@ -477,7 +477,7 @@ LitScene tinyScene() {
   s.height = 48;
   s.patchSize = 0.25;
   const uint32_t floor = s.room.addQuad(scene::Quad{
-      "floor", dvec3(-1, 0, -1), dvec3(0, 0, 2), dvec3(2, 0, 0), diffuse(0.6, 0.55, 0.5), {}});
+      "floor", dvec3(-1, 0, -1), dvec3(0, 0, 2), dvec3(2, 0, 0), diffuse(0.6, 0.55, 0.5), {}, {}});
   // Light facing down (cross(+x, +z) = -y), 0.5 m square at 1.6 m, behind and left of the
   // box so its shadow falls towards the camera.
   const uint32_t lamp = s.room.addQuad(scene::Quad{"lamp",
@@ -485,6 +485,7 @@ LitScene tinyScene() {
                                                    dvec3(0.5, 0, 0),
                                                    dvec3(0, 0, 0.5),
                                                    emitter(dvec3(20, 19, 17)),
+                                                   {},
                                                    {}});
   (void)floor;
   s.camera.eye = dvec3(0.0, 1.5, 2.0);
@@ -507,17 +508,33 @@ LitScene pcfScene() {
   s.width = 160;
   s.height = 120;
   s.patchSize = 0.35;
-  s.room.addQuad(scene::Quad{
-      "floor", dvec3(0, 0, 0), dvec3(0, 0, 2.4), dvec3(2.4, 0, 0), diffuse(0.55, 0.5, 0.45), {}});
-  s.room.addQuad(scene::Quad{
-      "wall_x0", dvec3(0, 0, 0), dvec3(0, 1.8, 0), dvec3(0, 0, 2.4), diffuse(0.7, 0.7, 0.65), {}});
-  s.room.addQuad(scene::Quad{
-      "wall_z0", dvec3(0, 0, 0), dvec3(2.4, 0, 0), dvec3(0, 1.8, 0), diffuse(0.65, 0.68, 0.7), {}});
+  s.room.addQuad(scene::Quad{"floor",
+                             dvec3(0, 0, 0),
+                             dvec3(0, 0, 2.4),
+                             dvec3(2.4, 0, 0),
+                             diffuse(0.55, 0.5, 0.45),
+                             {},
+                             {}});
+  s.room.addQuad(scene::Quad{"wall_x0",
+                             dvec3(0, 0, 0),
+                             dvec3(0, 1.8, 0),
+                             dvec3(0, 0, 2.4),
+                             diffuse(0.7, 0.7, 0.65),
+                             {},
+                             {}});
+  s.room.addQuad(scene::Quad{"wall_z0",
+                             dvec3(0, 0, 0),
+                             dvec3(2.4, 0, 0),
+                             dvec3(0, 1.8, 0),
+                             diffuse(0.65, 0.68, 0.7),
+                             {},
+                             {}});
   const uint32_t lamp = s.room.addQuad(scene::Quad{"lamp",
                                                    dvec3(0.9, 2.2, 0.8),
                                                    dvec3(0.6, 0, 0),
                                                    dvec3(0, 0, 0.6),
                                                    emitter(dvec3(18, 17, 15)),
+                                                   {},
                                                    {}});
   s.camera.eye = dvec3(2.3, 1.3, 2.3);
   s.camera.target = dvec3(0.5, 0.35, 0.7);

@@ -25,7 +25,7 @@ in="$tmp/moved/in"
 rc=$?
 f="$(awk '$1 == "focal_px" {print $2}' "$tmp/out")"
 [[ $rc == 0 && -s "$tmp/c.bundle" ]] && grep -q "^reprojection_error_px" "$tmp/out" \
-  && grep -q "^patches 1118 sources [1-9]" "$tmp/out" && grep -q "^dynamic_range stops" "$tmp/out" \
+  && grep -q "^patches 1341 sources [1-9]" "$tmp/out" && grep -q "^dynamic_range stops" "$tmp/out" \
   && grep -q "irradiance volume" "$tmp/err" \
   && awk -v f="$f" 'BEGIN {exit !(f > 413.6 && f < 417.8)}'
 check "capture (moved folder): bundle written, summary (focal $f px, true 415.69) and progress" $?
