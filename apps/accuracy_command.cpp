@@ -105,6 +105,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
                 "ray-traced reference: shadow rays per point")
       ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
+  c->add_flag("--pixel-centres", cmd->options.rays.pixelCentres,
+              "ray-traced reference: every camera ray through the pixel centre, as Penumbra "
+              "samples (default: jittered over the pixel, anti-aliased)");
   c->add_option("--bounces", cmd->options.rays.bounces, "ray-traced reference: indirect bounces")
       ->check(cli::NumberRange(0, 16))
       ->capture_default_str();

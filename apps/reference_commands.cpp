@@ -154,6 +154,9 @@ std::vector<Command> addReferenceCommands([[maybe_unused]] CLI::App& app) {
                 "shadow rays per surface point, over all emitting patches")
       ->check(cli::NumberRange(1, 65536))
       ->capture_default_str();
+  r->add_flag("--pixel-centres", ref->options.pixelCentres,
+              "every camera ray through the pixel centre, as Penumbra samples (default: "
+              "jittered over the pixel, anti-aliased)");
   r->add_option("--bounces", ref->options.bounces, "indirect bounces (path tracing)")
       ->check(cli::NumberRange(0, 16))
       ->capture_default_str();

@@ -57,6 +57,7 @@ core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOpti
     info = {{"kind", "raytraced"},
             {"spp", o.rays.samplesPerPixel},
             {"light_samples", o.rays.lightSamples},
+            {"pixel_centres", o.rays.pixelCentres},
             {"bounces", o.rays.bounces},
             {"seed", o.rays.seed},
             {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};
@@ -117,6 +118,11 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   } else if (mask.pixels.empty()) {
     mask = shadowRegion(ref, zero.rgba, bundle.background, "shadow region of the reference");
   }
+  // A given or ray-traced mask leaves out the reference's product pixels only; where the
+  // rasterized product covers a pixel the ray-traced one misses (its silhouette, its base on
+  // the floor) the difference is the product's, not the shadow's: the region rule
+  // (reference/shadow_region.h) leaves out Penumbra's product pixels too.
+  excludeProductPixels(mask, zero.rgba, bundle.background);
   if (!o.referenceOut.empty()) writeRgb(o.referenceOut, ref);
   if (!o.maskOut.empty()) writeMask(o.maskOut, mask);
 

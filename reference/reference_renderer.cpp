@@ -319,7 +319,9 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
       int objectSamples = 0;
       for (int s = 0; s < options.samplesPerPixel; ++s) {
         Stream rng{core::splitmix64(pixelKey ^ uint64_t(s))};
-        const double jx = rng.next(), jy = rng.next();
+        // Drawn either way, so the light samples' streams do not depend on the choice.
+        double jx = rng.next(), jy = rng.next();
+        if (options.pixelCentres) jx = jy = 0.5;
         dvec3 origin, dir;
         double tMax = 1.0;
         Pair sample;

@@ -69,9 +69,14 @@ struct ReferenceScene {
 
 struct ReferenceOptions {
   int samplesPerPixel = 4;  // jittered camera rays per pixel
-  int lightSamples = 32;    // shadow rays per surface point, over all emitters
-  int bounces = 0;          // indirect bounces (0: direct light only)
-  unsigned threads = 0;     // 0 = hardware concurrency; the bytes do not depend on it
+  // Every camera ray through the pixel's centre (the samples then only average the light):
+  // the quantity Penumbra's rasterizer computes, which samples coverage and attributes at
+  // pixel centres and has no anti-aliasing. Off: jittered over the pixel (anti-aliased),
+  // which also counts a point-sampled image's aliasing at silhouettes and contact lines.
+  bool pixelCentres = false;
+  int lightSamples = 32;  // shadow rays per surface point, over all emitters
+  int bounces = 0;        // indirect bounces (0: direct light only)
+  unsigned threads = 0;   // 0 = hardware concurrency; the bytes do not depend on it
   uint64_t seed = 1;
   double normalOffset = 1e-4;  // metres: shadow and bounce rays start this far off a surface
 };

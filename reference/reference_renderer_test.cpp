@@ -212,6 +212,30 @@ TEST(ReferenceRenderer, ProductInPlaceCastsAShadowAndShowsItself) {
   }
 }
 
+TEST(ReferenceRenderer, PixelCentresSampleWhatTheRasterizerSamples) {
+  ReferenceScene scene = shadowScene(32, 24);
+  // From above the sheet (y = 1, x <= 0) and beside the lamp (y = 2, |x| <= 0.5), looking
+  // down at the sheet's edge x = 0.
+  scene.viewProj = cameraAt({1.5, 2.5, 0.0}, {0.0, 1, 0}, 50, 32.0 / 24);
+  ReferenceOptions o;
+  o.samplesPerPixel = 4;
+  o.lightSamples = 4;
+  const ReferenceImage jittered = renderReference(scene, o);
+  o.pixelCentres = true;
+  const ReferenceImage centred = renderReference(scene, o);
+  // Jittered samples straddle the sheet's silhouette (partial coverage); through the centre
+  // a pixel is the product's or not, as a rasterized pixel is.
+  size_t partialJittered = 0;
+  for (float c : jittered.objectCoverage) partialJittered += c > 0 && c < 1;
+  size_t covered = 0;
+  for (float c : centred.objectCoverage) {
+    EXPECT_TRUE(c == 0 || c == 1) << c;
+    covered += c == 1;
+  }
+  EXPECT_GT(partialJittered, 0u);
+  EXPECT_GT(covered, 0u);
+}
+
 TEST(ReferenceRenderer, IndirectLightOnlyAdds) {
   // A closed box lit from inside: one bounce adds light to every pixel, never removes it.
   scene::PatchMesh m;

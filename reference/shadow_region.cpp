@@ -48,6 +48,16 @@ core::Image8 shadowRegion(const core::Image8& reference, std::span<const uint8_t
   return mask;
 }
 
+void excludeProductPixels(core::Image8& region, std::span<const uint8_t> unshadowed,
+                          std::span<const uint8_t> background) {
+  requireSize(region.pixels, 1, region.width, region.height, region.name);
+  const std::vector<uint8_t> product =
+      productPixels(unshadowed, background, region.width, region.height);
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (product[i]) region.pixels[i] = 0;
+  }
+}
+
 ContactErrors contactErrors(const core::Image8& reference, std::span<const uint8_t> frame,
                             std::span<const uint8_t> unshadowed,
                             std::span<const uint8_t> background, const core::Image8& region,

@@ -39,6 +39,12 @@ std::vector<uint8_t> productPixels(std::span<const uint8_t> unshadowed,
 core::Image8 shadowRegion(const core::Image8& reference, std::span<const uint8_t> unshadowed,
                           std::span<const uint8_t> background, std::string name);
 
+// Clears from `region` (a mask given as a file, or the ray tracer's, which leaves out the
+// reference's product pixels only) the pixels the product covers in the shadow-free frame:
+// the region rule above, applied to any mask.
+void excludeProductPixels(core::Image8& region, std::span<const uint8_t> unshadowed,
+                          std::span<const uint8_t> background);
+
 // Shadow acne and light leaking at contact, against the reference: the contact band is the
 // shadow region within `radius` pixels (Chebyshev distance) of the product's pixels (where
 // it meets the floor); its signed mean error > 0 means the frame is too light there (light

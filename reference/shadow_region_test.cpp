@@ -44,6 +44,17 @@ TEST(ShadowRegion, OneLevelInOneChannelCountsAndTheProductNeverDoes) {
   EXPECT_EQ(m.pixels, (std::vector<uint8_t>{0, 1, 1, 0, 1, 0}));
 }
 
+TEST(ShadowRegion, AGivenMaskLosesThePixelsThisFrameDrawsTheProductOn) {
+  Strip s;
+  Strip::set(s.unshadowed, 3, 0, 180);  // the rasterized product also covers pixel 3
+  core::Image8 mask(s.kWidth, s.kHeight, 1, "ray-traced mask");
+  mask.pixels = {0, 1, 1, 1, 0, 1};
+  excludeProductPixels(mask, s.unshadowed, s.background);
+  EXPECT_EQ(mask.pixels, (std::vector<uint8_t>{0, 1, 1, 0, 0, 1}));
+  core::Image8 small(5, 1, 1, "small");
+  EXPECT_THROW(excludeProductPixels(small, s.unshadowed, s.background), MetricsError);
+}
+
 TEST(ShadowRegion, RejectsImagesOfAnotherSize) {
   Strip s;
   std::vector<uint8_t> small(4 * 5, 100);
