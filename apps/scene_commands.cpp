@@ -255,6 +255,13 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
       {pre, [precompute, precomputeOptions] {
          core::Stopwatch watch;
          const scene::SceneDescription scene = scene::loadSceneFile(precompute->first);
+         // What the models' loaders could not honour and implausible sizes (a unit slip):
+         // not errors, but a technician must see them.
+         for (const scene::Product& p : scene.products) {
+           for (const std::string& w : p.warnings) {
+             std::fprintf(stderr, "penumbra: warning: product %s: %s\n", p.name.c_str(), w.c_str());
+           }
+         }
          std::vector<lighting::StageTiming> timings;
          const shadow::SceneBundle bundle = lighting::precomputeBundle(
              scene, *precomputeOptions, timings,

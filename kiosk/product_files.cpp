@@ -5,11 +5,13 @@
 #include <cmath>
 
 #include "scene/mesh_io.h"
+#include "scene/product_size.h"
 
 namespace penumbra::kiosk {
 
 shadow::ProductModel loadProductFile(const std::filesystem::path& file,
-                                     const shadow::ProductModel& current) {
+                                     const shadow::ProductModel& current,
+                                     std::vector<std::string>* warnings) {
   const std::string name = file.string();
   scene::TriangleMesh mesh;
   try {
@@ -36,6 +38,16 @@ shadow::ProductModel loadProductFile(const std::filesystem::path& file,
   if (size.x > 10 || size.y > 10 || size.z > 10) {
     throw ProductFileError(name + ": larger than 10 m (metres expected, y up)");
   }
+  if (warnings) {
+    *warnings = mesh.warnings;
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (const auto w = scene::productSizeWarning(name, std::max({size.x, size.y, size.z}), 1.0,
+                                                 ext == ".gltf" || ext == ".glb")) {
+      warnings->push_back(*w);
+    }
+  }
   // As scene_file.cpp places products: footprint centred on the origin, resting on y = 0.
   const glm::dvec3 shift(-b.centre().x, -b.min.y, -b.centre().z);
   shadow::ProductModel model = current;
@@ -47,6 +59,11 @@ shadow::ProductModel loadProductFile(const std::filesystem::path& file,
   }
   model.mesh.indices = mesh.indices;
   model.proxy = model.mesh;
+  model.normals.clear();
+  for (const glm::dvec3& n : mesh.normals) model.normals.push_back(glm::vec3(n));
+  // The file's colours, or (none) the product's material's one reflectance.
+  model.reflectances.clear();
+  for (const glm::dvec3& r : mesh.reflectances) model.reflectances.push_back(glm::vec3(r));
   return model;
 }
 
@@ -65,11 +82,13 @@ uint32_t productIndex(const shadow::SceneBundle& bundle, const ProductFile& swap
 ProductFileWatcher::Loaded loadOrRefuse(const std::filesystem::path& file,
                                         const shadow::ProductModel& current) {
   try {
-    return {loadProductFile(file, current), {}};
+    ProductFileWatcher::Loaded loaded;
+    loaded.model = loadProductFile(file, current, &loaded.warnings);
+    return loaded;
   } catch (const ProductFileError& e) {
-    return {{}, e.what()};
+    return {{}, e.what(), {}};
   } catch (const std::exception& e) {
-    return {{}, file.string() + ": " + e.what()};
+    return {{}, file.string() + ": " + e.what(), {}};
   }
 }
 
@@ -81,6 +100,9 @@ std::string apply(shadow::ProductModel& product, const ProductFile& swap,
               "product " + swap.product + ": refused " + loaded.refusal +
                   "; keeping the last good model");
     return loaded.refusal;
+  }
+  for (const std::string& w : loaded.warnings) {
+    log.write(nowNs, LogLevel::kWarning, "product " + swap.product + ": " + w);
   }
   product = std::move(loaded.model);
   log.write(nowNs, LogLevel::kInfo,

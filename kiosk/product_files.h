@@ -31,11 +31,17 @@ constexpr size_t kMaxProductFileTriangles = 5000;
 // Reads `file` (OBJ, PLY; glTF/GLB in builds with tinygltf) as a new model for `current`,
 // whose name and material it keeps. Placed as `penumbra precompute` places products
 // (scene/scene_file.h): metres, y up, bounding box centred on x = z = 0, lowest point at
-// y = 0. Throws ProductFileError "FILE: reason": unreadable, truncated or malformed (the
-// loader's own message), a non-finite vertex, no triangles, too many triangles, or larger
-// than 10 m.
+// y = 0. The file's normals come with it (as exported, or split by crease angle: the 60
+// degree default of scene/mesh_io.h), and its colours when it has some (OBJ materials, glTF
+// base colour); without colours the product keeps its material's one reflectance. Throws
+// ProductFileError "FILE: reason": unreadable, truncated or malformed (the loader's own
+// message), a non-finite vertex, no triangles, too many triangles, or larger than 10 m.
+// `warnings` (optional) receives what is not refused but should be seen, each naming the
+// file: the loader's (an undecodable texture) and an implausible size (scene/product_size.h:
+// a file in millimetres, centimetres or inches; product files are read in metres).
 shadow::ProductModel loadProductFile(const std::filesystem::path& file,
-                                     const shadow::ProductModel& current);
+                                     const shadow::ProductModel& current,
+                                     std::vector<std::string>* warnings = nullptr);
 
 struct ProductFile {
   std::string product;  // the product's name in the bundle
@@ -96,6 +102,7 @@ class ProductFileWatcher {
   struct Loaded {
     shadow::ProductModel model;
     std::string refusal;
+    std::vector<std::string> warnings;  // logged as warnings when the model is applied
   };
 
  private:

@@ -73,6 +73,42 @@ TEST(ProductFiles, GoodModelIsPlacedOnTheFloorAndKeepsTheMaterial) {
   EXPECT_NEAR(minX + maxX, 0.0f, 1e-6f);
 }
 
+// Issue 15 item 6 on the board: a hot-swapped model brings its normals (a flat box: 24
+// vertices, one normal per face) and its colours; an implausible size (a file in
+// millimetres: product files are read in metres) is logged as a warning naming the file, and
+// the model is still shown.
+TEST(ProductFiles, SwappedModelsBringTheirNormalsColoursAndASizeWarning) {
+  const fs::path dir = test::scratchPath("product-files-attributes");
+  fs::create_directories(dir);
+  const std::string box =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+      "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+  std::ofstream(dir / "box.mtl") << "newmtl oak\nKd 0.6 0.4 0.2\n";
+  std::ofstream(dir / "box.obj") << "mtllib box.mtl\nusemtl oak\n" << box;
+  std::vector<std::string> warnings;
+  const shadow::ProductModel m = loadProductFile(dir / "box.obj", current(), &warnings);
+  EXPECT_EQ(m.mesh.positions.size(), 24u);
+  ASSERT_EQ(m.normals.size(), 24u);
+  for (const glm::vec3& n : m.normals)
+    EXPECT_EQ(std::abs(n.x) + std::abs(n.y) + std::abs(n.z), 1.0f);
+  EXPECT_EQ(m.reflectances, std::vector<glm::vec3>(24, glm::vec3(0.6f, 0.4f, 0.2f)));
+  EXPECT_TRUE(warnings.empty());  // a 1 m box
+
+  // A 3 cm box (a model in metres meant to be scaled up, or a unit slip): too small.
+  std::ofstream(dir / "small.obj")
+      << "v 0 0 0\nv 0.03 0 0\nv 0.03 0.03 0\nv 0 0.03 0\nv 0 0 0.03\nv 0.03 0 0.03\n"
+         "v 0.03 0.03 0.03\nv 0 0.03 0.03\n"
+      << box.substr(box.find("f "));
+  shadow::SceneBundle b;
+  b.products = {current()};
+  KioskLog log;
+  EXPECT_EQ(swapProductFile(b, {"bunny", dir / "small.obj"}, log, 5), "");
+  EXPECT_TRUE(b.products[0].reflectances.empty());  // no colours: the material's one
+  EXPECT_EQ(b.products[0].normals.size(), 24u);
+  EXPECT_TRUE(log.contains("product bunny: " + (dir / "small.obj").string() + ": measures 0.03 m"));
+  fs::remove_all(dir);
+}
+
 TEST(ProductFiles, SwapKeepsTheLastGoodModelAndLogsWhy) {
   shadow::SceneBundle b;
   b.products = {current()};

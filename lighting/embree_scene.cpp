@@ -156,7 +156,8 @@ std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::d
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return Hit{rh.hit.primID, static_cast<double>(rh.ray.tfar)};
+  return Hit{rh.hit.primID, static_cast<double>(rh.ray.tfar), static_cast<double>(rh.hit.u),
+             static_cast<double>(rh.hit.v)};
 }
 
 }  // namespace penumbra::lighting

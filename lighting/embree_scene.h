@@ -42,6 +42,8 @@ struct EmbreeSceneOptions {
 struct Hit {
   uint32_t triangle = 0;  // index into PatchMesh triangles (indices / 3)
   double t = 0;           // ray parameter, distance when the direction is unit length
+  // Barycentric coordinates of the hit (Embree's): the point is (1 - u - v) p0 + u p1 + v p2.
+  double u = 0, v = 0;
 };
 
 struct Segment {

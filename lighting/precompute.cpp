@@ -157,8 +157,16 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
 
   begin("products");
   for (const scene::Product& p : scene.products) {
-    b.products.push_back({p.name, toRaster(p.mesh), toRaster(p.proxy), glm::vec3(p.reflectance),
-                          glm::vec3(p.specular), static_cast<float>(p.specularExponent)});
+    shadow::ProductModel m;
+    m.name = p.name;
+    m.mesh = toRaster(p.mesh);
+    m.proxy = toRaster(p.proxy);
+    for (const glm::dvec3& n : p.mesh.normals) m.normals.push_back(glm::vec3(n));
+    for (const glm::dvec3& r : p.mesh.reflectances) m.reflectances.push_back(glm::vec3(r));
+    m.reflectance = glm::vec3(p.reflectance);
+    m.specular = glm::vec3(p.specular);
+    m.specularExponent = static_cast<float>(p.specularExponent);
+    b.products.push_back(std::move(m));
   }
   b.startPose = {static_cast<uint32_t>(scene.startPose.product),
                  static_cast<float>(scene.startPose.x), static_cast<float>(scene.startPose.z),

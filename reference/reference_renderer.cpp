@@ -29,7 +29,8 @@ struct Emitter {
 
 // A surface point a ray found.
 struct SurfaceHit {
-  dvec3 x, n;  // n faces the ray's origin
+  dvec3 x, n;         // n: the shading normal
+  dvec3 offset{0.0};  // the geometric normal facing the ray's origin: rays start off it
   dvec3 reflectance{0.0}, emission{0.0};
   double t = 0;  // ray parameter of the hit
 };
@@ -56,6 +57,12 @@ dvec3 faceNormal(const std::vector<dvec3>& positions, const std::vector<uint32_t
   const dvec3 n = glm::cross(b - a, c - a);
   const double length = glm::length(n);
   return length > 0 ? n / length : dvec3(0, 1, 0);
+}
+
+// `v` normalized; zero stays zero.
+dvec3 unit(const dvec3& v) {
+  const double length = glm::length(v);
+  return length > 0 ? v / length : dvec3(0.0);
 }
 
 class Tracer {
@@ -122,6 +129,7 @@ class Tracer {
     // front only.
     if (glm::dot(patch.normal, dir) < 0) s.emission = patch.emission;
     if (glm::dot(s.n, dir) > 0) s.n = -s.n;
+    s.offset = s.n;
     return s;
   }
 
@@ -129,10 +137,29 @@ class Tracer {
     SurfaceHit s;
     s.x = origin + h.t * dir;
     s.t = h.t;
-    // Flat shading with the face normal, turned towards the viewer.
-    s.n = faceNormal(objectMesh_.positions, objectMesh_.indices, h.triangle);
-    if (glm::dot(s.n, dir) > 0) s.n = -s.n;
-    s.reflectance = scene_.object->reflectance;
+    // The face normal, turned towards the viewer, offsets the rays leaving the surface.
+    s.offset = faceNormal(objectMesh_.positions, objectMesh_.indices, h.triangle);
+    if (glm::dot(s.offset, dir) > 0) s.offset = -s.offset;
+    const ReferenceObject& object = *scene_.object;
+    const size_t t = 3 * size_t{h.triangle};
+    const uint32_t i0 = objectMesh_.indices[t], i1 = objectMesh_.indices[t + 1],
+                   i2 = objectMesh_.indices[t + 2];
+    const double w0 = 1.0 - h.u - h.v;
+    if (object.normals.empty()) {
+      s.n = s.offset;
+    } else {
+      // The per-frame path's vertex normals, interpolated as its rasterizer interpolates the
+      // vertex colours they give (Phong 1975 interpolates normals; the frame path interpolates
+      // colours, Gouraud 1971: the two agree at the vertices).
+      const dvec3 n = w0 * unit(object.normals[i0]) + h.u * unit(object.normals[i1]) +
+                      h.v * unit(object.normals[i2]);
+      const double length = glm::length(n);
+      s.n = length > 0 ? n / length : s.offset;
+    }
+    s.reflectance = object.reflectances.empty()
+                        ? object.reflectance
+                        : w0 * object.reflectances[i0] + h.u * object.reflectances[i1] +
+                              h.v * object.reflectances[i2];
     return s;
   }
 
@@ -151,7 +178,7 @@ class Tracer {
     const dvec3 b = glm::cross(n, t);
     const dvec3 dir =
         r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * n;
-    const dvec3 origin = hit.x + options_.normalOffset * hit.n;
+    const dvec3 origin = hit.x + options_.normalOffset * hit.offset;
     constexpr double kFar = 1e3;
     const std::optional<SurfaceHit> roomHit = traceRoom(origin, dir, kFar);
     const double roomT = roomHit ? roomHit->t : kFar;
@@ -197,7 +224,7 @@ class Tracer {
     if (!(total > 0)) return out;
     dvec3 blockedByRoom(0.0), blockedByObject(0.0);
     const int n = options_.lightSamples;
-    const dvec3 origin = hit.x + options_.normalOffset * hit.n;
+    const dvec3 origin = hit.x + options_.normalOffset * hit.offset;
     for (int k = 0; k < n; ++k) {
       // Systematic sampling of the emitter distribution: sample k picks from the k-th
       // n-quantile, so each emitter gets its share of the samples to within one.
@@ -272,10 +299,15 @@ void validate(const ReferenceScene& scene, const ReferenceOptions& options) {
     }
   }
   if (scene.object) {
-    for (uint32_t i : scene.object->mesh.indices) {
-      if (i >= scene.object->mesh.positions.size()) {
+    const ReferenceObject& o = *scene.object;
+    for (uint32_t i : o.mesh.indices) {
+      if (i >= o.mesh.positions.size()) {
         throw std::invalid_argument("renderReference: object index out of range");
       }
+    }
+    if ((!o.normals.empty() && o.normals.size() != o.mesh.positions.size()) ||
+        (!o.reflectances.empty() && o.reflectances.size() != o.mesh.positions.size())) {
+      throw std::invalid_argument("renderReference: object attributes are not one per vertex");
     }
   }
   if (!scene.cameraRay && (std::abs(glm::determinant(scene.viewProj)) == 0 ||
@@ -405,6 +437,11 @@ ReferenceScene referenceSceneOf(const shadow::SceneBundle& bundle,
     ReferenceObject object;
     shadow::placeMesh(model.mesh, *pose, object.mesh);
     object.reflectance = dvec3(model.reflectance);
+    // The normals and reflectances the per-frame shading uses (shadow::shadingNormals).
+    for (const glm::vec3& n : shadow::shadingNormals(model, object.mesh, *pose)) {
+      object.normals.emplace_back(n);
+    }
+    for (const glm::vec3& r : model.reflectances) object.reflectances.emplace_back(r);
     scene.object = std::move(object);
   }
   return scene;

@@ -44,10 +44,16 @@
 
 namespace penumbra::reference {
 
-// The synthetic object, placed in world space (shadow::placeMesh), diffuse.
+// The synthetic object, placed in world space (shadow::placeMesh), diffuse. Shaded as the
+// per-frame path shades it (shadow/product_shading.h): at a hit, the normal is its triangle's
+// vertex normals interpolated barycentrically and normalized, and the reflectance its vertex
+// reflectances interpolated; the geometric normal (towards the ray) only offsets the shadow
+// and bounce rays off the surface. Without normals: the flat face normal.
 struct ReferenceObject {
   core::Mesh mesh;
-  glm::dvec3 reflectance{0.5};
+  glm::dvec3 reflectance{0.5};             // every vertex's, when `reflectances` is empty
+  std::vector<glm::dvec3> normals{};       // empty, or one per vertex (any positive length)
+  std::vector<glm::dvec3> reflectances{};  // empty, or one per vertex
 };
 
 struct ReferenceScene {

@@ -111,6 +111,44 @@ TEST(ReferenceRenderer, MatchesClosedFormFormFactorWithinMonteCarloError) {
   EXPECT_EQ(image.objectCoverage[0], 0.0f);
 }
 
+// Issue 15 item 6: the reference shades the product as the frame path does, with the
+// model's vertex normals and reflectances interpolated at the hit. A small quad at 0.5 m
+// under the lamp, seen by a one-pixel camera at its centre, with every vertex normal tilted
+// 45 degrees towards +x and reflectances varying across it: nothing blocks the lamp from it,
+// so its radiance is the closed form rho(hit) E F(x, n) exactly.
+TEST(ReferenceRenderer, ProductIsShadedWithItsVertexNormalsAndReflectances) {
+  const dvec3 target(0.2, 0.5, 0.1);
+  ReferenceScene scene;
+  scene.room = floorAndLamp();
+  scene.viewProj = cameraAt({0.25, 1.2, 0.1}, target, 0.02, 1.0);
+  scene.width = scene.height = 1;
+  ReferenceObject object;
+  object.mesh.positions = {
+      {0.1f, 0.5f, 0.0f}, {0.1f, 0.5f, 0.2f}, {0.3f, 0.5f, 0.2f}, {0.3f, 0.5f, 0.0f}};
+  object.mesh.indices = {0, 1, 2, 0, 2, 3};
+  object.normals.assign(4, dvec3(1, 1, 0));  // normalized at the hit
+  // Reflectance 0.2 along x = 0.1, 0.6 along x = 0.3: 0.4 at the centre line x = 0.2.
+  object.reflectances = {dvec3(0.2), dvec3(0.2), dvec3(0.6), dvec3(0.6)};
+  scene.object = object;
+  ReferenceOptions o;
+  o.samplesPerPixel = 4;
+  o.lightSamples = 16;
+  o.threads = 1;
+  const ReferenceImage image = renderReference(scene, o);
+  ASSERT_EQ(image.objectCoverage[0], 1.0f);
+  const std::vector<dvec3> lamp = {{-0.5, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5}, {-0.5, 2, 0.5}};
+  const double tilted =
+      lighting::pointToPolygonFormFactor(target, glm::normalize(dvec3(1, 1, 0)), lamp);
+  const double flat = lighting::pointToPolygonFormFactor(target, dvec3(0, 1, 0), lamp);
+  ASSERT_GT(std::abs(tilted - flat), 0.05 * flat);  // the normals matter here
+  for (int c = 0; c < 3; ++c) {
+    // The samples spread within a millimetre of the target: reflectance 0.4 +- 0.01.
+    EXPECT_NEAR(image.objectRadiance[0][c], 0.4 * kEmission[c] * tilted,
+                0.01 * kEmission[c] * tilted)
+        << c;
+  }
+}
+
 ReferenceScene shadowScene(uint32_t width, uint32_t height) {
   ReferenceScene scene;
   scene.room = floorAndLamp();

@@ -55,7 +55,8 @@ void BundleWriter::write(const std::filesystem::path& path) const {
   if (error) throw BundleError(path.string() + ": cannot write bundle: " + error.message());
 }
 
-BundleReader::BundleReader(const std::filesystem::path& path, uint32_t expectedVersion)
+BundleReader::BundleReader(const std::filesystem::path& path, uint32_t oldestVersion,
+                           uint32_t newestVersion)
     : path_(path.string()),
       data_(core::readRegularFile(path, kMaxBundleBytes, "a scene bundle",
                                   core::throwAs<BundleError>)) {
@@ -65,11 +66,14 @@ BundleReader::BundleReader(const std::filesystem::path& path, uint32_t expectedV
   uint32_t version, count;
   std::memcpy(&version, data_.data() + 16, 4);
   std::memcpy(&count, data_.data() + 20, 4);
-  if (version != expectedVersion) {
-    throw BundleError(path_ + ": bundle format version " + std::to_string(version) +
-                      ", this program reads version " + std::to_string(expectedVersion) +
-                      " (run `penumbra precompute` again)");
+  if (version < oldestVersion || version > newestVersion) {
+    throw BundleError(
+        path_ + ": bundle format version " + std::to_string(version) +
+        ", this program reads version " + std::to_string(oldestVersion) +
+        (newestVersion == oldestVersion ? std::string() : " to " + std::to_string(newestVersion)) +
+        " (run `penumbra precompute` again)");
   }
+  version_ = version;
   Sha256 hash;
   hash.update(std::span<const uint8_t>(data_).subspan(kHeaderSize));
   const auto digest = hash.finish();

@@ -59,7 +59,13 @@ class BundleWriter {
 class BundleReader {
  public:
   // Reads and verifies `path`; throws BundleError naming the file.
-  BundleReader(const std::filesystem::path& path, uint32_t expectedVersion);
+  BundleReader(const std::filesystem::path& path, uint32_t expectedVersion)
+      : BundleReader(path, expectedVersion, expectedVersion) {}
+  // The same for any format version in [oldestVersion, newestVersion] (a reader that still
+  // knows older layouts); version() says which one the file has.
+  BundleReader(const std::filesystem::path& path, uint32_t oldestVersion, uint32_t newestVersion);
+
+  uint32_t version() const { return version_; }
 
   bool has(const std::string& name) const { return sections_.count(name) != 0; }
   template <class T>
@@ -85,6 +91,7 @@ class BundleReader {
   const Section& section(const std::string& name, size_t elementSize) const;
   std::string path_;
   std::vector<uint8_t> data_;
+  uint32_t version_ = 0;
   std::map<std::string, Section> sections_;
 };
 

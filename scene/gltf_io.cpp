@@ -1,10 +1,13 @@
 #include "scene/gltf_io.h"
 
 #include "core/regular_file.h"
+#include "scene/mesh_attributes.h"
+#include "scene/texture.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 
 namespace penumbra::scene {
@@ -39,10 +42,6 @@ namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
   throw MeshError(path.string() + ": " + what);
-}
-
-double srgbToLinear(double v) {
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
 
 glm::dmat4 nodeTransform(const tinygltf::Node& n) {
@@ -187,34 +186,10 @@ struct ModelFiles {
   }
 };
 
-// Width and height from a PNG's IHDR or a JPEG's start-of-frame marker; nullopt for any
-// other format (glTF 2.0 images are PNG or JPEG) or a header that ends early.
-std::optional<std::pair<uint32_t, uint32_t>> imageSize(const unsigned char* b, size_t n) {
-  const auto be16 = [&](size_t i) { return uint32_t(b[i]) << 8 | b[i + 1]; };
-  const auto be32 = [&](size_t i) { return be16(i) << 16 | be16(i + 2); };
-  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (n >= 24 && std::memcmp(b, kPng, 8) == 0) return std::pair(be32(16), be32(20));
-  if (n < 4 || b[0] != 0xff || b[1] != 0xd8) return std::nullopt;
-  for (size_t i = 2; i + 9 <= n;) {
-    if (b[i] != 0xff) return std::nullopt;
-    const unsigned char marker = b[i + 1];
-    // SOF0-SOF15 carry the size, except DHT (C4), JPG (C8) and DAC (CC).
-    if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc) {
-      return std::pair(be16(i + 7), be16(i + 5));
-    }
-    i += 2 + be16(i + 2);
-  }
-  return std::nullopt;
-}
-
-// A texture's texels are averaged (gltf_io.h), and a PNG of 65535 x 65535 pixels is a few
-// kilobytes that decode to 16 GB: the size is read from the header before decoding.
-constexpr uint32_t kMaxTextureSide = 8192;
-
 bool loadBoundedImage(tinygltf::Image* image, int index, std::string* err, std::string* warn,
                       int reqWidth, int reqHeight, const unsigned char* bytes, int size,
                       void* user) {
-  const auto wh = imageSize(bytes, size_t(std::max(size, 0)));
+  const auto wh = pngOrJpegSize(bytes, size_t(std::max(size, 0)));
   const std::string what = "images[" + std::to_string(index) + "]: ";
   if (!wh) {
     if (err) *err += what + "not a PNG or JPEG image";
@@ -412,15 +387,44 @@ class SceneFlattener {
                     const std::string& what) {
     const std::filesystem::path& path = path_;
     if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) return;
-    const uint32_t base = static_cast<uint32_t>(out_.mesh.positions.size());
-    const size_t vertexCount = appendPositions(prim, world, what);
-    const std::vector<uint32_t> idx = indices(prim, vertexCount, what);
+    const std::vector<glm::dvec3> positions = worldPositions(prim, world, what);
+    const std::vector<uint32_t> idx = indices(prim, positions.size(), what);
     if (idx.size() % 3 != 0) fail(path, what + ": index count is not a multiple of 3");
     const bool mirrored = glm::determinant(glm::dmat3(world)) < 0;
-    for (size_t t = 0; t < idx.size(); t += 3) {
-      out_.mesh.indices.push_back(base + idx[t]);
-      out_.mesh.indices.push_back(base + idx[t + (mirrored ? 2 : 1)]);
-      out_.mesh.indices.push_back(base + idx[t + (mirrored ? 1 : 2)]);
+    const std::vector<glm::dvec3> normals = worldNormals(prim, world, positions.size(), what);
+    const std::vector<glm::dvec3> reflectances = vertexReflectances(prim, positions.size(), what);
+    TriangleMesh& out = out_.mesh;
+    const uint32_t base = static_cast<uint32_t>(out.positions.size());
+    if (!normals.empty()) {
+      // The file's normals: one vertex per glTF vertex.
+      out.positions.insert(out.positions.end(), positions.begin(), positions.end());
+      out.normals.insert(out.normals.end(), normals.begin(), normals.end());
+      out.reflectances.insert(out.reflectances.end(), reflectances.begin(), reflectances.end());
+      for (size_t t = 0; t < idx.size(); t += 3) {
+        out.indices.push_back(base + idx[t]);
+        out.indices.push_back(base + idx[t + (mirrored ? 2 : 1)]);
+        out.indices.push_back(base + idx[t + (mirrored ? 1 : 2)]);
+      }
+    } else if (!idx.empty()) {
+      // glTF 2.0 §3.7.2.1: "When normals are not specified, client implementations MUST
+      // calculate flat normals": crease angle 0 (only coplanar neighbours share a vertex).
+      PolygonSoup soup;
+      soup.positions = positions;
+      soup.reflectances = reflectances;
+      for (size_t t = 0; t < idx.size(); t += 3) {
+        for (const size_t k : {t, t + (mirrored ? 2 : 1), t + (mirrored ? 1 : 2)}) {
+          soup.cornerPosition.push_back(idx[k]);
+          soup.cornerAttribute.push_back(idx[k]);  // the glTF vertex: its colour
+        }
+        soup.endFace();
+      }
+      soup.cornerNormal.assign(soup.cornerPosition.size(), kNoAttribute);
+      const TriangleMesh flat = buildTriangleMesh(soup, 0.0);
+      out.positions.insert(out.positions.end(), flat.positions.begin(), flat.positions.end());
+      out.normals.insert(out.normals.end(), flat.normals.begin(), flat.normals.end());
+      out.reflectances.insert(out.reflectances.end(), flat.reflectances.begin(),
+                              flat.reflectances.end());
+      for (uint32_t i : flat.indices) out.indices.push_back(base + i);
     }
     const ProductMaterial pm = material(prim, what);
     const size_t triangles = idx.size() / 3;  // idx holds whole triangles
@@ -434,10 +438,196 @@ class SceneFlattener {
     weightSum_ += w;
   }
 
-  // The primitive's positions in world space, appended to the mesh; returns their count.
-  size_t appendPositions(const tinygltf::Primitive& prim, const glm::dmat4& world,
-                         const std::string& what) {
+  // Element i of a float accessor, or of a normalized unsigned byte or short one (glTF 2.0
+  // §3.11: c / 255, c / 65535); w = 1 when it has three components.
+  glm::dvec4 element(const Reader::View& v, size_t i) const {
+    const unsigned char* p = v.data + i * v.stride;
+    glm::dvec4 out(0.0, 0.0, 0.0, 1.0);
+    for (int c = 0; c < v.components && c < 4; ++c) {
+      switch (v.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+          out[c] = load<float>(p + 4 * c);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          out[c] = p[c] / 255.0;
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+          out[c] = load<uint16_t>(p + 2 * c) / 65535.0;
+          break;
+        default:
+          break;
+      }
+    }
+    return out;
+  }
+
+  // An optional per-vertex attribute with `count` elements of `components` in {minC, maxC}
+  // components: float, or normalized unsigned byte/short where `normalizedOk`.
+  std::optional<Reader::View> attribute(const tinygltf::Primitive& prim, const std::string& name,
+                                        size_t count, int minComponents, int maxComponents,
+                                        bool normalizedOk, const std::string& what) const {
+    const auto it = prim.attributes.find(name);
+    if (it == prim.attributes.end()) return std::nullopt;
+    const std::string where = what + "." + name;
+    const Reader::View v = reader_.view(it->second, where);
+    const bool typeOk =
+        v.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+        (normalizedOk && (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                          v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+    if (!typeOk || v.components < minComponents || v.components > maxComponents) {
+      fail(path_, where + ": unsupported accessor type");
+    }
+    if (v.count != count) {
+      fail(path_, where + ": " + std::to_string(v.count) + " elements for " +
+                      std::to_string(count) + " positions");
+    }
+    return v;
+  }
+
+  // NORMAL through the inverse transpose of the node's world matrix (normals are covectors:
+  // this keeps them perpendicular under non-uniform scale and points them the right way
+  // under a mirroring one), normalized. Empty when the primitive has none.
+  std::vector<glm::dvec3> worldNormals(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                                       size_t count, const std::string& what) const {
+    std::vector<glm::dvec3> normals;
+    const auto v = attribute(prim, "NORMAL", count, 3, 3, false, what);
+    if (!v) return normals;
+    const glm::dmat3 m = glm::transpose(glm::inverse(glm::dmat3(world)));
+    normals.reserve(count);
+    for (size_t i = 0; i < count; ++i) {
+      const glm::dvec3 n = m * glm::dvec3(element(*v, i));
+      const double length = glm::length(n);
+      if (!(length > 0) || !std::isfinite(length)) {
+        fail(path_, what + ".NORMAL: element " + std::to_string(i) +
+                        " is zero or not finite (in the node's space)");
+      }
+      normals.push_back(n / length);
+    }
+    return normals;
+  }
+
+  // A primitive's glTF metallic-roughness material as read: white, metallic 1 and roughness
+  // 1 without one (glTF's default material).
+  struct BaseColour {
+    glm::dvec3 factor{1.0};
+    double metallic = 1, roughness = 1;
+    const Texture* texture = nullptr;  // the decoded base-colour texture, if any
+    TextureWrap wrapS = TextureWrap::kRepeat, wrapT = TextureWrap::kRepeat;
+    int texCoord = 0;  // its TEXCOORD_n set
+  };
+
+  BaseColour baseColour(const tinygltf::Primitive& prim, const std::string& what) {
+    BaseColour b;
+    if (prim.material < 0) return b;
+    if (size_t(prim.material) >= model_.materials.size()) {
+      fail(path_, what + ": material " + std::to_string(prim.material) + " does not exist");
+    }
+    const tinygltf::PbrMetallicRoughness& pbr =
+        model_.materials[size_t(prim.material)].pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() >= 3) {
+      b.factor = glm::dvec3(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
+    }
+    b.metallic = pbr.metallicFactor;
+    b.roughness = pbr.roughnessFactor;
+    for (int ch = 0; ch < 3; ++ch) {
+      if (!std::isfinite(b.factor[ch])) fail(path_, what + ": non-finite base colour");
+    }
+    if (!std::isfinite(b.metallic) || !std::isfinite(b.roughness)) {
+      fail(path_, what + ": non-finite metallic/roughness");
+    }
+    const int tex = pbr.baseColorTexture.index;
+    if (tex >= 0 && size_t(tex) < model_.textures.size()) {
+      const tinygltf::Texture& t = model_.textures[size_t(tex)];
+      b.texture = decodedImage(t.source, what);
+      if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
+        b.wrapS = wrap(model_.samplers[size_t(t.sampler)].wrapS);
+        b.wrapT = wrap(model_.samplers[size_t(t.sampler)].wrapT);
+      }
+      b.texCoord = pbr.baseColorTexture.texCoord;
+    }
+    return b;
+  }
+
+  static glm::dvec3 meanTexel(const Texture& t) {
+    glm::dvec3 sum(0.0);
+    for (const glm::dvec3& texel : t.texels) sum += texel;
+    return sum / double(t.texels.size());
+  }
+
+  // Per vertex: the diffuse reflectance of base colour = baseColorFactor (*) the base-colour
+  // texture at the vertex's uv (bilinear, linear RGB, the sampler's wrap modes) (*) COLOR_0,
+  // mapped by mapMetallicRoughness.
+  std::vector<glm::dvec3> vertexReflectances(const tinygltf::Primitive& prim, size_t count,
+                                             const std::string& what) {
+    BaseColour b = baseColour(prim, what);
+    std::optional<Reader::View> uv;
+    if (b.texture) {
+      const std::string set = "TEXCOORD_" + std::to_string(b.texCoord);
+      uv = attribute(prim, set, count, 2, 2, true, what);
+      if (!uv) {
+        // Nowhere to sample it: its mean colour, as before per-vertex colours.
+        out_.mesh.warnings.push_back(path_.string() + ": " + what +
+                                     ": base-colour texture without " + set +
+                                     ": its mean colour is used");
+        b.factor *= meanTexel(*b.texture);
+        b.texture = nullptr;
+      }
+    }
+    const auto colour0 = attribute(prim, "COLOR_0", count, 3, 4, true, what);
+    std::vector<glm::dvec3> out(count);
+    for (size_t i = 0; i < count; ++i) {
+      glm::dvec3 c = b.factor;
+      if (b.texture) {
+        const glm::dvec4 t = element(*uv, i);
+        if (!std::isfinite(t.x) || !std::isfinite(t.y)) {
+          fail(path_, what + ".TEXCOORD: element " + std::to_string(i) + " is not finite");
+        }
+        c *= sampleBilinear(*b.texture, t.x, t.y, b.wrapS, b.wrapT);
+      }
+      if (colour0) c *= glm::dvec3(element(*colour0, i));  // COLOR_0 is linear already
+      for (int ch = 0; ch < 3; ++ch) {
+        if (!std::isfinite(c[ch])) fail(path_, what + ".COLOR_0: non-finite colour");
+      }
+      out[i] = mapMetallicRoughness(c, b.metallic, b.roughness).diffuse;
+    }
+    return out;
+  }
+
+  static TextureWrap wrap(int mode) {
+    if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::kClampToEdge;
+    if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::kMirroredRepeat;
+    return TextureWrap::kRepeat;
+  }
+
+  // Image `source` in linear RGB, converted once; null (warned about once) when it has no
+  // decoded pixels.
+  const Texture* decodedImage(int source, const std::string& what) {
+    if (source < 0 || size_t(source) >= model_.images.size()) return nullptr;
+    if (const auto it = textures_.find(source); it != textures_.end()) {
+      return it->second ? &*it->second : nullptr;
+    }
+    const tinygltf::Image& img = model_.images[size_t(source)];
+    const size_t texels =
+        img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
+    const size_t bytesPer = img.bits == 16 ? 2 : 1;
+    std::optional<Texture>& t = textures_[source];
+    if (texels == 0 || (img.bits != 8 && img.bits != 16) || img.component < 1 ||
+        img.component > 4 || img.image.size() != texels * size_t(img.component) * bytesPer) {
+      out_.mesh.warnings.push_back(path_.string() + ": " + what + ": images[" +
+                                   std::to_string(source) +
+                                   "] has no decoded pixels: the base colour factor alone is used");
+      return nullptr;
+    }
+    t = textureFromSamples(uint32_t(img.width), uint32_t(img.height), img.component, img.bits,
+                           img.image.data());
+    return &*t;
+  }
+
+  // The primitive's positions in world space.
+  std::vector<glm::dvec3> worldPositions(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                                         const std::string& what) const {
     const std::filesystem::path& path = path_;
+    std::vector<glm::dvec3> positions;
     const auto pos = prim.attributes.find("POSITION");
     if (pos == prim.attributes.end()) fail(path, what + ": no POSITION attribute");
     const Reader::View v = reader_.view(pos->second, what + ".POSITION");
@@ -454,9 +644,9 @@ class SceneFlattener {
       if (std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}) > kMaxModelCoordinate) {
         fail(path, what + ".POSITION: position outside [-1e6, 1e6] (model units)");
       }
-      out_.mesh.positions.emplace_back(q.x, q.y, q.z);
+      positions.emplace_back(q.x, q.y, q.z);
     }
-    return v.count;
+    return positions;
   }
 
   // The primitive's triangle corners, relative to its first vertex: its index accessor,
@@ -495,55 +685,17 @@ class SceneFlattener {
 
   // The primitive's material (glTF metallic-roughness, base colour times the mean of its
   // texture), mapped to Penumbra's; white, metallic 1 and roughness 1 without one.
-  ProductMaterial material(const tinygltf::Primitive& prim, const std::string& what) const {
-    const std::filesystem::path& path = path_;
-    const tinygltf::Model& model = model_;
-    glm::dvec3 c(1.0);
-    double metallic = 1, roughness = 1;
-    if (prim.material >= 0) {
-      if (size_t(prim.material) >= model.materials.size()) {
-        fail(path, what + ": material " + std::to_string(prim.material) + " does not exist");
-      }
-      const tinygltf::PbrMetallicRoughness& pbr =
-          model.materials[size_t(prim.material)].pbrMetallicRoughness;
-      if (pbr.baseColorFactor.size() >= 3) {
-        c = glm::dvec3(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
-      }
-      metallic = pbr.metallicFactor;
-      roughness = pbr.roughnessFactor;
-      const int tex = pbr.baseColorTexture.index;
-      if (tex >= 0 && size_t(tex) < model.textures.size()) {
-        const int src = model.textures[size_t(tex)].source;
-        if (src >= 0 && size_t(src) < model.images.size()) {
-          const tinygltf::Image& img = model.images[size_t(src)];
-          const size_t texels =
-              img.width > 0 && img.height > 0 ? size_t(img.width) * size_t(img.height) : 0;
-          if (texels > 0 && img.bits == 8 && img.component >= 3 &&
-              img.image.size() == texels * size_t(img.component)) {
-            glm::dvec3 mean(0.0);
-            for (size_t i = 0; i < texels; ++i) {
-              for (int ch = 0; ch < 3; ++ch) {
-                mean[ch] += srgbToLinear(img.image[i * size_t(img.component) + size_t(ch)] / 255.0);
-              }
-            }
-            c *= mean / double(texels);
-          }
-        }
-      }
-    }
-    for (int ch = 0; ch < 3; ++ch) {
-      if (!std::isfinite(c[ch])) fail(path, what + ": non-finite base colour");
-    }
-    if (!std::isfinite(metallic) || !std::isfinite(roughness)) {
-      fail(path, what + ": non-finite metallic/roughness");
-    }
-    return mapMetallicRoughness(c, metallic, roughness);
+  ProductMaterial material(const tinygltf::Primitive& prim, const std::string& what) {
+    const BaseColour b = baseColour(prim, what);
+    return mapMetallicRoughness(b.texture ? b.factor * meanTexel(*b.texture) : b.factor, b.metallic,
+                                b.roughness);
   }
 
   const std::filesystem::path& path_;
   const tinygltf::Model& model_;
   const Reader reader_;
   GltfModel out_;
+  std::map<int, std::optional<Texture>> textures_;  // base-colour images by index
   glm::dvec3 diffuseSum_{0.0}, specularSum_{0.0}, baseSum_{0.0};
   double exponentSum_ = 0, metallicSum_ = 0, roughnessSum_ = 0, weightSum_ = 0;
 };

@@ -5,14 +5,25 @@
 // Geometry: every TRIANGLES primitive of every mesh instanced by the default scene's node
 // tree (all root nodes when the file has no scene), positions through the node's world
 // transform (matrix, or translation * rotation * scale), indices of any integer type or
-// none. Mirroring transforms get their triangles' winding swapped so area-weighted normals
-// still face out. Points, lines, strips and fans are skipped; sparse accessors are refused.
+// none. Mirroring transforms get their triangles' winding swapped so the faces still face
+// out. Points, lines, strips and fans are skipped; sparse accessors are refused.
 //
-// Material, per primitive, then a triangle-weighted mean over the model (the product has
-// one material in a bundle): base colour c = baseColorFactor.rgb (*) the mean of the
-// base-colour texture's texels (sRGB decoded to linear) when the file has a decoded one;
-// metallic m and roughness r from their factors (textures of those are not read). Mapped
-// to our diffuse + Phong-like lobe (Gibson & Chalmers 2003 §5) by mapMetallicRoughness:
+// Normals: NORMAL through the inverse transpose of the node's world matrix (perpendicular
+// under non-uniform scale, the right way round under a mirror), normalized; a primitive
+// without NORMAL gets flat normals (glTF 2.0 §3.7.2.1: "client implementations MUST calculate
+// flat normals"; coplanar neighbours share vertices).
+//
+// Colour, per vertex (TriangleMesh::reflectances): base colour = baseColorFactor.rgb (*) the
+// base-colour texture sampled bilinearly at the vertex's TEXCOORD_n (sRGB decoded to linear,
+// the sampler's wrap modes; scene/texture.h) (*) COLOR_0, mapped to a diffuse reflectance
+// below. Per vertex, not per pixel: a texture finer than the mesh loses its detail between
+// vertices. A texture without its TEXCOORD set contributes its mean colour (with a warning).
+//
+// Material, per primitive, then a triangle-weighted mean over the model (the product's one
+// specular lobe): base colour c = baseColorFactor.rgb (*) the mean of the base-colour
+// texture's texels; metallic m and roughness r from their factors (textures of those are not
+// read). Mapped to our diffuse + Phong-like lobe (Gibson & Chalmers 2003 §5) by
+// mapMetallicRoughness:
 //   diffuse reflectance  = c (1 - m)                 (metals have no diffuse term)
 //   specular reflectance = 0.04 (1 - m) + c m        (F0 of a dielectric; tinted metals)
 //   Phong exponent       = 2 / alpha^2 - 2, alpha = max(r^2, 0.001), clamped to [1, 4096]
@@ -42,7 +53,8 @@ ProductMaterial mapMetallicRoughness(const glm::dvec3& baseColour, double metall
                                      double roughness);
 
 struct GltfModel {
-  TriangleMesh mesh;         // model units, the file's axes (glTF: y up, metres)
+  TriangleMesh mesh;         // model units, the file's axes (glTF: y up, metres); normals,
+                             // per-vertex diffuse reflectances and warnings
   ProductMaterial material;  // triangle-weighted mean over the primitives
 };
 

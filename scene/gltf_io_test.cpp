@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scene/image_io.h"
 #include "tests/test_data.h"
 
 namespace penumbra::scene {
@@ -37,12 +38,20 @@ TEST(GltfIo, TeapotMatchesThePlyThroughTheNodeTransforms) {
   const fs::path dir = testing::dataDir() / "models";
   const GltfModel g = loadGltf(dir / "teapot.gltf");
   const TriangleMesh ply = loadMesh(dir / "teapot.ply");
-  ASSERT_EQ(g.mesh.positions.size(), ply.positions.size());
-  ASSERT_EQ(g.mesh.indices, ply.indices);
-  for (size_t i = 0; i < ply.positions.size(); ++i) {
+  // The glTF has no NORMAL: flat normals (glTF 2.0 §3.7.2.1), so its vertices split
+  // differently from the PLY's crease-angle ones; the triangles' corners are the same.
+  ASSERT_EQ(g.mesh.indices.size(), ply.indices.size());
+  for (size_t i = 0; i < ply.indices.size(); ++i) {
     // Parent scale 0.016 of the child's translation by (1, 0, 0).
-    const glm::dvec3 want = 0.016 * (ply.positions[i] + glm::dvec3(1, 0, 0));
-    ASSERT_NEAR(glm::length(g.mesh.positions[i] - want), 0.0, 1e-12) << i;
+    const glm::dvec3 want = 0.016 * (ply.positions[ply.indices[i]] + glm::dvec3(1, 0, 0));
+    ASSERT_NEAR(glm::length(g.mesh.positions[g.mesh.indices[i]] - want), 0.0, 1e-12) << i;
+  }
+  for (size_t t = 0; t < g.mesh.triangleCount(); ++t) {
+    const glm::dvec3 &a = g.mesh.positions[g.mesh.indices[3 * t]],
+                     &b = g.mesh.positions[g.mesh.indices[3 * t + 1]],
+                     &c = g.mesh.positions[g.mesh.indices[3 * t + 2]];
+    const glm::dvec3 face = glm::normalize(glm::cross(b - a, c - a));
+    ASSERT_GT(glm::dot(g.mesh.normals[g.mesh.indices[3 * t]], face), 1 - 1e-9) << t;
   }
   // Base colour (0.30, 0.42, 0.62) x the texture mean (two white texels, two sRGB 188).
   const double mean = (2 * 1.0 + 2 * srgb(188 / 255.0)) / 4;
@@ -55,7 +64,95 @@ TEST(GltfIo, TeapotMatchesThePlyThroughTheNodeTransforms) {
   EXPECT_NEAR(g.material.roughness, 0.35, 1e-12);
   EXPECT_NEAR(g.material.specularExponent, mapMetallicRoughness(c, 0, 0.35).specularExponent, 1e-9);
   // loadMesh() dispatches on the extension.
-  EXPECT_EQ(loadMesh(dir / "teapot.gltf").indices, ply.indices);
+  EXPECT_EQ(loadMesh(dir / "teapot.gltf").indices, g.mesh.indices);
+}
+
+// Base64 (RFC 4648) for the data: URIs of the fixtures written below.
+std::string base64(const std::vector<uint8_t>& bytes) {
+  static const char* const k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = uint32_t(bytes[i]) << 16 |
+                       (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0) |
+                       (i + 2 < bytes.size() ? uint32_t(bytes[i + 2]) : 0);
+    out += k[n >> 18 & 63];
+    out += k[n >> 12 & 63];
+    out += i + 1 < bytes.size() ? k[n >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+template <class T>
+void append(std::vector<uint8_t>& out, std::initializer_list<T> values) {
+  for (T v : values) {
+    const auto* p = reinterpret_cast<const uint8_t*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+  }
+}
+
+// Issue 15 item 6: "a textured glTF is reduced to one average colour". A quad with NORMAL,
+// TEXCOORD_0 and COLOR_0 under a node scaled (2, 1, -1) (non-uniform and mirroring), its
+// base colour a 2 x 2 texture (red, green / blue, white; clamped) times (0.5, 1, 1).
+TEST(GltfIo, NormalsTexturesAndVertexColoursPerVertex) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("penumbra_gltf_vc_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::vector<uint8_t> rgba = {255, 0, 0,   255, 0,   255, 0,   255,
+                                     0,   0, 255, 255, 255, 255, 255, 255};
+  try {
+    writePng(dir / "tex.png", 2, 2, rgba);
+  } catch (const ImageError&) {
+    fs::remove_all(dir);
+    GTEST_SKIP() << "no PNG writer in this build";
+  }
+  std::vector<uint8_t> buf;
+  append<float>(buf, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});  // POSITION
+  const float r = 0.70710678f;
+  append<float>(buf, {r, r, 0, r, r, 0, r, r, 0, r, r, 0});              // NORMAL
+  append<float>(buf, {0, 0, 1, 0, 1, 1, 0, 1});                          // TEXCOORD_0
+  append<float>(buf, {1, 1, 0.5f, 1, 1, 0.5f, 1, 1, 0.5f, 1, 1, 0.5f});  // COLOR_0
+  append<uint16_t>(buf, {0, 1, 2, 0, 2, 3});                             // indices
+  const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0, "scale": [2, 1, -1]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2,
+      "COLOR_0": 3}, "indices": 4, "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1, 1, 1],
+      "metallicFactor": 0, "baseColorTexture": {"index": 0}}}],
+    "textures": [{"source": 0, "sampler": 0}], "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+    "images": [{"uri": "tex.png"}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+      {"bufferView": 0, "byteOffset": 48, "componentType": 5126, "count": 4, "type": "VEC3"},
+      {"bufferView": 0, "byteOffset": 96, "componentType": 5126, "count": 4, "type": "VEC2"},
+      {"bufferView": 0, "byteOffset": 128, "componentType": 5126, "count": 4, "type": "VEC3"},
+      {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 176},
+                    {"buffer": 0, "byteOffset": 176, "byteLength": 12}],
+    "buffers": [{"byteLength": 188, "uri": "data:application/octet-stream;base64,)" +
+                           base64(buf) + R"("}]})";
+  ASSERT_EQ(buf.size(), 188u);
+  std::ofstream(dir / "quad.gltf") << gltf;
+  const GltfModel g = loadGltf(dir / "quad.gltf");
+  fs::remove_all(dir);
+  ASSERT_EQ(g.mesh.positions.size(), 4u);
+  ASSERT_EQ(g.mesh.reflectances.size(), 4u);
+  EXPECT_TRUE(g.mesh.warnings.empty());
+  // uv (0, 0) reads the top-left texel, (1, 0) top-right, (1, 1) bottom-right, (0, 1)
+  // bottom-left; times the factor and COLOR_0.
+  EXPECT_EQ(g.mesh.reflectances[0], glm::dvec3(0.5, 0, 0));
+  EXPECT_EQ(g.mesh.reflectances[1], glm::dvec3(0, 1, 0));
+  EXPECT_EQ(g.mesh.reflectances[2], glm::dvec3(0.5, 1, 0.5));
+  EXPECT_EQ(g.mesh.reflectances[3], glm::dvec3(0, 0, 0.5));
+  // Normals through the inverse transpose diag(1/2, 1, -1): (r, r, 0) -> (r/2, r, 0).
+  const glm::dvec3 want = glm::normalize(glm::dvec3(0.5, 1, 0));
+  for (const glm::dvec3& n : g.mesh.normals) EXPECT_NEAR(glm::length(n - want), 0.0, 1e-7);
+  // The mirror z -> -z turns the quad's front (+z in the file) to -z: the winding was
+  // reversed so the geometric normal follows.
+  const glm::dvec3 &a = g.mesh.positions[g.mesh.indices[0]],
+                   &b = g.mesh.positions[g.mesh.indices[1]],
+                   &c = g.mesh.positions[g.mesh.indices[2]];
+  EXPECT_LT(glm::cross(b - a, c - a).z, 0.0);
 }
 
 class GltfCorrupt : public ::testing::Test {

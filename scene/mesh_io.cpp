@@ -8,12 +8,16 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <system_error>
 
 #include "core/json_reader.h"
+#include "core/regular_file.h"
 #include "scene/gltf_io.h"
+#include "scene/mesh_attributes.h"
+#include "scene/texture.h"
 
 namespace penumbra::scene {
 
@@ -124,59 +128,378 @@ void checkFaceCorners(size_t corners, const std::string& name, const std::string
 // ---------------------------------------------------------------------------------------
 // OBJ
 
-TriangleMesh parseObj(std::string_view text, const std::string& name) {
-  TriangleMesh mesh;
-  std::vector<uint32_t> corners;
-  forEachLine(text, [&](size_t lineNo, std::string_view line) {
+namespace {
+
+// Blender's default base colour (its Principled BSDF's), for faces without a material in a
+// file whose other faces have one.
+constexpr double kDefaultReflectance = 0.8;
+
+// An MTL material: Kd and its map_Kd.
+struct ObjMaterial {
+  glm::dvec3 kd{kDefaultReflectance};
+  int texture = -1;  // index into ObjReader::textures_, -1: none (or not decodable here)
+  TextureWrap wrap = TextureWrap::kRepeat;
+  glm::dvec2 offset{0.0}, scale{1.0};  // map_Kd -o and -s: uv' = uv * scale + offset
+};
+
+// map_Kd options (MTL spec, "Options for texture map statements"): how many numbers each
+// takes (-o, -s and -t one to three), or 0 for the one word the on/off and name options take.
+int mapOptionNumbers(std::string_view option) {
+  if (option == "-o" || option == "-s" || option == "-t") return 3;
+  if (option == "-mm") return 2;
+  if (option == "-boost" || option == "-texres" || option == "-bm") return 1;
+  if (option == "-clamp" || option == "-blendu" || option == "-blendv" || option == "-cc" ||
+      option == "-type" || option == "-imfchan") {
+    return 0;
+  }
+  return -1;
+}
+
+class ObjReader {
+ public:
+  ObjReader(const std::string& name, const MeshOptions& options)
+      : name_(name), options_(options), folder_(std::filesystem::path(name).parent_path()) {}
+
+  TriangleMesh parse(std::string_view text) {
+    forEachLine(text, [&](size_t lineNo, std::string_view line) { statement(lineNo, line); });
+    if (soup_.faceCount() == 0) fail(name_, "", "no faces");
+    assignAttributes();
+    TriangleMesh mesh = buildTriangleMesh(soup_, options_.creaseAngleDegrees);
+    mesh.warnings = std::move(warnings_);
+    return mesh;
+  }
+
+ private:
+  struct PendingCorner {
+    uint32_t uv;   // kNoAttribute: none
+    int material;  // -1: none
+  };
+
+  void statement(size_t lineNo, std::string_view line) {
     if (const size_t hash = line.find('#'); hash != std::string_view::npos) {
       line = line.substr(0, hash);
     }
     const std::vector<std::string_view> tok = tokenize(line, kMaxFaceCorners + 1);
     if (tok.empty()) return;
+    const std::string where = lineRef(lineNo);
     if (tok[0] == "v") {
       // x y z, optionally w or an r g b vertex colour: all must be numbers.
-      if (tok.size() < 4) fail(name, lineRef(lineNo), "vertex needs x, y and z");
-      glm::dvec3 p(0.0);
-      for (size_t k = 1; k < tok.size(); ++k) {
-        const std::optional<double> v = parseDouble(tok[k]);
-        if (!v) fail(name, lineRef(lineNo), "bad number '" + std::string(tok[k]) + "'");
-        checkCoordinate(*v, name, lineRef(lineNo));
-        if (k <= 3) p[static_cast<int>(k - 1)] = *v;
-      }
-      mesh.positions.push_back(p);
-      checkVertexCount(mesh.positions.size(), name, lineRef(lineNo));
+      if (tok.size() < 4) fail(name_, where, "vertex needs x, y and z");
+      soup_.positions.push_back(numbers<3>(tok, where));
+      checkVertexCount(soup_.positions.size(), name_, where);
+    } else if (tok[0] == "vn") {
+      if (tok.size() != 4) fail(name_, where, "normal needs x, y and z");
+      const glm::dvec3 n = numbers<3>(tok, where);
+      const double length = glm::length(n);
+      if (!(length > 0) || !std::isfinite(length)) fail(name_, where, "normal of zero length");
+      soup_.normals.push_back(n / length);
+      checkVertexCount(soup_.normals.size(), name_, where);
+    } else if (tok[0] == "vt") {
+      if (tok.size() < 2 || tok.size() > 4)
+        fail(name_, where, "texture coordinate needs u [v [w]]");
+      const glm::dvec3 t = numbers<3>(tok, where);
+      uvs_.emplace_back(t.x, t.y);
+      checkVertexCount(uvs_.size(), name_, where);
     } else if (tok[0] == "f") {
-      if (tok.size() < 4) {
-        fail(name, lineRef(lineNo),
-             "face needs at least 3 vertices, has " + std::to_string(tok.size() - 1));
-      }
-      checkFaceCorners(tok.size() - 1, name, lineRef(lineNo));
-      corners.clear();
-      const int64_t count = static_cast<int64_t>(mesh.positions.size());
-      for (size_t k = 1; k < tok.size(); ++k) {
-        // Only the position index (before the first '/') matters here.
-        const std::string_view ref = tok[k].substr(0, tok[k].find('/'));
-        const std::optional<int64_t> idx = parseInt(ref);
-        if (!idx) fail(name, lineRef(lineNo), "bad vertex index '" + std::string(tok[k]) + "'");
-        // Negative indices count back from the last vertex defined so far (-1 = last).
-        const int64_t resolved = *idx > 0 ? *idx - 1 : count + *idx;
-        if (*idx == 0 || resolved < 0 || resolved >= count) {
-          fail(name, lineRef(lineNo),
-               "vertex index " + std::to_string(*idx) + " out of range (" + std::to_string(count) +
-                   " vertices defined so far)");
+      face(tok, where);
+    } else if (tok[0] == "s") {
+      if (tok.size() != 2) fail(name_, where, "s needs one group number or 'off'");
+      if (tok[1] == "off") {
+        group_ = 0;
+      } else {
+        const std::optional<int64_t> g = parseInt(tok[1]);
+        if (!g || *g < 0 || *g > int64_t{UINT32_MAX}) {
+          fail(name_, where, "bad smoothing group '" + std::string(tok[1]) + "'");
         }
-        corners.push_back(static_cast<uint32_t>(resolved));
+        group_ = static_cast<uint32_t>(*g);
       }
-      checkTriangleCount(mesh.triangleCount() + corners.size() - 2, name, lineRef(lineNo));
-      for (size_t k = 1; k + 1 < corners.size(); ++k) {
-        mesh.indices.insert(mesh.indices.end(), {corners[0], corners[k], corners[k + 1]});
+      soup_.smoothingGroups = true;
+    } else if (tok[0] == "mtllib") {
+      if (tok.size() < 2) fail(name_, where, "mtllib needs a file name");
+      // The MTL spec allows several files on one line.
+      for (size_t k = 1; k < tok.size(); ++k) readMtl(folder_ / std::string(tok[k]), where);
+    } else if (tok[0] == "usemtl") {
+      if (tok.size() < 2) fail(name_, where, "usemtl needs a material name");
+      const std::string material = restOfLine(line, tok[1]);
+      const auto it = materialIndex_.find(material);
+      if (it == materialIndex_.end()) {
+        if (mtlFiles_.empty()) {
+          // No mtllib at all: the model was exported without its materials. Its colour
+          // comes from the scene file, as for a model without usemtl.
+          if (!warnedNoMtllib_) {
+            warnings_.push_back(name_ + ": " + where + ": usemtl " + material +
+                                " but no mtllib: materials ignored");
+            warnedNoMtllib_ = true;
+          }
+          material_ = -1;
+          return;
+        }
+        fail(name_, where, "usemtl: no material named '" + material + "' in " + mtlFiles_);
       }
+      material_ = it->second;
+      usedMaterials_ = true;
     }
-    // Everything else (vt, vn, g, o, s, usemtl, mtllib, l, p, ...) carries no geometry the
-    // shadow pipeline uses.
-  });
-  if (mesh.indices.empty()) fail(name, "", "no faces");
-  return mesh;
+    // Everything else (g, o, l, p, ...) carries nothing the pipeline uses.
+  }
+
+  template <int N>
+  glm::dvec3 numbers(const std::vector<std::string_view>& tok, const std::string& where) {
+    glm::dvec3 p(0.0);
+    for (size_t k = 1; k < tok.size(); ++k) {
+      const std::optional<double> v = parseDouble(tok[k]);
+      if (!v) fail(name_, where, "bad number '" + std::string(tok[k]) + "'");
+      checkCoordinate(*v, name_, where);
+      if (k <= N) p[static_cast<int>(k - 1)] = *v;
+    }
+    return p;
+  }
+
+  // A 1-based or negative (relative: -1 is the last defined so far) index into a list of
+  // `count` entries of `what` (`whats` in the plural).
+  uint32_t resolve(std::string_view ref, size_t count, const char* what, const char* whats,
+                   std::string_view corner, const std::string& where) const {
+    const std::optional<int64_t> idx = parseInt(ref);
+    if (!idx)
+      fail(name_, where, std::string("bad ") + what + " index '" + std::string(corner) + "'");
+    const int64_t n = static_cast<int64_t>(count);
+    const int64_t resolved = *idx > 0 ? *idx - 1 : n + *idx;
+    if (*idx == 0 || resolved < 0 || resolved >= n) {
+      fail(name_, where,
+           std::string(what) + " index " + std::to_string(*idx) + " out of range (" +
+               std::to_string(count) + " " + whats + " defined so far)");
+    }
+    return static_cast<uint32_t>(resolved);
+  }
+
+  void face(const std::vector<std::string_view>& tok, const std::string& where) {
+    if (tok.size() < 4) {
+      fail(name_, where, "face needs at least 3 vertices, has " + std::to_string(tok.size() - 1));
+    }
+    checkFaceCorners(tok.size() - 1, name_, where);
+    checkTriangleCount(triangles_ + tok.size() - 3, name_, where);
+    triangles_ += tok.size() - 3;
+    for (size_t k = 1; k < tok.size(); ++k) {
+      const std::string_view c = tok[k];
+      const size_t slash1 = c.find('/');
+      const size_t slash2 = slash1 == std::string_view::npos ? slash1 : c.find('/', slash1 + 1);
+      soup_.cornerPosition.push_back(
+          resolve(c.substr(0, slash1), soup_.positions.size(), "vertex", "vertices", c, where));
+      uint32_t uv = kNoAttribute, normal = kNoAttribute;
+      if (slash1 != std::string_view::npos) {
+        const std::string_view t =
+            c.substr(slash1 + 1, slash2 == std::string_view::npos ? std::string_view::npos
+                                                                  : slash2 - slash1 - 1);
+        if (!t.empty())
+          uv = resolve(t, uvs_.size(), "texture coordinate", "texture coordinates", c, where);
+        if (slash2 != std::string_view::npos) {
+          normal =
+              resolve(c.substr(slash2 + 1), soup_.normals.size(), "normal", "normals", c, where);
+        }
+      }
+      soup_.cornerNormal.push_back(normal);
+      pending_.push_back({uv, material_});
+    }
+    soup_.faceGroup.push_back(group_);
+    soup_.endFace();
+  }
+
+  // The text of `line` from token `first` to its end, trailing blanks removed (names with
+  // spaces).
+  static std::string restOfLine(std::string_view line, std::string_view first) {
+    std::string_view rest = line.substr(static_cast<size_t>(first.data() - line.data()));
+    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) {
+      rest.remove_suffix(1);
+    }
+    return std::string(rest);
+  }
+
+  std::string readFile(const std::filesystem::path& path, const std::string& context) const {
+    try {
+      return options_.readFile(path);
+    } catch (const std::exception& e) {
+      throw MeshError(context + ": " + e.what());
+    }
+  }
+
+  void readMtl(const std::filesystem::path& path, const std::string& where) {
+    const std::string mtlName = path.string();
+    const std::string text = readFile(path, name_ + ": " + where + ": mtllib");
+    mtlFiles_ += (mtlFiles_.empty() ? "" : ", ") + mtlName;
+    int current = -1;
+    forEachLine(text, [&](size_t lineNo, std::string_view line) {
+      if (const size_t hash = line.find('#'); hash != std::string_view::npos) {
+        line = line.substr(0, hash);
+      }
+      const std::vector<std::string_view> tok = tokenize(line, 64);
+      if (tok.empty()) return;
+      const std::string at = lineRef(lineNo);
+      if (tok.size() > 64) fail(mtlName, at, "more than 64 values on one line");
+      if (tok[0] == "newmtl") {
+        if (tok.size() < 2) fail(mtlName, at, "newmtl needs a name");
+        if (materials_.size() >= kMaxMaterials) {
+          fail(mtlName, at, "more than " + std::to_string(kMaxMaterials) + " materials");
+        }
+        current = static_cast<int>(materials_.size());
+        materials_.emplace_back();
+        materialIndex_[restOfLine(line, tok[1])] = current;  // a later definition wins
+        return;
+      }
+      const bool kd = tok[0] == "Kd", map = tok[0] == "map_Kd";
+      if (!kd && !map) return;  // Ka, Ks, Ns, d, illum, map_Bump, ...: not used
+      if (current < 0) fail(mtlName, at, std::string(tok[0]) + " before newmtl");
+      ObjMaterial& m = materials_[size_t(current)];
+      if (kd) {
+        if (tok.size() != 2 && tok.size() != 4) {
+          fail(mtlName, at, "Kd needs r [g b] (spectral and xyz forms are not read)");
+        }
+        for (size_t k = 1; k < tok.size(); ++k) {
+          const std::optional<double> v = parseDouble(tok[k]);
+          if (!v || !(*v >= 0 && *v <= 1)) {
+            fail(mtlName, at, "Kd value '" + std::string(tok[k]) + "' is not a number in [0, 1]");
+          }
+          m.kd[static_cast<int>(k - 1)] = *v;
+        }
+        if (tok.size() == 2) m.kd = glm::dvec3(m.kd.x);  // "Kd r": g = b = r
+        return;
+      }
+      textureMap(m, line, tok, path, at);
+    });
+  }
+
+  void textureMap(ObjMaterial& m, std::string_view line, const std::vector<std::string_view>& tok,
+                  const std::filesystem::path& mtl, const std::string& at) {
+    const std::string mtlName = mtl.string();
+    size_t k = 1;
+    while (k < tok.size() && tok[k].size() > 1 && tok[k][0] == '-') {
+      const std::string_view option = tok[k++];
+      const int maxNumbers = mapOptionNumbers(option);
+      if (maxNumbers < 0) fail(mtlName, at, "map_Kd: unknown option '" + std::string(option) + "'");
+      if (k >= tok.size()) fail(mtlName, at, "map_Kd " + std::string(option) + ": no value");
+      if (maxNumbers == 0) {
+        if (option == "-clamp") {
+          if (tok[k] != "on" && tok[k] != "off") fail(mtlName, at, "map_Kd -clamp: on or off");
+          m.wrap = tok[k] == "on" ? TextureWrap::kClampToEdge : TextureWrap::kRepeat;
+        }
+        ++k;
+        continue;
+      }
+      std::vector<double> values;
+      while (k < tok.size() && int(values.size()) < maxNumbers) {
+        const std::optional<double> v = parseDouble(tok[k]);
+        if (!v) break;
+        if (!(std::abs(*v) <= kMaxModelCoordinate)) {
+          fail(mtlName, at, "map_Kd " + std::string(option) + ": number out of range");
+        }
+        values.push_back(*v);
+        ++k;
+      }
+      if (values.empty()) fail(mtlName, at, "map_Kd " + std::string(option) + ": bad number");
+      if (option == "-o") m.offset = glm::dvec2(values[0], values.size() > 1 ? values[1] : 0.0);
+      if (option == "-s") m.scale = glm::dvec2(values[0], values.size() > 1 ? values[1] : 1.0);
+    }
+    if (k >= tok.size()) fail(mtlName, at, "map_Kd needs a file name");
+    const std::filesystem::path file = mtl.parent_path() / restOfLine(line, tok[k]);
+    m.texture = texture(file, mtlName + ": " + at + ": map_Kd");
+  }
+
+  // The texture at `file`, decoded once per file; -1 (with a warning) when the build has no
+  // decoder for its format.
+  int texture(const std::filesystem::path& file, const std::string& context) {
+    const std::string key = file.string();
+    if (const auto it = textureIndex_.find(key); it != textureIndex_.end()) return it->second;
+    const std::string bytes = readFile(file, context);
+    std::optional<Texture> t;
+    try {
+      t = decodeTexture(bytes, key);
+    } catch (const TextureError& e) {
+      throw MeshError(context + ": " + e.what());
+    }
+    int index = -1;
+    if (t) {
+      index = static_cast<int>(textures_.size());
+      textures_.push_back(std::move(*t));
+    } else {
+      warnings_.push_back(context + ": " + key +
+                          ": no decoder for this image format in this build (PNG and PPM are "
+                          "read everywhere, JPEG with PENUMBRA_WITH_GLTF); the material's Kd "
+                          "is used");
+    }
+    textureIndex_[key] = index;
+    return index;
+  }
+
+  // Per corner: the attribute (material, uv) and its reflectance, when any face has a
+  // material.
+  void assignAttributes() {
+    const size_t corners = soup_.cornerPosition.size();
+    if (!usedMaterials_) {
+      soup_.cornerAttribute.assign(corners, kNoAttribute);
+      return;
+    }
+    std::map<std::pair<int, uint32_t>, uint32_t> ids;
+    size_t withoutMaterial = 0, withoutUv = 0;
+    soup_.cornerAttribute.resize(corners);
+    for (size_t c = 0; c < corners; ++c) {
+      const PendingCorner& p = pending_[c];
+      const int material = p.material;
+      // Only a textured material reads the uv: the key ignores it otherwise.
+      const bool textured = material >= 0 && materials_[size_t(material)].texture >= 0;
+      const uint32_t uv = textured ? p.uv : kNoAttribute;
+      const auto [it, added] = ids.emplace(std::pair(material, uv), uint32_t(ids.size()));
+      soup_.cornerAttribute[c] = it->second;
+      if (!added) continue;
+      if (material < 0) {
+        ++withoutMaterial;
+        soup_.reflectances.emplace_back(kDefaultReflectance);
+        continue;
+      }
+      const ObjMaterial& m = materials_[size_t(material)];
+      glm::dvec3 r = m.kd;
+      if (textured) {
+        if (uv == kNoAttribute) {
+          ++withoutUv;
+        } else {
+          // OBJ's v points up, the image's rows down.
+          const glm::dvec2 t = uvs_[uv] * m.scale + m.offset;
+          r *= sampleBilinear(textures_[size_t(m.texture)], t.x, 1.0 - t.y, m.wrap, m.wrap);
+        }
+      }
+      soup_.reflectances.push_back(glm::clamp(r, 0.0, 1.0));
+    }
+    if (withoutMaterial > 0) {
+      warnings_.push_back(name_ + ": faces before the first usemtl have no material: shaded " +
+                          "with Blender's default 0.8 grey");
+    }
+    if (withoutUv > 0) {
+      warnings_.push_back(name_ + ": corners without a texture coordinate on a textured " +
+                          "material: shaded with its Kd alone");
+    }
+  }
+
+  static constexpr size_t kMaxMaterials = 65536;
+
+  const std::string& name_;
+  const MeshOptions& options_;
+  std::filesystem::path folder_;
+  PolygonSoup soup_;
+  std::vector<glm::dvec2> uvs_;
+  std::vector<PendingCorner> pending_;
+  std::vector<ObjMaterial> materials_;
+  std::map<std::string, int> materialIndex_;
+  std::vector<Texture> textures_;
+  std::map<std::string, int> textureIndex_;
+  std::string mtlFiles_;
+  std::vector<std::string> warnings_;
+  size_t triangles_ = 0;
+  uint32_t group_ = 0;
+  int material_ = -1;
+  bool usedMaterials_ = false, warnedNoMtllib_ = false;
+};
+
+}  // namespace
+
+TriangleMesh parseObj(std::string_view text, const std::string& name, const MeshOptions& options) {
+  return ObjReader(name, options).parse(text);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -397,7 +720,7 @@ class PlyReader {
 
 }  // namespace
 
-TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
+TriangleMesh parsePly(std::string_view bytes, const std::string& name, const MeshOptions& options) {
   // Header: ASCII lines up to end_header; the body starts after its '\n'.
   std::vector<PlyElement> elements;
   std::optional<bool> binary;
@@ -555,6 +878,9 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
   reader.finish();
 
   const int64_t vertexCount = static_cast<int64_t>(mesh.positions.size());
+  // PLY gives no normals the pipeline reads: they are split by crease angle.
+  PolygonSoup soup;
+  soup.positions = std::move(mesh.positions);
   for (const Face& f : faces) {
     for (size_t j = 0; j < f.count; ++j) {
       const int64_t idx = faceIndices[f.first + j];
@@ -563,22 +889,26 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
              "vertex index " + std::to_string(idx) + " out of range (" +
                  std::to_string(vertexCount) + " vertices)");
       }
+      soup.cornerPosition.push_back(static_cast<uint32_t>(idx));
     }
-    for (size_t j = 1; j + 1 < f.count; ++j) {
-      mesh.indices.insert(mesh.indices.end(),
-                          {static_cast<uint32_t>(faceIndices[f.first]),
-                           static_cast<uint32_t>(faceIndices[f.first + j]),
-                           static_cast<uint32_t>(faceIndices[f.first + j + 1])});
-    }
+    soup.endFace();
   }
-  if (mesh.indices.empty()) fail(name, "", "no faces");
-  return mesh;
+  if (soup.faceCount() == 0) fail(name, "", "no faces");
+  soup.cornerNormal.assign(soup.cornerPosition.size(), kNoAttribute);
+  soup.cornerAttribute.assign(soup.cornerPosition.size(), kNoAttribute);
+  return buildTriangleMesh(soup, options.creaseAngleDegrees);
 }
 
 // ---------------------------------------------------------------------------------------
 // Files
 
-TriangleMesh loadMesh(const std::filesystem::path& path) {
+std::string MeshOptions::readModelFile(const std::filesystem::path& path) {
+  const std::vector<uint8_t> bytes =
+      core::readRegularFile(path, kMaxModelFileBytes, "a model file", core::throwAs<MeshError>);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+TriangleMesh loadMesh(const std::filesystem::path& path, const MeshOptions& options) {
   const std::string name = path.string();
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -593,10 +923,13 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
   if (ext != ".obj" && ext != ".ply") {
     fail(name, "", "unknown mesh format '" + ext + "' (expected .obj, .ply, .gltf or .glb)");
   }
+  if (!(options.creaseAngleDegrees >= 0 && options.creaseAngleDegrees <= 180)) {
+    fail(name, "", "crease angle must be in [0, 180] degrees");
+  }
   // Regular files of bounded size only: a product path pointing at /dev/zero or a folder is
   // refused before a byte is read.
   const std::string bytes = core::readTextFile(path, core::throwAs<MeshError>, kMaxModelFileBytes);
-  return ext == ".obj" ? parseObj(bytes, name) : parsePly(bytes, name);
+  return ext == ".obj" ? parseObj(bytes, name, options) : parsePly(bytes, name, options);
 }
 
 void saveObj(const TriangleMesh& mesh, const std::filesystem::path& path) {

@@ -10,6 +10,7 @@
 #include <functional>
 #include <initializer_list>
 #include <limits>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -70,7 +71,16 @@ struct Bytes {
   }
 };
 
+// Each triangle corner's position, in index order: what a mesh draws, whatever its vertex
+// numbering.
+std::vector<glm::dvec3> cornerPositions(const TriangleMesh& m) {
+  std::vector<glm::dvec3> out;
+  for (uint32_t i : m.indices) out.push_back(m.positions[i]);
+  return out;
+}
+
 TEST_F(MeshIo, ObjPolygonsBecomeFansAndNegativeIndicesCountBack) {
+  write("shape.mtl", "newmtl red\nKd 1 0 0\n");
   const fs::path p = write("shape.obj",
                            "# a square and a triangle\r\n"
                            "mtllib shape.mtl\n"
@@ -85,6 +95,10 @@ TEST_F(MeshIo, ObjPolygonsBecomeFansAndNegativeIndicesCountBack) {
   EXPECT_EQ(m.positions[4], glm::dvec3(0, 0, 2.5));
   EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 1, 4}));
   EXPECT_EQ(m.triangleCount(), 3u);
+  // Every corner names the one vn: the file's normal; the material's Kd on every vertex.
+  EXPECT_EQ(m.normals, std::vector<glm::dvec3>(5, glm::dvec3(0, 0, 1)));
+  EXPECT_EQ(m.reflectances, std::vector<glm::dvec3>(5, glm::dvec3(1, 0, 0)));
+  EXPECT_TRUE(m.warnings.empty());
 }
 
 TEST_F(MeshIo, ObjErrorsNameFileLineAndProblem) {
@@ -134,9 +148,11 @@ TEST_F(MeshIo, AsciiPlyWithExtraPropertiesAndElements) {
                                                      "0 0 0 255\n1 0 0 0\n\n1 1 0 0\n0 1 1.5 7\n"
                                                      "4 0 1 2 3 0.5\n3 3 2 1 1\n"
                                                      "0 1\n"));
-  ASSERT_EQ(m.positions.size(), 4u);
-  EXPECT_EQ(m.positions[3], glm::dvec3(0, 1, 1.5));
-  EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 3, 2, 1}));
+  // The quad is not planar and the triangle lies back to back with half of it (a crease of
+  // 180 degrees): vertices split, the corners keep their positions.
+  const glm::dvec3 p0(0, 0, 0), p1(1, 0, 0), p2(1, 1, 0), p3(0, 1, 1.5);
+  EXPECT_EQ(cornerPositions(m), (std::vector<glm::dvec3>{p0, p1, p2, p0, p2, p3, p3, p2, p1}));
+  EXPECT_EQ(m.normals.size(), m.positions.size());
 }
 
 TEST_F(MeshIo, AsciiPlyErrors) {
@@ -321,17 +337,203 @@ TEST_F(MeshIo, SaveObjRoundTripsExactly) {
   EXPECT_EQ(back.indices, m.indices);
 }
 
+// A unit box with 8 shared corners and 6 outward quads, as modelling tools export it.
+const char* const kBoxPositions =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+const char* const kBoxFaces = "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+
+// The face normal of each triangle, from its positions.
+glm::dvec3 triangleNormal(const TriangleMesh& m, size_t t) {
+  const glm::dvec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
+                   &c = m.positions[m.indices[3 * t + 2]];
+  return glm::normalize(glm::cross(b - a, c - a));
+}
+
+TEST_F(MeshIo, BoxWithSharedCornersGetsFlatFacesByCreaseAngle) {
+  // Issue 15 item 6: 8 shared corners averaged into 8 diagonal normals shaded the faces in
+  // bands. At the 60 degree default every 90 degree edge is a crease: 24 vertices, and every
+  // corner of a face carries exactly that face's normal.
+  const TriangleMesh m = loadMesh(write("box.obj", std::string(kBoxPositions) + kBoxFaces));
+  EXPECT_EQ(m.positions.size(), 24u);
+  ASSERT_EQ(m.triangleCount(), 12u);
+  ASSERT_EQ(m.normals.size(), 24u);
+  for (size_t t = 0; t < 12; ++t) {
+    const glm::dvec3 n = triangleNormal(m, t);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(m.normals[m.indices[3 * t + k]], n) << "triangle " << t;
+    // Axis-aligned and outward.
+    EXPECT_EQ(std::abs(n.x) + std::abs(n.y) + std::abs(n.z), 1.0);
+    const glm::dvec3 centre = (m.positions[m.indices[3 * t]] + m.positions[m.indices[3 * t + 1]] +
+                               m.positions[m.indices[3 * t + 2]]) /
+                              3.0;
+    EXPECT_GT(glm::dot(n, centre - glm::dvec3(0.5)), 0.0);
+  }
+  // A crease angle above 90 degrees joins the faces again: 8 smooth corners.
+  MeshOptions wide;
+  wide.creaseAngleDegrees = 100;
+  const TriangleMesh smooth = loadMesh(dir_ / "box.obj", wide);
+  EXPECT_EQ(smooth.positions.size(), 8u);
+}
+
+TEST_F(MeshIo, SmoothingGroupsDecideOverTheCreaseAngle) {
+  // `s 1` on every face: one group, smooth across the 90 degree edges; each corner's normal
+  // is the mean of its three faces' (equal areas): the diagonal.
+  const TriangleMesh smooth =
+      loadMesh(write("s1.obj", std::string(kBoxPositions) + "s 1\n" + kBoxFaces));
+  ASSERT_EQ(smooth.positions.size(), 8u);
+  for (size_t v = 0; v < 8; ++v) {
+    const glm::dvec3 diagonal = glm::normalize(smooth.positions[v] - glm::dvec3(0.5));
+    EXPECT_NEAR(glm::length(smooth.normals[v] - diagonal), 0.0, 1e-15) << v;
+  }
+  // `s off`: flat, whatever the crease angle.
+  MeshOptions wide;
+  wide.creaseAngleDegrees = 180;
+  EXPECT_EQ(loadMesh(write("off.obj", std::string(kBoxPositions) + "s off\n" + kBoxFaces), wide)
+                .positions.size(),
+            24u);
+  // Two groups: the top and bottom (group 2) are smooth among themselves only where they
+  // share positions, which they do not: 4 side faces smooth (8 vertices) + top and bottom
+  // flat against them (8 more).
+  const TriangleMesh two = loadMesh(write(
+      "two.obj", std::string(kBoxPositions) + "s 1\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n"
+                                              "s 2\nf 1 4 3 2\nf 5 6 7 8\n"));
+  EXPECT_EQ(two.positions.size(), 16u);
+}
+
+TEST_F(MeshIo, ObjNormalsAreHonoured) {
+  // One vn per face (what exporters write for a flat box), corners i//n: the file's normals,
+  // normalized, 24 vertices. A deliberately tilted normal proves they are not recomputed.
+  const std::string normals = "vn 0 0 -2\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0.5 0\n";
+  std::string faces;
+  const int quad[6][4] = {{1, 4, 3, 2}, {5, 6, 7, 8}, {1, 2, 6, 5},
+                          {4, 8, 7, 3}, {1, 5, 8, 4}, {2, 3, 7, 6}};
+  for (int f = 0; f < 6; ++f) {
+    faces += "f";
+    for (int k = 0; k < 4; ++k) {
+      faces += " " + std::to_string(quad[f][k]) + "//" + std::to_string(f + 1);
+    }
+    faces += "\n";
+  }
+  const TriangleMesh m = loadMesh(write("vn.obj", std::string(kBoxPositions) + normals + faces));
+  ASSERT_EQ(m.positions.size(), 24u);
+  EXPECT_EQ(m.normals[m.indices[0]], glm::dvec3(0, 0, -1));  // (0, 0, -2) normalized
+  EXPECT_EQ(m.normals[m.indices[3 * 10]], glm::normalize(glm::dvec3(1, 0.5, 0)));
+  // A vn index out of range, a zero normal: named with file and line.
+  expectError(
+      [&] {
+        loadMesh(write("badn.obj", std::string(kBoxPositions) + "vn 0 1 0\nf 1//1 2//2 3//1\n"));
+      },
+      {"badn.obj", "line 10", "normal index 2 out of range", "1 normals"});
+  expectError([&] { loadMesh(write("zeron.obj", std::string(kBoxPositions) + "vn 0 0 0\n")); },
+              {"zeron.obj", "line 9", "zero length"});
+  expectError(
+      [&] { loadMesh(write("badt.obj", std::string(kBoxPositions) + "vt 0 0\nf 1/2 2/1 3/1\n")); },
+      {"badt.obj", "line 10", "texture coordinate index 2 out of range"});
+}
+
+// A w x h binary PPM from rows of RGB bytes.
+std::string ppm(int w, int h, const std::vector<uint8_t>& rgb) {
+  return "P6\n# written by the test\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n" +
+         std::string(rgb.begin(), rgb.end());
+}
+
+TEST_F(MeshIo, TexturedMaterialGivesPerVertexColours) {
+  // A 2 x 1 texture, red | blue, clamped; a quad whose left corners sit at u = 0 and right
+  // corners at u = 1: the left vertices read the red texel's centre region (Kd x red), the
+  // right ones blue. A second material without texture gives its Kd.
+  write("wood.ppm", ppm(2, 1, {255, 0, 0, 0, 0, 255}));
+  write("m.mtl",
+        "# materials\nnewmtl painted wood\nKd 0.5 1 1\nmap_Kd -clamp on wood.ppm\n"
+        "newmtl grey\nKd 0.25\n");
+  const TriangleMesh m =
+      loadMesh(write("quad.obj",
+                     "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "usemtl painted wood\nf 1/1 2/2 3/3 4/4\nusemtl grey\nf 2 5 3\n"));
+  ASSERT_EQ(m.reflectances.size(), m.positions.size());
+  EXPECT_TRUE(m.warnings.empty());
+  std::set<std::pair<double, double>> seen;  // (x, red) per vertex
+  for (size_t v = 0; v < m.positions.size(); ++v) {
+    const glm::dvec3& p = m.positions[v];
+    const glm::dvec3& r = m.reflectances[v];
+    if (r == glm::dvec3(0.25)) continue;  // the grey triangle's
+    if (p.x == 0) {
+      EXPECT_EQ(r, glm::dvec3(0.5, 0, 0)) << v;
+    } else {
+      EXPECT_EQ(r, glm::dvec3(0, 0, 1)) << v;
+    }
+    seen.insert({p.x, r.x});
+  }
+  EXPECT_EQ(seen.size(), 2u);  // the colours differ across the model
+  // Positions 2 and 3 carry both materials: split into two vertices each.
+  EXPECT_EQ(m.positions.size(), 7u);
+}
+
+TEST_F(MeshIo, MissingAndBadMaterialFilesAreNamed) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\n";
+  expectError([&] { loadMesh(write("nomtl.obj", "mtllib absent.mtl\n" + tri)); },
+              {"nomtl.obj", "line 1", "absent.mtl"});
+  write("notex.mtl", "newmtl a\nKd 1 1 1\nmap_Kd missing.png\n");
+  expectError([&] { loadMesh(write("notex.obj", "mtllib notex.mtl\n" + tri)); },
+              {"notex.mtl", "line 3", "missing.png"});
+  write("kd.mtl", "newmtl a\nKd 2 0 0\n");
+  expectError([&] { loadMesh(write("kd.obj", "mtllib kd.mtl\n" + tri)); },
+              {"kd.mtl", "line 2", "Kd value '2'"});
+  write("early.mtl", "Kd 1 1 1\n");
+  expectError([&] { loadMesh(write("early.obj", "mtllib early.mtl\n" + tri)); },
+              {"early.mtl", "line 1", "before newmtl"});
+  write("opt.mtl", "newmtl a\nmap_Kd -zoom 2 t.ppm\n");
+  expectError([&] { loadMesh(write("opt.obj", "mtllib opt.mtl\n" + tri)); },
+              {"opt.mtl", "line 2", "unknown option '-zoom'"});
+  write("junk.ppm", "this is not an image");
+  write("junk.mtl", "newmtl a\nmap_Kd junk.ppm\n");
+  expectError([&] { loadMesh(write("junk.obj", "mtllib junk.mtl\n" + tri)); },
+              {"junk.mtl", "line 2", "junk.ppm", "not a PNG, JPEG or PPM"});
+  write("short.ppm", "P6 4 4 255\nabc");
+  write("short.mtl", "newmtl a\nmap_Kd short.ppm\n");
+  expectError([&] { loadMesh(write("short.obj", "mtllib short.mtl\n" + tri)); },
+              {"short.ppm", "truncated"});
+  write("ok.mtl", "newmtl a\nKd 1 0 0\n");
+  expectError([&] { loadMesh(write("use.obj", "mtllib ok.mtl\n" + tri + "usemtl b\nf 1 2 3\n")); },
+              {"use.obj", "line 6", "no material named 'b'", "ok.mtl"});
+  // Faces before the first usemtl: Blender's default grey, said in a warning.
+  const TriangleMesh mixed =
+      loadMesh(write("mixed.obj", "mtllib ok.mtl\n" + tri + "f 1 2 3\nusemtl a\nf 3 2 1\n"));
+  EXPECT_EQ(mixed.reflectances[mixed.indices[0]], glm::dvec3(0.8));
+  EXPECT_EQ(mixed.reflectances[mixed.indices[3]], glm::dvec3(1, 0, 0));
+  ASSERT_EQ(mixed.warnings.size(), 1u);
+  EXPECT_NE(mixed.warnings[0].find("mixed.obj"), std::string::npos);
+  // usemtl without any mtllib: the materials are ignored, with a warning.
+  const TriangleMesh bare = loadMesh(write("bare.obj", tri + "usemtl a\nf 1 2 3\n"));
+  EXPECT_TRUE(bare.reflectances.empty());
+  ASSERT_EQ(bare.warnings.size(), 1u);
+  EXPECT_NE(bare.warnings[0].find("no mtllib"), std::string::npos);
+}
+
 // The bundled models (data/models/NOTICE.md) load with the counts of their sources.
 TEST(BundledModels, LoadWithTheirTriangleCounts) {
   const fs::path models = dataDir() / "models";
+  // Vertices: the files' positions (bunny 1,839, teapot 792, chair 128), split where faces
+  // meet at more than the 60 degree crease angle (mesh_attributes.h); at 180 degrees
+  // (smooth everywhere) none is.
   const TriangleMesh bunny = loadMesh(models / "bunny.ply");
-  EXPECT_EQ(bunny.positions.size(), 1839u);
+  EXPECT_EQ(bunny.positions.size(), 1878u);
   EXPECT_EQ(bunny.triangleCount(), 3674u);
+  MeshOptions smooth;
+  smooth.creaseAngleDegrees = 180;
+  EXPECT_EQ(loadMesh(models / "bunny.ply", smooth).positions.size(), 1839u);
   const TriangleMesh teapot = loadMesh(models / "teapot.ply");
-  EXPECT_EQ(teapot.positions.size(), 792u);
+  EXPECT_EQ(teapot.positions.size(), 872u);
   EXPECT_EQ(teapot.triangleCount(), 992u);
+  EXPECT_EQ(loadMesh(models / "teapot.ply", smooth).positions.size(), 792u);
   const TriangleMesh chair = loadMesh(models / "chair.obj");
+  EXPECT_EQ(chair.positions.size(), 288u);
   EXPECT_EQ(chair.triangleCount(), 216u);
+  EXPECT_EQ(loadMesh(models / "chair.obj", smooth).positions.size(), 128u);
+  for (const TriangleMesh* m : {&bunny, &teapot, &chair}) {
+    ASSERT_EQ(m->normals.size(), m->positions.size());
+    for (const glm::dvec3& n : m->normals) EXPECT_NEAR(glm::length(n), 1.0, 1e-12);
+    EXPECT_TRUE(m->reflectances.empty());  // no materials: the scene file's colour
+  }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "core/json_reader.h"
 #include "scene/gltf_io.h"
 #include "scene/mesh_simplify.h"
+#include "scene/product_size.h"
 
 namespace penumbra::scene {
 
@@ -335,7 +336,7 @@ class SceneParser {
 
   Product parseProduct(const JsonValue& v) {
     v.object({"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour",
-              "proxy_triangles", "specular", "specular_exponent"});
+              "proxy_triangles", "specular", "specular_exponent", "crease_angle_deg"});
     Product p;
     p.name = v["name"].nonEmptyString();
     const std::string model = v["model"].nonEmptyString();
@@ -344,10 +345,13 @@ class SceneParser {
     if (const auto rot = v.find("rotate_y_deg")) p.rotateYDegrees = rot->number();
     if (const auto rest = v.find("rest_on_floor")) p.restOnFloor = rest->boolean();
     if (const auto n = v.find("proxy_triangles")) p.proxyTriangles = count(*n, 4, 100000);
+    if (const auto a = v.find("crease_angle_deg")) p.creaseAngleDegrees = a->number(0, 180);
     std::string ext = p.model.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     const bool gltf = ext == ".gltf" || ext == ".glb";
+    MeshOptions options;
+    options.creaseAngleDegrees = p.creaseAngleDegrees;
     try {
 #ifdef PENUMBRA_HAVE_GLTF
       if (gltf) {
@@ -359,18 +363,22 @@ class SceneParser {
         p.specular = loaded.material.specular;
         p.specularExponent = loaded.material.specularExponent;
       } else {
-        p.mesh = loadMesh(p.model);
+        p.mesh = loadMesh(p.model, options);
       }
 #else
-      p.mesh = loadMesh(p.model);
+      p.mesh = loadMesh(p.model, options);
 #endif
     } catch (const MeshError& e) {
       v["model"].fail(e.what());
     }
+    p.warnings = p.mesh.warnings;
     if (const auto c = v.find("colour")) {
       p.reflectance = colour(*c);
-    } else if (!gltf) {
-      v["colour"];  // OBJ/PLY carry no material: "missing"
+      p.mesh.reflectances.clear();  // the scene's colour overrides the model's
+    } else if (!p.mesh.reflectances.empty()) {
+      if (!gltf) p.reflectance = meanReflectance(p.mesh);
+    } else {
+      v["colour"];  // a model without colours (PLY, OBJ without materials): "missing"
     }
     if (const auto c = v.find("specular")) p.specular = colour(*c);
     if (const auto e = v.find("specular_exponent")) p.specularExponent = e->number(0, 1e6);
@@ -382,8 +390,19 @@ class SceneParser {
                       "the " + core::formatNumber(kMaxProductSize) +
                       " m a product may measure (check scale)");
     }
+    if (const auto w = productSizeWarning(p.model.string(), largest, p.scale, gltf)) {
+      p.warnings.push_back(*w);
+    }
     p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles);
     return p;
+  }
+
+  // The vertices' mean reflectance, summed in vertex order: the product's one colour where a
+  // single one is needed (a bundle reader that ignores per-vertex colours).
+  static glm::dvec3 meanReflectance(const TriangleMesh& mesh) {
+    glm::dvec3 sum(0.0);
+    for (const glm::dvec3& r : mesh.reflectances) sum += r;
+    return glm::clamp(sum / double(mesh.reflectances.size()), 0.0, 1.0);
   }
 
   // Scale, rotate about +y, then centre the footprint on the origin and (restOnFloor)
@@ -394,6 +413,10 @@ class SceneParser {
     for (glm::dvec3& q : p.mesh.positions) {
       const glm::dvec3 scaled = q * p.scale;
       q = glm::dvec3(c * scaled.x + s * scaled.z, scaled.y, -s * scaled.x + c * scaled.z);
+    }
+    // Normals turn with the model (a uniform positive scale leaves them be), renormalized.
+    for (glm::dvec3& n : p.mesh.normals) {
+      n = glm::normalize(glm::dvec3(c * n.x + s * n.z, n.y, -s * n.x + c * n.z));
     }
     const Aabb b = p.mesh.bounds();
     const glm::dvec3 shift(-b.centre().x, p.restOnFloor ? -b.min.y : 0.0, -b.centre().z);

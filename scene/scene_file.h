@@ -77,17 +77,25 @@ struct Product {
   double scale = 1;
   double rotateYDegrees = 0;
   bool restOnFloor = true;
-  glm::dvec3 reflectance{0.5};  // diffuse colour of the virtual object
+  // Diffuse colour of the virtual object: the scene file's `colour`; without it, the mean of
+  // mesh.reflectances (OBJ materials, glTF base colour). Per-vertex colours
+  // (mesh.reflectances) are what is shaded when the model has them and `colour` is not
+  // given: `colour` overrides the model's colours (it is the one knob a scene file has).
+  glm::dvec3 reflectance{0.5};
   // Phong-like specular lobe (Gibson & Chalmers 2003 §5): reflectance in [0, 1] per
   // channel (0 = none) and exponent; from a glTF model's metallic/roughness (gltf_io.h).
   glm::dvec3 specular{0.0};
   double specularExponent = 0;
   size_t proxyTriangles = 300;
+  // Normals a model does not give are split at this angle (mesh_io.h), `crease_angle_deg`.
+  double creaseAngleDegrees = kDefaultCreaseAngleDegrees;
   // The model in product space: scaled, rotated about +y, its bounding box centred on
   // x = z = 0 and, with restOnFloor, its lowest point at y = 0 (so a pose (x, z, yaw)
   // places it standing on the floor).
   TriangleMesh mesh;
-  TriangleMesh proxy;  // simplifyForShadows(mesh, proxyTriangles), same space
+  TriangleMesh proxy;  // simplifyForShadows(mesh, proxyTriangles), same space (positions only)
+  // The loader's warnings and the size check's (product_size.h), each naming the model file.
+  std::vector<std::string> warnings;
 };
 
 // Where the product is first shown: its product-space origin moved to (x, 0, z) after

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -101,6 +102,76 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
   EXPECT_NEAR(s.products[1].mesh.bounds().size().y, 0.04 * 9.657897, 1e-4);
   EXPECT_EQ(s.startPose.product, 0u);
   EXPECT_EQ(s.startPose.x, 3.0);
+  // The shipped products measure what showroom products measure: no unit warning.
+  for (const Product& p : s.products) EXPECT_TRUE(p.warnings.empty()) << p.name;
+}
+
+#ifdef PENUMBRA_HAVE_GLTF
+// Issue 15 item 6: "a glTF whose `scale` multiplies its own node scale gives a 1.6 cm teapot
+// without a warning". teapot.gltf is in metres through its own node scale (0.016: 51 cm
+// across, as the showroom's teapot.ply at scale 0.016); keeping the scene's 0.016 when
+// switching to it scales twice: 8 mm.
+TEST(SceneFile, ImplausibleProductSizeIsWarnedAbout) {
+  json doc = showroomJson();
+  doc["products"][2]["model"] = "../models/teapot.gltf";
+  const SceneDescription s = parse(doc);
+  const Product& teapot = s.products[2];
+  const glm::dvec3 size = teapot.mesh.bounds().size();
+  const double largest = std::max({size.x, size.y, size.z});
+  EXPECT_NEAR(largest, 0.0082, 0.0001);
+  const auto sizeWarnings = [](const Product& p) {
+    std::vector<std::string> out;
+    for (const std::string& w : p.warnings) {
+      if (w.find("measures") != std::string::npos) out.push_back(w);
+    }
+    return out;
+  };
+  ASSERT_EQ(sizeWarnings(teapot).size(), 1u);
+  const std::string w = sizeWarnings(teapot)[0];
+  for (const char* part : {"teapot.gltf", "measures 0.0082", "once scaled by 0.016", "glTF",
+                           "node transforms", "0.05 m", "(without it: 0.51"}) {
+    EXPECT_NE(w.find(part), std::string::npos) << w;
+  }
+  // The same file at the scale it was made for: no size warning.
+  doc["products"][2]["scale"] = 1.0;
+  EXPECT_TRUE(sizeWarnings(parse(doc).products[2]).empty());
+}
+#endif
+
+TEST(SceneFile, CreaseAngleAndColourOverride) {
+  json doc = showroomJson();
+  // The chair's octagonal legs (45 degrees between sides) split at a 30 degree crease.
+  doc["products"][0]["crease_angle_deg"] = 30;
+  const size_t at30 = parse(doc).products[0].mesh.positions.size();
+  doc["products"][0]["crease_angle_deg"] = 60;
+  EXPECT_GT(at30, parse(doc).products[0].mesh.positions.size());
+  doc["products"][0]["crease_angle_deg"] = 181;
+  const std::string msg = errorOf([&] { parse(doc); });
+  EXPECT_NE(msg.find("products[0].crease_angle_deg"), std::string::npos) << msg;
+#ifdef PENUMBRA_HAVE_GLTF
+  // A glTF's per-vertex colours, unless the scene's colour overrides them.
+  doc = showroomJson();
+  doc["products"][2]["model"] = "../models/teapot.gltf";
+  doc["products"][2]["scale"] = 1.0;
+  doc["products"][2].erase("colour");
+  EXPECT_EQ(parse(doc).products[2].mesh.reflectances.size(),
+            parse(doc).products[2].mesh.positions.size());
+  doc["products"][2]["colour"] = {0.1, 0.2, 0.3};
+  const Product overridden = parse(doc).products[2];
+  EXPECT_TRUE(overridden.mesh.reflectances.empty());
+  EXPECT_EQ(overridden.reflectance, glm::dvec3(0.1, 0.2, 0.3));
+#endif
+  // Normals turn with rotate_y_deg: the chair's seat top still faces up, its back's
+  // outside (+z in the model) faces +x after a quarter turn.
+  doc = showroomJson();
+  doc["products"][0]["rotate_y_deg"] = 90;
+  const Product chair = parse(doc).products[0];
+  size_t facingX = 0;
+  for (const glm::dvec3& n : chair.mesh.normals) {
+    EXPECT_NEAR(glm::length(n), 1.0, 1e-12);
+    if (n.x > 0.999) ++facingX;
+  }
+  EXPECT_GT(facingX, 0u);
 }
 
 TEST(SceneFile, ScaleAndRotationPlaceTheModel) {

@@ -46,7 +46,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   }
   ns[FrameStage::kPlacement] = watch.lapNs();
   if (change != PlacementChange::kNone) {
-    shading_.shade(placement_.mesh(), placement_.bounds(), pose.product);
+    shading_.shade(placement_.mesh(), placement_.normals(), placement_.bounds(), pose.product);
   }
   ns[FrameStage::kShading] = watch.lapNs();
 

@@ -174,11 +174,12 @@ glm::vec3 IrradianceVolume::irradianceOverPi(const glm::vec3& p, const glm::vec3
 }
 
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
-                          std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneCurve& tone, std::span<core::Rgb8> colours,
-                          std::span<glm::vec3> radiance) {
+                          std::span<const glm::vec3> normals,
+                          std::span<const glm::vec3> reflectances, const ToneCurve& tone,
+                          std::span<core::Rgb8> colours, std::span<glm::vec3> radiance) {
   if (normals.size() != positions.size() || colours.size() != positions.size() ||
-      (!radiance.empty() && radiance.size() != positions.size())) {
+      (!radiance.empty() && radiance.size() != positions.size()) ||
+      (reflectances.size() != 1 && reflectances.size() != positions.size())) {
     throw std::invalid_argument("shadeVerticesDiffuse: span sizes differ");
   }
   for (size_t v = 0; v < positions.size(); ++v) {
@@ -189,6 +190,7 @@ void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::
         length > 0.0f ? glm::vec3(m.x * inv, m.y * inv, m.z * inv) : glm::vec3(0.0f, 1.0f, 0.0f);
     const glm::vec3 e =
         volume.irradianceOverPi(glm::vec3(positions[v].x, positions[v].y, positions[v].z), n);
+    const glm::vec3& reflectance = reflectances[reflectances.size() == 1 ? 0 : v];
     const glm::vec3 l(reflectance.x * e.x, reflectance.y * e.y, reflectance.z * e.z);
     if (!radiance.empty()) radiance[v] = l;
     colours[v] = tone.map(l);

@@ -92,10 +92,19 @@ ShCornerBlend shCornerBlendFor(simd::Isa isa);
 // Diffuse shading of a product's vertices (§5): radiance_v = reflectance (*) E(n_v) / pi,
 // then T() per channel. `normals` need not be unit length (zero → +y). `radiance` may be
 // empty (not written); otherwise all spans have positions.size() entries.
+// `reflectances` holds one reflectance for every vertex or one per vertex.
 void shadeVerticesDiffuse(const IrradianceVolume& volume, std::span<const core::Vec3> positions,
-                          std::span<const glm::vec3> normals, const glm::vec3& reflectance,
-                          const ToneCurve& tone, std::span<core::Rgb8> colours,
-                          std::span<glm::vec3> radiance);
+                          std::span<const glm::vec3> normals,
+                          std::span<const glm::vec3> reflectances, const ToneCurve& tone,
+                          std::span<core::Rgb8> colours, std::span<glm::vec3> radiance);
+inline void shadeVerticesDiffuse(const IrradianceVolume& volume,
+                                 std::span<const core::Vec3> positions,
+                                 std::span<const glm::vec3> normals, const glm::vec3& reflectance,
+                                 const ToneCurve& tone, std::span<core::Rgb8> colours,
+                                 std::span<glm::vec3> radiance) {
+  shadeVerticesDiffuse(volume, positions, normals, std::span<const glm::vec3>(&reflectance, 1),
+                       tone, colours, radiance);
+}
 
 // Area-weighted vertex normals of an indexed mesh (not normalized), summed in triangle order.
 std::vector<glm::vec3> vertexNormals(const core::Mesh& mesh);

@@ -1,8 +1,10 @@
 // Product placement (design §1, per frame step 2): the product's display mesh and its shadow
 // proxy (Gibson 2003 §7.2) moved from product space to the pose in the room, and the world
 // bounding box of the placed mesh — the box the shaft traversal (§6.1) tests and the light
-// frusta (§7.2) enclose. Placement is redone only when the pose or the model changes.
-// Cost: one placeMesh() of the mesh and of the proxy when it moves; nothing otherwise.
+// frusta (§7.2) enclose, and the normals the product is shaded with. Placement is redone only
+// when the pose or the model changes.
+// Cost: one placeMesh() of the mesh and of the proxy and one placeNormals() when it moves;
+// nothing otherwise.
 #pragma once
 
 #include <cstdint>
@@ -34,7 +36,10 @@ class ProductPlacement {
   void modelChanged(uint32_t product);
 
   const ProductPose& pose() const { return pose_; }
-  const core::Mesh& mesh() const { return mesh_; }       // world space
+  const core::Mesh& mesh() const { return mesh_; }  // world space
+  // Per mesh vertex, world space: the model's normals turned by the yaw, or area-weighted
+  // face-normal sums for a model without them (shadingNormals).
+  const std::vector<glm::vec3>& normals() const { return normals_; }
   const core::Mesh& proxy() const { return proxy_; }     // world space
   const scene::Aabb& bounds() const { return bounds_; }  // of mesh()
 
@@ -42,6 +47,7 @@ class ProductPlacement {
   const std::vector<ProductModel>& products_;
   ProductPose pose_{~0u, 0, 0, 0};
   core::Mesh mesh_, proxy_;
+  std::vector<glm::vec3> normals_;
   scene::Aabb bounds_;
 };
 

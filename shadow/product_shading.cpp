@@ -1,5 +1,8 @@
 #include "shadow/product_shading.h"
 
+#include <stdexcept>
+#include <string>
+
 #include "shadow/patch_transfer.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -35,27 +38,42 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
 }
 
 void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product) {
+  const std::vector<glm::vec3> normals = vertexNormals(placed);
+  shade(placed, normals, bounds, product);
+}
+
+void ProductShading::shade(const core::Mesh& placed, std::span<const glm::vec3> normals,
+                           const scene::Aabb& bounds, uint32_t product) {
   const core::Mesh& m = placed;
-  std::vector<glm::dvec3>& normals = normals_;
-  normals.assign(m.positions.size(), glm::dvec3(0.0));
-  for (size_t t = 0; t < m.triangleCount(); ++t) {
-    const core::Vec3 &a = m.positions[m.indices[3 * t]], &b = m.positions[m.indices[3 * t + 1]],
-                     &c = m.positions[m.indices[3 * t + 2]];
-    const glm::dvec3 n = glm::cross(glm::dvec3(b.x - a.x, b.y - a.y, b.z - a.z),
-                                    glm::dvec3(c.x - a.x, c.y - a.y, c.z - a.z));
-    for (int k = 0; k < 3; ++k) normals[m.indices[3 * t + size_t(k)]] += n;  // area-weighted
-  }
-  const glm::dvec3 reflectance(bundle_.products[product].reflectance);
   const size_t vertices = m.positions.size();
+  const ProductModel& model = bundle_.products.at(product);
+  if (normals.size() != vertices) {
+    throw std::invalid_argument("ProductShading::shade: " + std::to_string(normals.size()) +
+                                " normals for " + std::to_string(vertices) + " vertices");
+  }
+  // Per-vertex reflectance (the model's colours), or the product's one reflectance.
+  std::span<const glm::vec3> reflectances(&model.reflectance, 1);
+  if (!model.reflectances.empty()) {
+    if (model.reflectances.size() != vertices) {
+      throw std::invalid_argument("ProductShading::shade: the placed mesh is not product " +
+                                  std::to_string(product) + "'s");
+    }
+    reflectances = model.reflectances;
+  }
+  const auto reflectanceOf = [&](size_t v) {
+    return glm::dvec3(reflectances[reflectances.size() == 1 ? 0 : v]);
+  };
   colours_.resize(vertices);
   radiance_.resize(vertices);
   sourceTransfers_.assign(bundle_.sets.sources.size() * vertices, glm::dvec3(0.0));
   // Vertices are independent (each writes its own entries): chunks of them on the pool.
   core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int) {
     for (size_t v = begin; v < end; ++v) {
-      const double length = glm::length(normals[v]);
-      const glm::dvec3 n = length > 0 ? normals[v] / length : glm::dvec3(0, 1, 0);
+      const glm::dvec3 normal(normals[v]);
+      const double length = glm::length(normal);
+      const glm::dvec3 n = length > 0 ? normal / length : glm::dvec3(0, 1, 0);
       const glm::dvec3 x(m.positions[v].x, m.positions[v].y, m.positions[v].z);
+      const glm::dvec3 reflectance = reflectanceOf(v);
       // Each emitter's transfer once: it adds to the vertex's radiance, and a source's is
       // kept as that source's L_ij for self-shadowing.
       glm::dvec3 radiance(0.0);
@@ -71,15 +89,13 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
     }
   });
   if (bundle_.irradiance.empty() || !options_.shadeFromVolume) return;
-  const std::vector<glm::vec3> vertexN = vertexNormals(m);
   volumeRadiance_.resize(vertices);
-  shadeVerticesDiffuse(bundle_.irradiance, m.positions, vertexN, glm::vec3(reflectance),
-                       bundle_.tone, colours_, volumeRadiance_);
+  shadeVerticesDiffuse(bundle_.irradiance, m.positions, normals, reflectances, bundle_.tone,
+                       colours_, volumeRadiance_);
   for (size_t v = 0; v < vertices; ++v) radiance_[v] = glm::dvec3(volumeRadiance_[v]);
 
   // §5 specular: the room reflected in a Phong lobe, from a cube map rendered at the
   // product's centre (Fig. 9), added in radiance before T().
-  const ProductModel& model = bundle_.products[product];
   if (!options_.specular || environmentRoom_.mesh.positions.empty() ||
       !(model.specular.x > 0 || model.specular.y > 0 || model.specular.z > 0)) {
     return;
@@ -90,7 +106,7 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
   core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int) {
     for (size_t v = begin; v < end; ++v) {
       const glm::vec3 p(m.positions[v].x, m.positions[v].y, m.positions[v].z);
-      const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, vertexN[v], eye_);
+      const glm::vec3 s = specularRadiance(environment_, toneInverse_, lobe, p, normals[v], eye_);
       const glm::vec3 l(volumeRadiance_[v].x + model.specular.x * s.x,
                         volumeRadiance_[v].y + model.specular.y * s.y,
                         volumeRadiance_[v].z + model.specular.z * s.z);

@@ -1,5 +1,6 @@
 // Product shading (design §1, per frame step 2): the placed product's colour per vertex,
-// through the camera response T(). With an irradiance volume in the bundle (Gibson &
+// through the camera response T(), with the model's own normals and per-vertex reflectances
+// (issue 15 item 6) where the bundle has them. With an irradiance volume in the bundle (Gibson &
 // Chalmers 2003 §5): reflectance x E(n)/pi from the volume's SH9 lookup, plus the §5
 // specular lobe from a small cube map of the room rendered at the product's centre
 // (Fig. 9). Without one: a flat diffuse material lit by every emitting patch, unshadowed,
@@ -37,7 +38,13 @@ class ProductShading {
   ProductShading(const SceneBundle& bundle, const scene::PatchMesh& mesh, const scene::Aabb& room,
                  const ProductShadingOptions& options);
 
-  // Shades product `product` placed as `placed` (world space) with world bounds `bounds`.
+  // Shades product `product` placed as `placed` (world space) with world bounds `bounds` and
+  // per-vertex `normals` (world space, any positive length: ProductPlacement::normals). Each
+  // vertex has the model's own reflectance when it has per-vertex ones (then `placed` must be
+  // its mesh), else the product's. Throws std::invalid_argument on a size mismatch.
+  void shade(const core::Mesh& placed, std::span<const glm::vec3> normals,
+             const scene::Aabb& bounds, uint32_t product);
+  // The same with area-weighted vertex normals of `placed` (vertexNormals).
   void shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
   // Threads for the per-vertex work (the renderer's pool); null: the calling thread. The
   // bytes do not depend on it.
@@ -66,7 +73,6 @@ class ProductShading {
   std::vector<glm::dvec3> radiance_;
   std::vector<glm::vec3> volumeRadiance_;  // per vertex, from the irradiance volume
   std::vector<glm::dvec3> sourceTransfers_;
-  std::vector<glm::dvec3> normals_;  // per vertex, area-weighted (scratch)
   core::JobPool* pool_ = nullptr;
   static constexpr size_t kVertexChunk = 64;
 };

@@ -4,6 +4,7 @@
 
 #include "scene/bundle_io.h"
 #include "scene/portable_trig.h"
+#include "shadow/irradiance_volume.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -32,6 +33,38 @@ core::Mesh readMesh(const BundleReader& r, const std::string& name) {
   return m;
 }
 
+// A product's per-vertex normals and reflectances (version 5): empty or one per mesh vertex;
+// normals finite and of unit length to within float rounding of a normalized double (1e-3
+// leaves room for any exporter's rounding, and refuses a zero or unnormalized vector);
+// reflectances in [0, 1].
+void readVertexAttributes(const BundleReader& r, const std::string& p, ProductModel& m) {
+  m.normals = r.get<glm::vec3>(p + ".normals");
+  m.reflectances = r.get<glm::vec3>(p + ".reflectances");
+  const size_t vertices = m.mesh.positions.size();
+  if (!m.normals.empty() && m.normals.size() != vertices) {
+    r.fail(p + ".normals", std::to_string(m.normals.size()) + " normals for " +
+                               std::to_string(vertices) + " vertices");
+  }
+  if (!m.reflectances.empty() && m.reflectances.size() != vertices) {
+    r.fail(p + ".reflectances", std::to_string(m.reflectances.size()) + " reflectances for " +
+                                    std::to_string(vertices) + " vertices");
+  }
+  for (size_t i = 0; i < m.normals.size(); ++i) {
+    const glm::vec3& n = m.normals[i];
+    const double length = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
+    if (!(std::abs(length - 1.0) <= 1e-3)) {
+      r.fail(p + ".normals", "normal " + std::to_string(i) + " is not of unit length");
+    }
+  }
+  for (size_t i = 0; i < m.reflectances.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      if (!(m.reflectances[i][c] >= 0 && m.reflectances[i][c] <= 1)) {
+        r.fail(p + ".reflectances", "reflectance " + std::to_string(i) + " is not in [0, 1]");
+      }
+    }
+  }
+}
+
 // Product names are stored as one character array with a length per product.
 void addNames(BundleWriter& w, const std::vector<ProductModel>& products) {
   std::vector<char> chars;
@@ -57,6 +90,25 @@ void placeMesh(const core::Mesh& in, const ProductPose& pose, core::Mesh& out) {
                         static_cast<float>(p.y + pose.lift),  // the floor is y = 0
                         static_cast<float>(-s * p.x + c * p.z + pose.z)};
   }
+}
+
+void placeNormals(const std::vector<glm::vec3>& in, const ProductPose& pose,
+                  std::vector<glm::vec3>& out) {
+  double s, c;
+  scene::sinCosDegrees(pose.yawDegrees, s, c);  // as placeMesh
+  out.resize(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    const glm::vec3& n = in[i];
+    out[i] = {static_cast<float>(c * n.x + s * n.z), n.y, static_cast<float>(-s * n.x + c * n.z)};
+  }
+}
+
+std::vector<glm::vec3> shadingNormals(const ProductModel& model, const core::Mesh& placed,
+                                      const ProductPose& pose) {
+  if (model.normals.empty()) return vertexNormals(placed);
+  std::vector<glm::vec3> out;
+  placeNormals(model.normals, pose, out);
+  return out;
 }
 
 scene::PatchMesh patchMeshOf(const SceneBundle& b) {
@@ -110,6 +162,8 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
     const std::string p = "products." + std::to_string(i);
     addMesh(w, p + ".mesh", b.products[i].mesh);
     addMesh(w, p + ".proxy", b.products[i].proxy);
+    w.add<glm::vec3>(p + ".normals", b.products[i].normals);
+    w.add<glm::vec3>(p + ".reflectances", b.products[i].reflectances);
     w.addValue<glm::vec3>(p + ".reflectance", b.products[i].reflectance);
     w.addValue<glm::vec3>(p + ".specular", b.products[i].specular);
     w.addValue<float>(p + ".specular_exponent", b.products[i].specularExponent);
@@ -127,7 +181,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
 }
 
 SceneBundle loadBundle(const std::filesystem::path& path) {
-  const BundleReader r(path, kBundleVersion);
+  const BundleReader r(path, kOldestBundleVersion, kBundleVersion);
   SceneBundle b;
   b.view.width = r.getValue<uint32_t>("view.width");
   b.view.height = r.getValue<uint32_t>("view.height");
@@ -169,6 +223,7 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     at += lengths[i];
     m.mesh = readMesh(r, p + ".mesh");
     m.proxy = readMesh(r, p + ".proxy");
+    if (r.version() >= 5) readVertexAttributes(r, p, m);
     m.reflectance = r.getValue<glm::vec3>(p + ".reflectance");
     m.specular = r.getValue<glm::vec3>(p + ".specular");
     m.specularExponent = r.getValue<float>(p + ".specular_exponent");

@@ -21,7 +21,10 @@
 namespace penumbra::shadow {
 
 // 4: the irradiance volume (Gibson & Chalmers 2003 §5) and the products' specular terms.
-inline constexpr uint32_t kBundleVersion = 4;
+// 5: the products' per-vertex normals and reflectances (issue 15 item 6). Version 4 bundles
+// still load: their products have neither (area-weighted normals, one reflectance).
+inline constexpr uint32_t kBundleVersion = 5;
+inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
 struct PatchRecord {
@@ -32,15 +35,21 @@ struct PatchRecord {
 };
 
 // A product: its display mesh (standing on y = 0, centred on the origin at yaw 0), its
-// shadow proxy of 100–500 triangles (Gibson 2003 §7.2), a diffuse reflectance and a
-// Phong-like specular lobe (Gibson & Chalmers 2003 §5; strength 0 = purely diffuse).
+// shadow proxy of 100–500 triangles (Gibson 2003 §7.2, positions only), a diffuse reflectance
+// and a Phong-like specular lobe (Gibson & Chalmers 2003 §5; strength 0 = purely diffuse).
+// Per mesh vertex, optionally: the model's normals (as exported, or split by smoothing group
+// or crease angle: scene/mesh_attributes.h) and diffuse reflectances (OBJ materials, glTF base
+// colour and textures). Without normals the shading sums area-weighted face normals; without
+// reflectances every vertex has `reflectance`.
 struct ProductModel {
   std::string name;
   core::Mesh mesh;
   core::Mesh proxy;
   glm::vec3 reflectance{0.6f};
-  glm::vec3 specular{0.0f};       // specular reflectance per channel, in [0, 1]
-  float specularExponent = 0.0f;  // Phong exponent of the lobe, >= 0
+  glm::vec3 specular{0.0f};               // specular reflectance per channel, in [0, 1]
+  float specularExponent = 0.0f;          // Phong exponent of the lobe, >= 0
+  std::vector<glm::vec3> normals{};       // empty or one unit vector per mesh vertex
+  std::vector<glm::vec3> reflectances{};  // empty or one per mesh vertex, each channel in [0, 1]
 };
 
 // Where a product stands: at (x, z) on the floor, `lift` above it, turned by yaw about +y.
@@ -55,6 +64,16 @@ struct ProductPose {
 // placement shared by the per-frame compositor and the ray-traced reference, so both see
 // the product in the same place to the bit. The pose's product index is not used.
 void placeMesh(const core::Mesh& in, const ProductPose& pose, core::Mesh& out);
+// Normals turned by the pose's yaw as placeMesh turns positions (the same portable sine and
+// cosine, in double, rounded to float).
+void placeNormals(const std::vector<glm::vec3>& in, const ProductPose& pose,
+                  std::vector<glm::vec3>& out);
+// The normals product `model` is shaded with, placed by `pose`: its own (placeNormals), or
+// without them the area-weighted sums of the placed mesh's face normals (not normalized,
+// shadow/irradiance_volume.h vertexNormals). The per-frame shading and the ray-traced
+// reference both take them from here.
+std::vector<glm::vec3> shadingNormals(const ProductModel& model, const core::Mesh& placed,
+                                      const ProductPose& pose);
 
 struct SceneBundle {
   raster::StaticView view;              // image size, camera, the room's triangles

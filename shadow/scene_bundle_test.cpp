@@ -3,7 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <span>
+
 #include "scene/bundle_io.h"
+#include "scene/sha256.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -162,6 +168,143 @@ TEST(SceneBundle, IrradianceVolumeAndSpecularRoundTripAndAreValidated) {
   bad = b;
   bad.products[0].specularExponent = std::numeric_limits<float>::infinity();
   expectRefused(bad, "products.0.specular_exponent");
+  fs::remove(path);
+}
+
+}  // namespace
+}  // namespace penumbra::shadow
+
+namespace penumbra::shadow {
+namespace {
+
+// v5: the products' per-vertex normals and reflectances.
+TEST(SceneBundle, PerVertexNormalsAndReflectancesRoundTripAndAreValidated) {
+  SceneBundle b = smallBundle();
+  b.products[0].normals = {{0, 1, 0}, {0, 1, 0}, {0.6f, 0.8f, 0}, {0, 0, 1}};
+  b.products[0].reflectances = {{0.1f, 0.2f, 0.3f}, {1, 1, 1}, {0, 0, 0}, {0.5f, 0.5f, 0.5f}};
+  const fs::path path = tempPath("penumbra-scene-bundle-v5.bundle");
+  saveBundle(b, path);
+  const SceneBundle r = loadBundle(path);
+  EXPECT_EQ(r.products[0].normals, b.products[0].normals);
+  EXPECT_EQ(r.products[0].reflectances, b.products[0].reflectances);
+  EXPECT_TRUE(r.products[1].normals.empty());
+  EXPECT_TRUE(r.products[1].reflectances.empty());
+
+  auto refusal = [&](const SceneBundle& bad) {
+    saveBundle(bad, path);
+    try {
+      loadBundle(path);
+    } catch (const scene::BundleError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  SceneBundle bad = b;
+  bad.products[0].normals.pop_back();
+  EXPECT_EQ(refusal(bad),
+            path.string() + ": section 'products.0.normals': 3 normals for 4 vertices");
+  bad = b;
+  bad.products[0].normals[1] = {0, 2, 0};
+  EXPECT_EQ(refusal(bad),
+            path.string() + ": section 'products.0.normals': normal 1 is not of unit length");
+  bad = b;
+  bad.products[0].normals[2].x = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(refusal(bad).find("normal 2 is not of unit length"), std::string::npos);
+  bad = b;
+  bad.products[0].reflectances.push_back({0, 0, 0});
+  EXPECT_NE(refusal(bad).find("'products.0.reflectances': 5 reflectances for 4 vertices"),
+            std::string::npos);
+  bad = b;
+  bad.products[0].reflectances[3].z = 1.5f;
+  EXPECT_EQ(refusal(bad),
+            path.string() + ": section 'products.0.reflectances': reflectance 3 is not in [0, 1]");
+  fs::remove(path);
+}
+
+// The bundle container's sections (scene/bundle_io.h layout), to rewrite a bundle as an older
+// version would have written it.
+struct RawSection {
+  std::string name;
+  uint32_t elementSize;
+  uint64_t count;
+  std::string data;
+};
+
+std::vector<RawSection> readSections(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  uint32_t count;
+  std::memcpy(&count, bytes.data() + 20, 4);
+  std::vector<RawSection> out;
+  size_t at = 56;
+  for (uint32_t s = 0; s < count; ++s) {
+    RawSection r;
+    uint32_t nameLength;
+    std::memcpy(&nameLength, bytes.data() + at, 4);
+    r.name = bytes.substr(at + 4, nameLength);
+    at += 4 + nameLength;
+    std::memcpy(&r.elementSize, bytes.data() + at, 4);
+    std::memcpy(&r.count, bytes.data() + at + 4, 8);
+    at += 12;
+    r.data = bytes.substr(at, r.elementSize * r.count);
+    at += r.data.size();
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// A version 4 bundle (before per-vertex normals and reflectances) still loads: its products
+// have neither, and shade with area-weighted normals and their one reflectance.
+TEST(SceneBundle, Version4BundlesStillLoad) {
+  SceneBundle b = smallBundle();
+  b.products[0].normals.assign(4, {0, 1, 0});
+  const fs::path path = tempPath("penumbra-scene-bundle-v4-compat.bundle");
+  saveBundle(b, path);
+  // Rewritten as version 4: the same sections without the new ones, rehashed.
+  std::string body;
+  uint32_t kept = 0;
+  const auto put = [&](const auto& v) {
+    body.append(reinterpret_cast<const char*>(&v), sizeof(v));
+  };
+  for (const RawSection& sec : readSections(path)) {
+    if (sec.name.ends_with(".normals") || sec.name.ends_with(".reflectances")) continue;
+    put(static_cast<uint32_t>(sec.name.size()));
+    body += sec.name;
+    put(sec.elementSize);
+    put(sec.count);
+    body += sec.data;
+    ++kept;
+  }
+  EXPECT_EQ(kept + 4, readSections(path).size());  // two products, two new sections each
+  scene::Sha256 hash;
+  hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
+  const auto digest = hash.finish();
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    const uint32_t version = 4;
+    out.write("PENUMBRA-BUNDLE", 16);
+    out.write(reinterpret_cast<const char*>(&version), 4);
+    out.write(reinterpret_cast<const char*>(&kept), 4);
+    out.write(reinterpret_cast<const char*>(digest.data()), std::streamsize(digest.size()));
+    out << body;
+  }
+  const SceneBundle r = loadBundle(path);
+  ASSERT_EQ(r.products.size(), 2u);
+  EXPECT_TRUE(r.products[0].normals.empty());
+  EXPECT_TRUE(r.products[0].reflectances.empty());
+  EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
+  EXPECT_EQ(r.products[0].reflectance, b.products[0].reflectance);
+  // Version 3 and a future version 6 are refused, naming both ends of what is read.
+  scene::BundleWriter v3(3);
+  v3.write(path);
+  try {
+    loadBundle(path);
+    ADD_FAILURE() << "accepted version 3";
+  } catch (const scene::BundleError& e) {
+    EXPECT_NE(std::string(e.what()).find("version 3, this program reads version 4 to 5"),
+              std::string::npos)
+        << e.what();
+  }
   fs::remove(path);
 }
 
