@@ -284,6 +284,11 @@ void validate(const ReferenceScene& scene, const ReferenceOptions& options) {
   if (!(options.normalOffset >= 0) || !std::isfinite(options.normalOffset)) {
     throw std::invalid_argument("renderReference: normal offset must be finite, >= 0");
   }
+  if (const auto& w = options.window;
+      w && !(w->x0 < w->x1 && w->x1 <= scene.width && w->y0 < w->y1 && w->y1 <= scene.height)) {
+    throw std::invalid_argument(
+        "renderReference: the window must be a non-empty part of the image");
+  }
   const scene::PatchMesh& m = scene.room;
   if (m.trianglePatch.size() != m.triangleCount()) {
     throw std::invalid_argument("renderReference: room mesh has no patch for some triangle");
@@ -322,6 +327,8 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
                                const ReferenceProgress& progress) {
   validate(scene, options);
   const Tracer tracer(scene, options);
+  const ReferenceOptions::Window window =
+      options.window.value_or(ReferenceOptions::Window{0, 0, scene.width, scene.height});
   const glm::dmat4 inverse = scene.cameraRay ? glm::dmat4(1.0) : glm::inverse(scene.viewProj);
   const auto unproject = [&](double nx, double ny, double nz) {
     const glm::dvec4 p = inverse * glm::dvec4(nx, ny, nz, 1.0);
@@ -344,7 +351,8 @@ ReferenceImage renderReference(const ReferenceScene& scene, const ReferenceOptio
   // One pool per image (core/job_pool.h): rendering runs far longer than starting threads.
   core::JobPool pool(static_cast<int>(options.threads));
   pool.parallelFor(scene.height, [&](size_t py, int) {
-    for (uint32_t px = 0; px < scene.width; ++px) {
+    if (py < window.y0 || py >= window.y1) return;
+    for (uint32_t px = window.x0; px < window.x1; ++px) {
       const size_t pixel = py * scene.width + px;
       const uint64_t pixelKey = core::splitmix64(options.seed ^ (uint64_t{pixel} * core::kGolden));
       dvec3 noObject(0.0), withObject(0.0), delta(0.0), objectSum(0.0);

@@ -274,6 +274,32 @@ TEST(ReferenceRenderer, PixelCentresSampleWhatTheRasterizerSamples) {
   EXPECT_GT(covered, 0u);
 }
 
+TEST(ReferenceRenderer, AWindowRendersItsPixelsAsTheWholeImageDoes) {
+  const ReferenceScene scene = shadowScene(32, 24);
+  ReferenceOptions o;
+  o.samplesPerPixel = 2;
+  o.lightSamples = 4;
+  const ReferenceImage whole = renderReference(scene, o);
+  o.window = ReferenceOptions::Window{5, 3, 20, 11};
+  const ReferenceImage part = renderReference(scene, o);
+  size_t inside = 0;
+  for (uint32_t y = 0; y < scene.height; ++y) {
+    for (uint32_t x = 0; x < scene.width; ++x) {
+      const size_t i = size_t{y} * scene.width + x;
+      const bool in = x >= 5 && x < 20 && y >= 3 && y < 11;
+      inside += in;
+      // Per-pixel streams: a pixel's bytes do not depend on which others are rendered.
+      EXPECT_EQ(part.withObject[i], in ? whole.withObject[i] : glm::vec3(0.0f)) << x << "," << y;
+      EXPECT_EQ(part.roomDelta[i], in ? whole.roomDelta[i] : glm::vec3(0.0f)) << x << "," << y;
+    }
+  }
+  EXPECT_EQ(inside, 15u * 8u);
+  o.window = ReferenceOptions::Window{5, 3, 33, 11};  // past the right edge
+  EXPECT_THROW(renderReference(scene, o), std::invalid_argument);
+  o.window = ReferenceOptions::Window{5, 3, 5, 11};  // empty
+  EXPECT_THROW(renderReference(scene, o), std::invalid_argument);
+}
+
 TEST(ReferenceRenderer, IndirectLightOnlyAdds) {
   // A closed box lit from inside: one bounce adds light to every pixel, never removes it.
   scene::PatchMesh m;

@@ -55,7 +55,8 @@ struct SynthOptions {
                           .bounces = 2,
                           .threads = 2,
                           .seed = 7,
-                          .normalOffset = 1e-4};
+                          .normalOffset = 1e-4,
+                          .window = std::nullopt};
   uint32_t width = 0, height = 0;  // 0: the scene file's
   int exposures = 5;               // >= 5 bracketed photographs
   double stopsBetween = 2.0;       // exposure ratio 2^stopsBetween between neighbours
