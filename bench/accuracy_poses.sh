@@ -1,22 +1,30 @@
 #!/usr/bin/env bash
 # Issue 15 item 7: the accuracy of every product of the showroom at a set of poses, each
 # against its own ray-traced reference:
-#   bench/accuracy_poses.sh BUILD_DIR BUNDLE OUT_DIR [SPP] [ACCUMULATION]
+#   bench/accuracy_poses.sh BUILD_DIR BUNDLE OUT_DIR [SPP] [ACCUMULATION] [SAMPLING]
 # writes OUT_DIR/<product>-<place>.json (penumbra accuracy's JSON, `--pose`/`--product`) and
 # OUT_DIR/poses.md, a table per pose: mean abs / p99 in the shadow at 50 passes and at the most
 # passes, the error's largest rise with passes, and the contact band's mean signed error.
 # SPP: the reference's samples per pixel (default 16, what the targets are stated for; a pose
-# takes about a minute on 2 cores); ACCUMULATION: linear (default), fixed8_8 or u8.
+# takes about a minute on 2 cores); ACCUMULATION: linear (default), fixed8_8 or u8; SAMPLING:
+# jittered (default: the reference's camera rays spread over each pixel, anti-aliased) or
+# centres (through the pixel centres, as the rasterizer samples; `--pixel-centres`).
 #
 # The set, per product (data/showroom/showroom.json: chair 0, bunny 1, teapot 2; the room's
 # far walls are x = 6 and z = 5, the desk stands at x 4.4-5.8, z 3.4-4.2): open floor, against
 # the x = 6 wall, in the corner between that wall and the desk, lifted off the floor, rotated.
 set -euo pipefail
 if [[ $# -lt 3 ]]; then
-  echo "usage: bench/accuracy_poses.sh BUILD_DIR BUNDLE OUT_DIR [SPP] [ACCUMULATION]" >&2
+  echo "usage: bench/accuracy_poses.sh BUILD_DIR BUNDLE OUT_DIR [SPP] [ACCUMULATION] [SAMPLING]" >&2
   exit 2
 fi
 build="$1" bundle="$2" out="$3" spp="${4:-16}" accumulation="${5:-linear}"
+sampling="${6:-jittered}"
+case "$sampling" in
+  jittered) sampling_flag=() ;;
+  centres) sampling_flag=(--pixel-centres) ;;
+  *) echo "accuracy_poses.sh: SAMPLING must be jittered or centres, not $sampling" >&2; exit 2 ;;
+esac
 penumbra="$build/bin/penumbra"
 [[ -x "$penumbra" ]] || { echo "accuracy_poses.sh: $penumbra: not built" >&2; exit 1; }
 [[ -f "$bundle" ]] || { echo "accuracy_poses.sh: $bundle: no such bundle" >&2; exit 1; }
@@ -44,7 +52,7 @@ for entry in "${poses[@]}"; do
   read -r name product pose <<<"$entry"
   echo "accuracy_poses.sh: $name (product $product, pose $pose)" >&2
   "$penumbra" accuracy "$bundle" --product "$product" --pose "$pose" --passes 10,30,50,82 \
-    --spp "$spp" --frames 1 --threads 2 --accumulation "$accumulation" \
+    --spp "$spp" "${sampling_flag[@]}" --frames 1 --threads 2 --accumulation "$accumulation" \
     --json "$out/$name.json.part" >/dev/null
   mv "$out/$name.json.part" "$out/$name.json"
 done

@@ -49,6 +49,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <span>
 #include <sstream>
@@ -58,6 +59,7 @@
 #include <glm/glm.hpp>
 
 #include "lighting/precompute.h"
+#include "scene/image_io.h"
 #include "scene/mesh_io.h"
 #include "scene/scene_file.h"
 #include "shadow/frame_loop.h"
@@ -689,6 +691,24 @@ TEST(AnalyticShadow, SphereShadowAgainstExactAnswer) {
   // The first frame of a placement too: a product the customer has just moved.
   EXPECT_LE(lastFirst.penumbra.p99Abs, kTargetPenumbraP99);
   EXPECT_LE(lastFirst.umbra.meanAbs, kTargetUmbraMeanAbs);
+
+  // PENUMBRA_ANALYTIC_PNG=DIR keeps the case for a look and for other builds: the scene file
+  // and sphere (`penumbra precompute DIR/scene.json`, then `penumbra render --pose
+  // 2,0.4,2`), the exact answer and this frame at the largest pass count, as PNGs.
+  if (const char* dir = std::getenv("PENUMBRA_ANALYTIC_PNG")) {
+    const fs::path out(dir);
+    fs::create_directories(out);
+    scene::saveObj(uvSphere(), out / "sphere.obj");
+    std::ofstream(out / "scene.json") << sceneJson();
+    std::vector<uint8_t> exact = bundle.background;
+    for (size_t i = 0; i < image.factor.size(); ++i) {
+      if (image.factor[i] < 0) continue;
+      for (size_t c = 0; c < 3; ++c) exact[4 * i + c] = image.expectedRgb[i][c];
+    }
+    scene::writePng(out / "exact.png", kImageSize, kImageSize, exact);
+    scene::writePng(out / "penumbra.png", kImageSize, kImageSize, lastFrame);
+    std::printf("wrote %s/{scene.json,sphere.obj,exact.png,penumbra.png}\n", dir);
+  }
 }
 
 }  // namespace
