@@ -3,16 +3,20 @@
 #
 #   bash .ci/install-deps.sh            native amd64 (or arm64) toolchain and libraries
 #   bash .ci/install-deps.sh --cross    + the aarch64 cross toolchain, qemu and arm64 libraries
+#   bash .ci/install-deps.sh --board-vm + what .ci/board-vm needs: mmdebstrap, qemu-system-arm,
+#                                         qemu-user-static (binfmt for the arm64 chroot), ssh
 #
 # Idempotent: packages already installed are left alone. Runs apt-get update once.
 # Uses sudo when not root.
 set -euo pipefail
 
 cross=0
+board_vm=0
 for arg in "$@"; do
   case "$arg" in
     --cross) cross=1 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    --board-vm) board_vm=1 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
     *) echo "install-deps.sh: unknown argument '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -61,6 +65,10 @@ cross_pkgs=(
   g++-aarch64-linux-gnu qemu-user
   libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64
 )
+# .ci/board-vm-image and .ci/board-vm (docs/kiosk.md, "The board in a VM"); qemu-utils: qemu-img.
+board_vm_pkgs=(
+  mmdebstrap qemu-system-arm qemu-utils qemu-user-static e2fsprogs openssh-client
+)
 # Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (../shared/design.md §6).
 
 if (( cross )) && ! dpkg --print-foreign-architectures | grep -qx arm64; then
@@ -72,6 +80,7 @@ fi
 retry $SUDO apt-get update -q
 pkgs=("${native[@]}")
 if (( cross )); then pkgs+=("${cross_pkgs[@]}"); fi
+if (( board_vm )); then pkgs+=("${board_vm_pkgs[@]}"); fi
 retry $SUDO apt-get install "${apt_opts[@]}" "${pkgs[@]}"
 
 echo "install-deps.sh: done ($(cmake --version | head -n1), $(g++ --version | head -n1))"
