@@ -75,14 +75,21 @@ double rectangleFormFactor(const dvec3& x, double x0, double x1) {
   return lighting::pointToPolygonFormFactor(x, dvec3(0, 1, 0), poly);
 }
 
+// A one-pixel camera with a 0.02 degree field of view at `eye`, looking at `target` under
+// the lamp: every sample lands within a millimetre of it.
+ReferenceScene onePixelScene(const dvec3& eye, const dvec3& target) {
+  ReferenceScene scene;
+  scene.room = floorAndLamp();
+  scene.viewProj = cameraAt(eye, target, 0.02, 1.0);
+  scene.width = scene.height = 1;
+  return scene;
+}
+
 // A one-pixel camera with a 0.02 degree field of view: every sample lands within a
 // millimetre of `target`, where the form factors are the closed-form ones.
 TEST(ReferenceRenderer, MatchesClosedFormFormFactorWithinMonteCarloError) {
   const dvec3 target(0.2, 0, 0.1);
-  ReferenceScene scene;
-  scene.room = floorAndLamp();
-  scene.viewProj = cameraAt({1.6, 0.6, 0.1}, target, 0.02, 1.0);
-  scene.width = scene.height = 1;
+  ReferenceScene scene = onePixelScene({1.6, 0.6, 0.1}, target);
   scene.object = ReferenceObject{occluderSheet(), dvec3(0.3)};
   ReferenceOptions o;
   o.samplesPerPixel = 16;
@@ -118,10 +125,7 @@ TEST(ReferenceRenderer, MatchesClosedFormFormFactorWithinMonteCarloError) {
 // so its radiance is the closed form rho(hit) E F(x, n) exactly.
 TEST(ReferenceRenderer, ProductIsShadedWithItsVertexNormalsAndReflectances) {
   const dvec3 target(0.2, 0.5, 0.1);
-  ReferenceScene scene;
-  scene.room = floorAndLamp();
-  scene.viewProj = cameraAt({0.25, 1.2, 0.1}, target, 0.02, 1.0);
-  scene.width = scene.height = 1;
+  ReferenceScene scene = onePixelScene({0.25, 1.2, 0.1}, target);
   ReferenceObject object;
   object.mesh.positions = {
       {0.1f, 0.5f, 0.0f}, {0.1f, 0.5f, 0.2f}, {0.3f, 0.5f, 0.2f}, {0.3f, 0.5f, 0.0f}};
