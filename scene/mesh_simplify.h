@@ -14,12 +14,19 @@ namespace penumbra::scene {
 // first-seen order; positions keep their double values. Unreferenced vertices are removed.
 TriangleMesh weldVertices(const TriangleMesh& mesh);
 
-// At most `targetTriangles` triangles approximating `mesh`, using only its own vertex
-// positions (no vertex moves, so the proxy never grows past the model). The welded mesh
-// is reduced by quadric edge collapse (meshopt_simplify); when topology stops it short of
-// the target (open borders, separate parts) the rest is done by vertex clustering
-// (meshopt_simplifySloppy). Deterministic. A mesh already within the target is returned
-// welded. Throws std::invalid_argument when targetTriangles < 4.
+// At most `targetTriangles` triangles approximating `mesh`. The welded mesh is reduced by
+// quadric edge collapse (meshopt_simplify) on its own vertex positions; when topology
+// stops it short of the target (open borders, separate parts) the rest is done by vertex
+// clustering (meshopt_simplifySloppy). The result is then pushed out along its vertex
+// normals by medianDistanceOutside(welded mesh, result) when that is positive, so that it
+// no longer lies inside the model but halfway (its shadow neither small nor large).
+// Deterministic. A mesh already within the target is returned welded, unmoved. Throws
+// std::invalid_argument when targetTriangles < 4.
+// The median over `model`'s vertices of the signed distance to the closest point of
+// `proxy` (positive outside, by the proxy's counter-clockwise winding; ties to the first
+// triangle). 0 for an empty model or proxy. O(vertices × triangles).
+double medianDistanceOutside(const TriangleMesh& model, const TriangleMesh& proxy);
+
 TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles);
 
 }  // namespace penumbra::scene
