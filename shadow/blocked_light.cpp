@@ -9,7 +9,7 @@ void BlockedLight::find(const ShaftHierarchy& hierarchy, const scene::Aabb& boun
   core::Stopwatch watch;
   hierarchy.traverse(bounds, frame, traversal);
   nsTraversal = watch.lapNs();
-  selectSourceClusters(hierarchy, traversal.sources, frame, passes, selection);
+  selectSourceClusters(hierarchy, traversal.sources, frame, passes, selection, &bounds);
   nsClusters = watch.lapNs();
 }
 

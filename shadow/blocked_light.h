@@ -17,7 +17,8 @@
 namespace penumbra::shadow {
 
 struct BlockedLight {
-  // §6.1 and §8 for the product in `bounds`, with at most `passes` clusters. `frame` must
+  // §6.1 and §8 for the product in `bounds`, with at most `passes` clusters (split by
+  // transfer × angular size from `bounds`: selectSourceClusters). `frame` must
   // change from call to call (the §6.1 frame tags).
   void find(const ShaftHierarchy& hierarchy, const scene::Aabb& bounds, uint32_t frame,
             size_t passes);

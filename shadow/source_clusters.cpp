@@ -7,7 +7,7 @@ namespace penumbra::shadow {
 
 void selectSourceClusters(const ShaftHierarchy& hierarchy,
                           std::span<const uint32_t> occludedSources, uint32_t frame, size_t n,
-                          ClusterSelection& out) {
+                          ClusterSelection& out, const scene::Aabb* occluder) {
   out.clusters.clear();
   out.sources.clear();
   const std::span<const ShaftHierarchy::SourceNode> nodes = hierarchy.sourceNodes();
@@ -39,10 +39,27 @@ void selectSourceClusters(const ShaftHierarchy& hierarchy,
     }
   }
 
-  // Fig. 6: the list is `open` (marked inner nodes, a max-heap on the node's average
-  // transfer, lower node index first on ties) plus `done` (marked leaves, final).
+  // Fig. 6: the list is `open` (marked inner nodes, a max-heap on the node's key, lower
+  // node index first on ties) plus `done` (marked leaves, final).
+  // The key a listed node is split by: §8's average transfer, or, with the occluder's
+  // bounds, that times the node's extent over its distance from the occluder. Why: one
+  // shadow map from a point stands in for sources spread over a node of diameter w at
+  // distance d from the occluder; on a receiver h behind the occluder the true penumbra
+  // is about w·h/d wide, so the light the point puts on the wrong side of the edge grows
+  // with E·w/d (h is the same for every node). Splitting the node where that product is
+  // largest removes the most misplaced light: a bright but compact panel far away is left
+  // whole before a dimmer window close to the product that spans a metre.
+  const auto key = [&](uint32_t node) {
+    if (occluder == nullptr) return nodes[node].averageTransfer;
+    const double extent = glm::length(nodes[node].bounds.size());
+    // 1 mm: a source inside the occluder's box has no meaningful direction; any positive
+    // floor keeps the key finite and the order deterministic.
+    const double distance =
+        std::max(glm::length(nodes[node].bounds.centre() - occluder->centre()), 1e-3);
+    return nodes[node].averageTransfer * (extent / distance);
+  };
   const auto lessUrgent = [&](uint32_t a, uint32_t b) {
-    const double ka = nodes[a].averageTransfer, kb = nodes[b].averageTransfer;
+    const double ka = key(a), kb = key(b);
     return ka != kb ? ka < kb : a > b;
   };
   sc.open.clear();

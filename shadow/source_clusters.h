@@ -6,7 +6,8 @@
 // Per frame: the frame tag is pushed from each occluded leaf towards the root, marking
 // the branches that hold occluded sources (Fig. 5b); starting from the root, the marked
 // node with the largest average transfer is replaced by its marked children until there
-// are n nodes or only leaves remain (Fig. 6).
+// are n nodes or only leaves remain (Fig. 6). The frame loop ranks by that transfer times
+// the node's angular size from the product instead (selectSourceClusters, `occluder`).
 //
 // Invariants:
 //   - Energy: the clusters' source lists partition the occluded set (each occluded source
@@ -36,7 +37,8 @@ namespace penumbra::shadow {
 struct SourceCluster {
   uint32_t node = 0;  // index into ShaftHierarchy::sourceNodes()
   // The occluded source (index into SourceReceiverSets::sources) with the largest
-  // sourceAverage: its patch centre is the shadow map's origin (§8, last paragraph).
+  // sourceAverage: §8 (last paragraph) casts the shadow map from its patch centre;
+  // PassList casts it from the cluster's centroid (PassList::clusterCentroid).
   uint32_t representative = 0;
   // The cluster's occluded sources are ClusterSelection::sources[firstSource, +sourceCount),
   // by decreasing sourceAverage (ties: lower index first); the first is `representative`.
@@ -66,12 +68,15 @@ struct ClusterSelection {
 
 // §8: at most `n` clusters covering `occludedSources` (indices into
 // SourceReceiverSets::sources, e.g. TraversalResult::sources; a repeated index counts
-// once). Fewer than n when fewer sources are occluded; none when n = 0 or nothing is
-// occluded. `frame` follows the rule of ShaftHierarchy::traverse(): a new number per call
-// (a repeat is detected and costs a tag reset). Throws std::out_of_range for a source
-// index >= hierarchy.sourceCount().
+// once). Without `occluder` a node is split by its average transfer (the paper's Fig. 6);
+// with the occluder's bounds, by average transfer × node diameter / distance from the
+// occluder's centre, which grows with the light a single shadow map misplaces (the
+// argument is at the code). Fewer than n when fewer sources are occluded; none when n = 0
+// or nothing is occluded. `frame` follows the rule of ShaftHierarchy::traverse(): a new number per
+// call (a repeat is detected and costs a tag reset). Throws std::out_of_range for a source index >=
+// hierarchy.sourceCount().
 void selectSourceClusters(const ShaftHierarchy& hierarchy,
                           std::span<const uint32_t> occludedSources, uint32_t frame, size_t n,
-                          ClusterSelection& out);
+                          ClusterSelection& out, const scene::Aabb* occluder = nullptr);
 
 }  // namespace penumbra::shadow

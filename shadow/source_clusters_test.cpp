@@ -173,6 +173,47 @@ TEST(SourceClusters, Figure6ExpandsTheBrightestMarkedNodeFirst) {
   EXPECT_EQ(sel.clusters[0].node, h.sourceLeaf(7));
 }
 
+// With the occluder's bounds the node split first is the one whose transfer times angular
+// size from the occluder is largest, and the clusters still partition the occluded set.
+TEST(SourceClusters, WithAnOccluderTheLightSpreadWidestAroundItIsSplitFirst) {
+  const Fixture f = showroom();
+  const ShaftHierarchy h = f.build(0.02);
+  std::vector<uint32_t> all(h.sourceCount());
+  for (uint32_t s = 0; s < all.size(); ++s) all[s] = s;
+  const auto& nodes = h.sourceNodes();
+  const auto& root = nodes[0];
+  const auto key = [&](uint32_t node, const Aabb& box) {
+    return nodes[node].averageTransfer * glm::length(nodes[node].bounds.size()) /
+           glm::length(nodes[node].bounds.centre() - box.centre());
+  };
+  // Boxes under either root child's sources, low in the room: near one child, the other's
+  // key falls by its larger distance, so which child is split follows the box.
+  int splitLeft = 0, splitRight = 0;
+  for (uint32_t side = 0; side < 2; ++side) {
+    const glm::dvec3 c = nodes[root.child[side]].bounds.centre();
+    const Aabb box{glm::dvec3(c.x - 0.2, 0.0, c.z - 0.2), glm::dvec3(c.x + 0.2, 0.4, c.z + 0.2)};
+    ClusterSelection sel;
+    selectSourceClusters(h, all, 1, 3, sel, &box);
+    ASSERT_EQ(sel.clusters.size(), 3u);
+    const uint32_t expectedSplit =
+        key(root.child[0], box) >= key(root.child[1], box) ? root.child[0] : root.child[1];
+    const uint32_t kept = expectedSplit == root.child[0] ? root.child[1] : root.child[0];
+    std::vector<uint32_t> listed;
+    for (const auto& cl : sel.clusters) listed.push_back(cl.node);
+    EXPECT_NE(std::find(listed.begin(), listed.end(), kept), listed.end()) << "side " << side;
+    EXPECT_EQ(std::find(listed.begin(), listed.end(), expectedSplit), listed.end());
+    (expectedSplit == root.child[0] ? splitLeft : splitRight) += 1;
+    for (size_t n = 1; n <= all.size(); n += 7) {
+      selectSourceClusters(h, all, static_cast<uint32_t>(10 + n + 100 * side), n, sel, &box);
+      ASSERT_EQ(sel.clusters.size(), n);
+      EXPECT_EQ(sorted(sel.sources), all) << "n = " << n;
+    }
+  }
+  // The test room is symmetric enough that the box decides: each side was split once.
+  EXPECT_EQ(splitLeft, 1);
+  EXPECT_EQ(splitRight, 1);
+}
+
 TEST(SourceClusters, DeterministicWhateverTheInputOrder) {
   const Fixture f = showroom();
   const ShaftHierarchy h = f.build(0.02);
