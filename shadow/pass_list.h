@@ -1,7 +1,8 @@
 // The pass list (Gibson 2003 Fig. 2, §7): one shadow pass per source cluster, in the
 // clusters' order (decreasing transfer, §7.1.1). Each pass renders the product's proxy into
-// a shadow map from the light frustum fitted around the product from the cluster's
-// representative patch (shadow/light_frustum.h), then masks and subtracts S over the
+// a shadow map from the light frustum fitted around the product from the energy-weighted
+// centroid of the cluster's sources (§8 casts from its most energetic patch; see
+// clusterCentroid) (shadow/light_frustum.h), then masks and subtracts S over the
 // receiver triangles that may be shadowed and have something to subtract, S in corner
 // order — and over the product's own triangles for self-shadowing (§7.2).
 // A cluster whose light lies inside the product's bounding sphere gets no pass (no shadow
@@ -45,6 +46,12 @@ class PassList {
                  std::span<const uint32_t> receiverPatches, const core::Mesh& product,
                  const scene::Aabb& productBounds, const VertexS& s,
                  std::vector<raster::ShadowPass>& passes);
+
+  // Where a cluster's shadow map is cast from: the centroid of its sources' patch centres
+  // weighted by their average transfers (`sources`: ClusterSelection::sources); a
+  // one-source cluster's own patch centre exactly. If the product's bounding sphere holds
+  // that point, build() casts from the representative patch instead.
+  glm::dvec3 clusterCentroid(const SourceCluster& cluster, std::span<const uint32_t> sources) const;
 
   // Per pass of the last build: its cluster.
   std::span<const uint32_t> passCluster() const { return passCluster_; }

@@ -144,5 +144,37 @@ TEST(PassList, ALightInsideTheProductsSphereGetsNoPass) {
   EXPECT_TRUE(passes[0].objectTriangles.empty());
 }
 
+// A cluster's map is cast from its sources' centroid weighted by their average transfers;
+// one source casts from its patch centre exactly; a centroid inside the product's sphere
+// falls back to the representative patch.
+TEST(PassList, AClusterCastsFromItsEnergyWeightedCentroid) {
+  Floor f;
+  f.bundle.transfers.sourceAverage = {3.0f, 1.0f};
+  PassList list(f.bundle, f.mesh, kRoom);
+  // Patch 2 at (0, 3, 0) weighs 3, patch 3 at (0, 0.2, 0) weighs 1: (0, 2.3, 0).
+  const SourceCluster both{0, 0, 0, 2, 0, 0};
+  const glm::dvec3 centroid = list.clusterCentroid(both, f.selection.sources);
+  EXPECT_NEAR(centroid.x, 0.0, 1e-12);
+  EXPECT_NEAR(centroid.y, (3.0 * 3.0 + 1.0 * double(0.2f)) / 4.0, 1e-12);
+  EXPECT_NEAR(centroid.z, 0.0, 1e-12);
+  EXPECT_EQ(list.clusterCentroid(f.selection.clusters[1], f.selection.sources),
+            glm::dvec3(f.bundle.patches[3].centre));
+  ClusterSelection one = f.selection;
+  one.clusters = {both};
+  std::vector<raster::ShadowPass> passes;
+  ASSERT_EQ(list.build({}, one, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes), 0u);
+  ASSERT_EQ(passes.size(), 1u);
+  const double far = 2.0 * glm::length(kRoom.size()) + 1.0;
+  EXPECT_EQ(passes[0].lightViewProj, fitLightFrustum(centroid, f.bounds, far)->rasterViewProj);
+  // Weights 1 and 30 put the centroid at y = 0.29, inside the product's sphere: the map is
+  // cast from the representative, patch 2, and the cluster keeps its pass.
+  f.bundle.transfers.sourceAverage = {1.0f, 30.0f};
+  ASSERT_FALSE(fitLightFrustum(list.clusterCentroid(both, f.selection.sources), f.bounds, far));
+  ASSERT_EQ(list.build({}, one, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes), 0u);
+  ASSERT_EQ(passes.size(), 1u);
+  EXPECT_EQ(passes[0].lightViewProj,
+            fitLightFrustum(glm::dvec3(0, 3, 0), f.bounds, far)->rasterViewProj);
+}
+
 }  // namespace
 }  // namespace penumbra::shadow
