@@ -48,6 +48,49 @@ TEST(MeshSimplify, BunnyProxyKeepsItsBounds) {
   }
 }
 
+// A unit sphere of 80 × 40 quads: the simplified proxy on its vertices is inscribed
+// (every vertex is on the sphere, every face inside it); the offset proxy is not.
+TEST(MeshSimplify, ProxyIsPushedOutToTheModelsMedianSurface) {
+  TriangleMesh sphere;
+  constexpr int kAround = 80, kUp = 40;
+  for (int i = 0; i <= kUp; ++i) {
+    const double theta = M_PI * i / kUp;
+    for (int j = 0; j < kAround; ++j) {
+      const double phi = 2 * M_PI * j / kAround;
+      sphere.positions.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                    std::sin(theta) * std::sin(phi));
+    }
+  }
+  for (int i = 0; i < kUp; ++i) {
+    for (int j = 0; j < kAround; ++j) {
+      const auto at = [&](int r, int c) {
+        return static_cast<uint32_t>(r * kAround + c % kAround);
+      };
+      // Counter-clockwise seen from outside.
+      sphere.indices.insert(sphere.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j),
+                                                   at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  }
+  const TriangleMesh welded = weldVertices(sphere);
+  const TriangleMesh proxy = simplifyForShadows(sphere, 200);
+  ASSERT_LE(proxy.triangleCount(), 200u);
+  // Every proxy vertex moved out: radii above 1, by less than a proxy edge.
+  double smallest = 2, largest = 0;
+  for (const glm::dvec3& p : proxy.positions) {
+    smallest = std::min(smallest, glm::length(p)), largest = std::max(largest, glm::length(p));
+  }
+  EXPECT_GT(smallest, 1.0);
+  EXPECT_LT(largest, 1.1);
+  // Balanced: the median signed distance of the sphere's vertices is now near 0, where the
+  // un-moved proxy (all vertices on the sphere, faces inside) left most of them outside.
+  EXPECT_LT(std::abs(medianDistanceOutside(welded, proxy)), 0.2 * (largest - 1.0));
+  // A proxy sitting on the surface already is left where it is.
+  const TriangleMesh small = simplifyForShadows(sphere, 100000);
+  EXPECT_EQ(small.positions, welded.positions);
+  EXPECT_EQ(medianDistanceOutside(welded, welded), 0.0);
+  EXPECT_EQ(medianDistanceOutside(TriangleMesh{}, proxy), 0.0);
+}
+
 TEST(MeshSimplify, DeterministicAndWithinTargetForEveryModel) {
   for (const char* name : {"bunny.ply", "teapot.ply", "chair.obj"}) {
     const TriangleMesh m = loadMesh(dataDir() / "models" / name);
