@@ -33,24 +33,29 @@ double positionInBin(double x, double lo, double hi) {
 
 }  // namespace
 
-EnvmapDistribution::EnvmapDistribution(const HemisphereMap& map, const std::string& label)
-    : rows_(map.rows()), cols_(map.cols()) {
-  if (rows_ == 0 || cols_ == 0)
-    throw EnvmapError(
-        label, "",
-        "empty map (" + std::to_string(cols_) + " × " + std::to_string(rows_) + " pixels)");
+EnvmapDistribution::EnvmapDistribution(const HemisphereMap& map, const std::string& label) {
+  update(map, label);
+}
+
+void EnvmapDistribution::update(const HemisphereMap& map, const std::string& label) {
+  rows_ = cols_ = 0;  // empty until the map has passed every check
+  if (map.rows() == 0 || map.cols() == 0)
+    throw EnvmapError(label, "",
+                      "empty map (" + std::to_string(map.cols()) + " × " +
+                          std::to_string(map.rows()) + " pixels)");
   if (!map.radiance.hasExpectedSize())
     throw EnvmapError(label, "",
                       "holds " + std::to_string(map.radiance.pixels.size()) +
                           " samples, expected " + std::to_string(map.radiance.pixelCount() * 3));
-  radiance_ = map.radiance.pixels;
-  marginal_.assign(rows_ + 1, 0.0);
-  conditional_.assign(size_t(rows_) * (cols_ + 1), 0.0);
+  const uint32_t rows = map.rows(), cols = map.cols();
+  radiance_.assign(map.radiance.pixels.begin(), map.radiance.pixels.end());
+  marginal_.assign(rows + 1, 0.0);
+  conditional_.assign(size_t(rows) * (cols + 1), 0.0);
   const double solidAngle = map.pixelSolidAngle();
   glm::dvec3 radianceSum(0.0);
-  for (uint32_t row = 0; row < rows_; ++row) {
-    double* cdf = &conditional_[size_t(row) * (cols_ + 1)];
-    for (uint32_t col = 0; col < cols_; ++col) {
+  for (uint32_t row = 0; row < rows; ++row) {
+    double* cdf = &conditional_[size_t(row) * (cols + 1)];
+    for (uint32_t col = 0; col < cols; ++col) {
       const float* p = map.radiance.pixel(col, row);
       for (int c = 0; c < 3; ++c) {
         if (!std::isfinite(p[c]) || p[c] < 0.0f)
@@ -63,12 +68,14 @@ EnvmapDistribution::EnvmapDistribution(const HemisphereMap& map, const std::stri
       // Havran 2005 §3.1: equal solid angle per pixel, so the PDF is the luminance itself.
       cdf[col + 1] = cdf[col] + core::luminance(rgb);
     }
-    marginal_[row + 1] = marginal_[row] + cdf[cols_];
-    normaliseCdf(cdf, cols_);
+    marginal_[row + 1] = marginal_[row] + cdf[cols];
+    normaliseCdf(cdf, cols);
   }
-  totalLuminance_ = marginal_[rows_] * solidAngle;
+  totalLuminance_ = marginal_[rows] * solidAngle;
   totalPower_ = radianceSum * solidAngle;
-  normaliseCdf(marginal_.data(), rows_);
+  normaliseCdf(marginal_.data(), rows);
+  rows_ = rows;
+  cols_ = cols;
 }
 
 double EnvmapDistribution::conditionalCdf(uint32_t row0, uint32_t row1, double t,
@@ -117,6 +124,7 @@ LightSet EnvmapDistribution::sample(const SamplePattern& pattern, uint32_t count
     throw EnvmapError(
         "light sampling", "count",
         std::to_string(count) + " lights asked of a pattern of " + std::to_string(pattern.size()));
+  if (rows_ == 0) throw EnvmapError("light sampling", "", "no map (its last update failed)");
   LightSet lights(count);
   if (count == 0) return lights;
   const double share = totalLuminance_ / count;

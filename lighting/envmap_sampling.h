@@ -39,6 +39,9 @@ class EnvmapDistribution {
   // or non-finite radiance. Keeps a copy of the radiance (the lights' colours come from it).
   explicit EnvmapDistribution(const HemisphereMap& map,
                               const std::string& label = "environment map");
+  // The same for the next frame, reusing this object's buffers (a live loop calls this once
+  // per frame: no allocation once the map size is known). On error the object is left empty.
+  void update(const HemisphereMap& map, const std::string& label = "environment map");
 
   // The map's power per channel: Σ radiance × pixel solid angle (fixed pixel order).
   const glm::dvec3& totalPower() const { return totalPower_; }

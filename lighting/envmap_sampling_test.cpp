@@ -151,8 +151,10 @@ TEST(EnvmapSampling, BadMapsAreRefusedWithTheirNameAndPixel) {
   map.radiance.pixels.pop_back();
   EXPECT_THROW(EnvmapDistribution(map, "probe.exr"), EnvmapError);
   EXPECT_THROW(EnvmapDistribution(HemisphereMap{}, "empty"), EnvmapError);
-  const EnvmapDistribution ok(testutil::uniformMap({1, 1, 1}, 8, 4));
+  EnvmapDistribution ok(testutil::uniformMap({1, 1, 1}, 8, 4));
   EXPECT_THROW(ok.sample(SamplePattern(4), 5), EnvmapError);
+  EXPECT_THROW(ok.update(map, "probe.exr"), EnvmapError);
+  EXPECT_THROW(ok.sample(SamplePattern(4), 4), EnvmapError);  // left empty, not half-built
 }
 
 // A black map: no power, and the lights still have directions (the uniform ones).
