@@ -1,8 +1,9 @@
 // `penumbra bench-envmap [--lights 300] [--frames 200] [--clusters 72]`: live lighting's
 // per-frame stages timed (lighting/envmap_benchmark.h), one line per stage:
-//   cdf_ms <median>
+//   cdf_ms <median of fisheye resampling + CDF>
 //   samples_per_ms <lights / median sampling time>
 //   filter_cluster_ms <median>
+// Present when built with OpenCV (the fisheye frames); otherwise adds nothing.
 #pragma once
 
 #include <vector>

@@ -1,9 +1,9 @@
 // Timing of live lighting's per-frame stages (issue 16, "Speed"; Havran et al. 2005 §6 gives
-// the paper's own: CDF < 2 ms, 410 samples/ms, FIR 1 ms for 210 lights, clustering 1 ms for
-// 300), for `penumbra bench-envmap`. The input is a sequence of synthetic 360 × 90 maps (a sky
-// and a window, with per-pixel noise); each stage is timed once per frame on one thread and
-// the median over the frames is reported. Not a test: timings depend on the machine and its
-// load.
+// the paper's own: fisheye to polar map < 1 ms, CDF < 2 ms, 410 samples/ms, FIR 1 ms for 210
+// lights, clustering 1 ms for 300), for `penumbra bench-envmap`. The input: synthetic fisheye
+// frames (480 × 480, a sky and a window, 5% sensor noise) resampled to the 360 × 90 map; each
+// stage is timed once per frame on one thread and the median over the frames is reported.
+// Not a test: timings depend on the machine and its load. Built with OpenCV (cv::fisheye).
 #pragma once
 
 #include <cstdint>
@@ -12,7 +12,9 @@ namespace penumbra::lighting {
 
 struct EnvmapBenchResult {
   uint32_t frames = 0, lights = 0, clusters = 0;
-  double cdfMs = 0;            // median: the map's CDFs and power (EnvmapDistribution)
+  double resampleMs = 0;       // median: fisheye frame → hemisphere map (part of cdfMs)
+  double resampleWarmMs = 0;   // median: the same with the frame already in the cache
+  double cdfMs = 0;            // median: resampling + the map's CDFs and power
   double samplesPerMs = 0;     // lights / median time of sampling them
   double filterClusterMs = 0;  // median: FIR of the lights, then clustering into ≤ Q
   uint32_t clustersMade = 0;   // clusters of the last frame
