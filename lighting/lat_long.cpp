@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace penumbra::lighting {
 
@@ -56,6 +57,25 @@ HemisphereMap hemisphereFromLatLong(const core::ImageF& latLong, double azimuthD
       for (int c = 0; c < 3; ++c) p[c] = float(sum[c] / n);
     }
   return map;
+}
+
+core::ImageF shrinkLatLong(const core::ImageF& latLong, uint32_t factor) {
+  checkLatLong(latLong);
+  if (factor == 0 || latLong.width % factor || latLong.height % factor)
+    throw std::invalid_argument("lat-long map: " + std::to_string(latLong.width) + " × " +
+                                std::to_string(latLong.height) + " is not a multiple of " +
+                                std::to_string(factor));
+  core::ImageF out(latLong.width / factor, latLong.height / factor);
+  for (uint32_t y = 0; y < out.height; ++y)
+    for (uint32_t x = 0; x < out.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (uint32_t j = 0; j < factor; ++j)
+          for (uint32_t i = 0; i < factor; ++i)
+            sum += latLong.pixel(x * factor + i, y * factor + j)[c];
+        out.pixel(x, y)[c] = float(sum / (double(factor) * factor));
+      }
+  return out;
 }
 
 }  // namespace penumbra::lighting

@@ -24,4 +24,8 @@ HemisphereMap hemisphereFromLatLong(const core::ImageF& latLong, double azimuthD
                                     uint32_t cols = kEnvmapCols, uint32_t rows = kEnvmapRows,
                                     uint32_t supersample = 2);
 
+// The lat-long map averaged over `factor` × `factor` blocks (a smaller probe for fast tests).
+// Throws std::invalid_argument when the size is not a multiple of the factor.
+core::ImageF shrinkLatLong(const core::ImageF& latLong, uint32_t factor);
+
 }  // namespace penumbra::lighting
