@@ -91,6 +91,16 @@ class ProbeSequences : public ::testing::Test {
     return n;
   }
 
+  // run() with one field of the animation set, reported under `name`.
+  template <typename Field, typename Value>
+  FlickerNumbers runWith(const char* name, Field ProbeAnimation::*field, Value value) {
+    ProbeAnimation animation;
+    animation.*field = value;
+    const FlickerNumbers n = run(animation);
+    report(name, n);
+    return n;
+  }
+
   void report(const char* name, const FlickerNumbers& n) {
     std::printf(
         "%-14s light motion/frame %.3f° -> %.3f° (x%.2f); peak %.2f° -> %.2f° (x%.2f); "
@@ -107,10 +117,7 @@ class ProbeSequences : public ::testing::Test {
 // (white noise through the taps would keep 0.54 of it; measured: 0.78 of the motion, whose
 // jumps of lights beside sharp edges are not white, and 0.65 of the power change).
 TEST_F(ProbeSequences, SensorNoiseFlickerIsReduced) {
-  ProbeAnimation noise;
-  noise.noise = 0.05;
-  const FlickerNumbers n = run(noise);
-  report("sensor noise", n);
+  const FlickerNumbers n = runWith("sensor noise", &ProbeAnimation::noise, 0.05);
   EXPECT_GT(n.rawMotion, 0.01);
   EXPECT_LT(n.filteredMotion, 0.85 * n.rawMotion);
   EXPECT_LT(n.filteredPeak, 0.85 * n.rawPeak);
@@ -121,10 +128,7 @@ TEST_F(ProbeSequences, SensorNoiseFlickerIsReduced) {
 // filter's pass band (gain 0.99): the filter cannot remove it (docs/live-lighting.md). The
 // directions do not move (a global gain leaves the PDF unchanged).
 TEST_F(ProbeSequences, MainsFlickerAliasedIntoThePassBandIsNotRemoved) {
-  ProbeAnimation flicker;
-  flicker.flickerDepth = 0.1;
-  const FlickerNumbers n = run(flicker);
-  report("mains flicker", n);
+  const FlickerNumbers n = runWith("mains flicker", &ProbeAnimation::flickerDepth, 0.1);
   EXPECT_LT(n.rawMotion, 1e-4);  // binary32 rounding of the scaled map only
   EXPECT_GT(n.rawPower, 0.05);
   EXPECT_GT(n.filteredPower, 0.8 * n.rawPower);
@@ -136,10 +140,7 @@ TEST_F(ProbeSequences, MainsFlickerAliasedIntoThePassBandIsNotRemoved) {
 // mean motion and power change grow so), but no single frame moves a light as far as the raw
 // jump does: the peak motion drops.
 TEST_F(ProbeSequences, LampSwitchedOffIsFollowedSmoothly) {
-  ProbeAnimation off;
-  off.lampOffFrame = 20;
-  const FlickerNumbers n = run(off);
-  report("lamp off", n);
+  const FlickerNumbers n = runWith("lamp off", &ProbeAnimation::lampOffFrame, int64_t{20});
   const double before = n.rawTotal[19], after = n.rawTotal[20];
   EXPECT_LT(after, 0.9 * before);
   int framesInBetween = 0;
@@ -163,10 +164,7 @@ TEST_F(ProbeSequences, CloudAndRotationAreFollowedWithLessJitter) {
   EXPECT_LT(c.rawTotal[20], 0.95 * c.rawTotal[0]);
   EXPECT_LT(c.filteredTotal[24], 0.95 * c.filteredTotal[0]);  // the dip, 4 frames late
   EXPECT_LT(c.filteredPeak, 0.8 * c.rawPeak);
-  ProbeAnimation turning;
-  turning.degreesPerFrame = 1;
-  const FlickerNumbers r = run(turning);
-  report("rotation", r);
+  const FlickerNumbers r = runWith("rotation", &ProbeAnimation::degreesPerFrame, 1.0);
   EXPECT_LT(r.filteredMotion, 0.8 * r.rawMotion);
   EXPECT_LT(r.filteredPeak, 0.8 * r.rawPeak);
 }
