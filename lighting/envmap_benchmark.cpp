@@ -44,12 +44,14 @@ core::ImageF benchFrame(const FisheyeLens& lens, uint64_t frame) {
 
 }  // namespace
 
-EnvmapBenchResult benchEnvmap(uint32_t lights, uint32_t frames, uint32_t maxClusters) {
-  if (lights == 0 || frames == 0 || maxClusters == 0)
-    throw std::invalid_argument("bench-envmap: lights, frames and clusters must be at least 1");
+EnvmapBenchResult benchEnvmap(uint32_t lights, uint32_t frames, uint32_t maxClusters,
+                              uint32_t supersample) {
+  if (lights == 0 || frames == 0 || maxClusters == 0 || supersample == 0)
+    throw std::invalid_argument(
+        "bench-envmap: lights, frames, clusters and taps must be at least 1");
   const SamplePattern pattern(lights);
   const FisheyeLens lens = FisheyeLens::equidistant180(480);
-  const FisheyeResampler resampler(lens);
+  const FisheyeResampler resampler(lens, kEnvmapCols, kEnvmapRows, supersample);
   std::vector<core::ImageF> images;
   for (uint32_t f = 0; f < std::min<uint32_t>(frames, 8); ++f)
     images.push_back(benchFrame(lens, f));
@@ -80,6 +82,7 @@ EnvmapBenchResult benchEnvmap(uint32_t lights, uint32_t frames, uint32_t maxClus
   result.resampleWarmMs = median(resampleWarmMs);
   result.frames = frames;
   result.lights = lights;
+  result.supersample = supersample;
   result.clusters = maxClusters;
   result.cdfMs = median(cdfMs);
   result.samplesPerMs = lights / median(sampleMs);

@@ -11,7 +11,7 @@
 namespace penumbra::lighting {
 
 struct EnvmapBenchResult {
-  uint32_t frames = 0, lights = 0, clusters = 0;
+  uint32_t frames = 0, lights = 0, clusters = 0, supersample = 0;
   double resampleMs = 0;       // median: fisheye frame → hemisphere map (part of cdfMs)
   double resampleWarmMs = 0;   // median: the same with the frame already in the cache
   double cdfMs = 0;            // median: resampling + the map's CDFs and power
@@ -20,6 +20,8 @@ struct EnvmapBenchResult {
   uint32_t clustersMade = 0;   // clusters of the last frame
 };
 
-EnvmapBenchResult benchEnvmap(uint32_t lights, uint32_t frames, uint32_t maxClusters);
+// `supersample`² taps per map pixel in the fisheye resampling (FisheyeResampler).
+EnvmapBenchResult benchEnvmap(uint32_t lights, uint32_t frames, uint32_t maxClusters,
+                              uint32_t supersample = 2);
 
 }  // namespace penumbra::lighting
