@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/colour.h"
 #include "lighting/envmap_sampling.h"
 #include "lighting/envmap_test_util.h"
 #include "lighting/exr_io.h"
