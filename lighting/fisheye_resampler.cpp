@@ -102,6 +102,17 @@ FisheyeResampler::FisheyeResampler(const FisheyeLens& lens, uint32_t cols, uint3
   std::stable_sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
     return samples_[offsets_[a]].index < samples_[offsets_[b]].index;
   });
+  // The kernels stored in that order too, so that they stream as well.
+  std::vector<Sample> visited;
+  std::vector<uint32_t> visitedOffsets(1, 0);
+  visited.reserve(samples_.size());
+  for (uint32_t pixel : order_) {
+    visited.insert(visited.end(), samples_.begin() + offsets_[pixel],
+                   samples_.begin() + offsets_[pixel + 1]);
+    visitedOffsets.push_back(uint32_t(visited.size()));
+  }
+  samples_ = std::move(visited);
+  offsets_ = std::move(visitedOffsets);
 }
 
 void FisheyeResampler::resample(const core::ImageF& image, HemisphereMap& map,
@@ -116,10 +127,10 @@ void FisheyeResampler::resample(const core::ImageF& image, HemisphereMap& map,
       !map.radiance.hasExpectedSize())
     map.radiance = core::ImageF(cols_, rows_);
   const float* in = image.pixels.data();
-  for (uint32_t pixel : order_) {
-    float* out = &map.radiance.pixels[size_t(pixel) * 3];
+  for (size_t q = 0; q < order_.size(); ++q) {
+    float* out = &map.radiance.pixels[size_t(order_[q]) * 3];
     float r = 0, g = 0, b = 0;  // summed in the kernel's fixed order
-    for (uint32_t k = offsets_[pixel]; k < offsets_[pixel + 1]; ++k) {
+    for (uint32_t k = offsets_[q]; k < offsets_[q + 1]; ++k) {
       const float* p = in + samples_[k].index;
       const float w = samples_[k].weight;
       r += w * p[0];

@@ -60,9 +60,9 @@ class FisheyeResampler {
   };
   FisheyeLens lens_;
   uint32_t cols_, rows_, taps_;
-  std::vector<uint32_t> offsets_;  // map pixel p's kernel: samples_[offsets_[p], offsets_[p+1])
+  std::vector<uint32_t> order_;    // map pixels in the raster order of their first image sample
+  std::vector<uint32_t> offsets_;  // order_[q]'s kernel: samples_[offsets_[q], offsets_[q + 1])
   std::vector<Sample> samples_;
-  std::vector<uint32_t> order_;  // map pixels in the raster order of their first image sample
 };
 
 // A synthetic fisheye photograph of a lat-long environment (lat_long.h) turned by
