@@ -78,6 +78,10 @@ void EnvmapDistribution::update(const HemisphereMap& map, const std::string& lab
   cols_ = cols;
 }
 
+void EnvmapDistribution::requireMap() const {
+  if (rows_ == 0) throw EnvmapError("light sampling", "", "no map (its last update failed)");
+}
+
 double EnvmapDistribution::conditionalCdf(uint32_t row0, uint32_t row1, double t,
                                           uint32_t j) const {
   const double a = conditional_[size_t(row0) * (cols_ + 1) + j];
@@ -86,6 +90,7 @@ double EnvmapDistribution::conditionalCdf(uint32_t row0, uint32_t row1, double t
 }
 
 DiskPolar EnvmapDistribution::warp(const DiskPolar& p) const {
+  requireMap();
   // Marginal over u: the largest row whose CDF value is ≤ u, then linear inside it.
   uint32_t row =
       uint32_t(std::upper_bound(marginal_.begin(), marginal_.end(), p.u) - marginal_.begin());
@@ -124,7 +129,7 @@ LightSet EnvmapDistribution::sample(const SamplePattern& pattern, uint32_t count
     throw EnvmapError(
         "light sampling", "count",
         std::to_string(count) + " lights asked of a pattern of " + std::to_string(pattern.size()));
-  if (rows_ == 0) throw EnvmapError("light sampling", "", "no map (its last update failed)");
+  requireMap();
   LightSet lights(count);
   if (count == 0) return lights;
   const double share = totalLuminance_ / count;

@@ -48,6 +48,7 @@ class EnvmapDistribution {
   double totalLuminancePower() const { return totalLuminance_; }
 
   // The inverse transform of a uniform disk point: the warped disk point (continuous in `p`).
+  // Throws EnvmapError when the last update failed (as sample() does).
   DiskPolar warp(const DiskPolar& p) const;
 
   // Lights from the first `count` points of `pattern` (count ≤ pattern.size()), ids 1..count.
@@ -56,6 +57,7 @@ class EnvmapDistribution {
   LightSet sample(const SamplePattern& pattern, uint32_t count) const;
 
  private:
+  void requireMap() const;  // throws when the last update failed
   // The conditional CDF between rows row0 and row0 + 1 (weight t of the second), at column
   // boundary j.
   double conditionalCdf(uint32_t row0, uint32_t row1, double t, uint32_t j) const;
