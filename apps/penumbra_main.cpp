@@ -7,6 +7,7 @@
 //   compare A B         image metrics and FLIP (apps/compare_command.h; with OpenCV)
 //   accuracy BUNDLE     ms and error against a reference per pass count (with OpenCV)
 //   capture             photographs + probe -> scene bundle (apps/capture_command.h)
+//   bench-envmap        live lighting's stages timed (apps/envmap_command.h)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -23,6 +24,7 @@
 #include "apps/calibrate_command.h"
 #include "apps/capture_command.h"
 #include "apps/compare_command.h"
+#include "apps/envmap_command.h"
 #include "apps/reference_commands.h"
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
@@ -168,6 +170,7 @@ int main(int argc, char** argv) {
   const std::vector<apps::Command> accuracyCommands = apps::addAccuracyCommands(app);
   const std::vector<apps::Command> captureCommands = apps::addCaptureCommands(app);
   const std::vector<apps::Command> referenceCommands = apps::addReferenceCommands(app);
+  const std::vector<apps::Command> envmapCommands = apps::addEnvmapCommands(app);
 
   return cli::run("penumbra", app, argc, argv, [&] {
     for (const apps::Command& c : sceneCommands) {
@@ -186,6 +189,9 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
     }
     for (const apps::Command& c : referenceCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : envmapCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) {

@@ -75,7 +75,9 @@ class FrameSink {
   std::vector<std::vector<uint8_t>> frames_;
 };
 
-std::vector<fs::path> imageSequence(const fs::path& source) {
+}  // namespace
+
+std::vector<fs::path> sequenceFiles(const fs::path& source, bool (*accept)(const fs::path&)) {
   const std::string pattern = source.filename().string();
   const bool glob = pattern.find_first_of("*?[") != std::string::npos;
   const fs::path dir = glob ? source.parent_path() : source;
@@ -84,7 +86,7 @@ std::vector<fs::path> imageSequence(const fs::path& source) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir.empty() ? "." : dir, ec)) {
     if (!e.is_regular_file()) continue;
     const std::string name = e.path().filename().string();
-    if (glob ? ::fnmatch(pattern.c_str(), name.c_str(), 0) == 0 : isImageFile(e.path())) {
+    if (glob ? ::fnmatch(pattern.c_str(), name.c_str(), 0) == 0 : accept(e.path())) {
       files.push_back(e.path());
     }
   }
@@ -97,14 +99,13 @@ std::vector<fs::path> imageSequence(const fs::path& source) {
   return files;
 }
 
-}  // namespace
-
 std::vector<std::vector<uint8_t>> loadFootage(const fs::path& source, uint32_t width,
                                               uint32_t height, size_t maxBytes) {
   FrameSink sink(width, height, maxBytes);
   const bool glob = source.filename().string().find_first_of("*?[") != std::string::npos;
   if (glob || fs::is_directory(source)) {
-    for (const fs::path& f : imageSequence(source)) sink.add(cv::imread(f.string()), f.string());
+    for (const fs::path& f : sequenceFiles(source, isImageFile))
+      sink.add(cv::imread(f.string()), f.string());
     return sink.take();
   }
   if (!fs::exists(source)) throw FootageError(source.string() + ": no such file");

@@ -31,4 +31,10 @@ class FootageError : public core::Error {
 std::vector<std::vector<uint8_t>> loadFootage(const std::filesystem::path& source, uint32_t width,
                                               uint32_t height, size_t maxBytes = size_t{1} << 30);
 
+// The files of a sequence, sorted by name: the files of a folder that `accept` takes, or the
+// matches of a glob ("shots/*.exr", wildcards in the file name only). Throws FootageError when
+// the folder cannot be listed or nothing is found.
+std::vector<std::filesystem::path> sequenceFiles(const std::filesystem::path& source,
+                                                 bool (*accept)(const std::filesystem::path&));
+
 }  // namespace penumbra::firmware_sim
