@@ -116,18 +116,18 @@ FisheyeResampler::FisheyeResampler(const FisheyeLens& lens, uint32_t cols, uint3
   // The kernels stored in that order too, so that they stream as well: kLanes map pixels with
   // kernels of the same length interleaved step by step (see the header). A pixel waits for
   // kLanes − 1 others of its length, most of them its neighbours on its ring; the few left
-  // over at the end are summed one at a time.
+  // over at the end are summed one at a time, and so is every pixel when a kernel reads the
+  // image's last pixel (a step reads 4 floats, one past it).
   const uint32_t lastPixel = (lens.width * lens.height - 1) * 3;
-  fourFloatReads_ = true;
-  for (const Sample& sample : samples)
-    fourFloatReads_ = fourFloatReads_ && sample.index != lastPixel;
+  const bool fourFloatReads = std::none_of(samples.begin(), samples.end(),
+                                           [&](const Sample& s) { return s.index == lastPixel; });
   std::vector<std::vector<uint32_t>> waiting;  // by kernel length
   for (uint32_t pixel : order_) {
     const uint32_t begin = offsets[pixel], length = offsets[pixel + 1] - begin;
     if (waiting.size() <= length) waiting.resize(length + 1);
     std::vector<uint32_t>& group = waiting[length];
     group.push_back(pixel);
-    if (group.size() < kLanes) continue;
+    if (group.size() < kLanes || !fourFloatReads) continue;
     for (uint32_t s = 0; s < length; ++s)
       for (uint32_t lane : group) {
         index_.push_back(samples[offsets[lane] + s].index);
@@ -175,18 +175,12 @@ void FisheyeResampler::resample(const core::ImageF& image, HemisphereMap& map,
     // Per lane r, g, b (and a fourth float, the next image sample, computed and dropped), each
     // summed in its kernel's fixed order, w × p then +: the scalar sum's operations.
     Float4 sum[kLanes] = {};
-    if (fourFloatReads_) {
-      for (uint32_t s = 0; s < steps; ++s, index += kLanes, weight += kLanes)
-        for (uint32_t lane = 0; lane < kLanes; ++lane) {
-          Float4 p;
-          std::memcpy(&p, in + index[lane], sizeof p);
-          sum[lane] += weight[lane] * p;
-        }
-    } else {  // the same sums, one float at a time
-      for (uint32_t s = 0; s < steps; ++s, index += kLanes, weight += kLanes)
-        for (uint32_t lane = 0; lane < kLanes; ++lane)
-          for (int c = 0; c < 3; ++c) sum[lane][c] += weight[lane] * in[index[lane] + c];
-    }
+    for (uint32_t s = 0; s < steps; ++s, index += kLanes, weight += kLanes)
+      for (uint32_t lane = 0; lane < kLanes; ++lane) {
+        Float4 p;
+        std::memcpy(&p, in + index[lane], sizeof p);
+        sum[lane] += weight[lane] * p;
+      }
     for (uint32_t lane = 0; lane < kLanes; ++lane)
       for (int c = 0; c < 3; ++c)
         out[size_t(groupPixels_[g * kLanes + lane]) * 3 + c] = sum[lane][c];

@@ -72,8 +72,6 @@ class FisheyeResampler {
   // restIndex_/restWeight_[restOffsets_[q], restOffsets_[q + 1]).
   std::vector<uint32_t> restPixels_, restOffsets_{0}, restIndex_;
   std::vector<float> restWeight_;
-  // No sample is the image's last pixel, so 4 floats can be read at every index.
-  bool fourFloatReads_ = false;
 };
 
 // A synthetic fisheye photograph of a lat-long environment (lat_long.h) turned by
