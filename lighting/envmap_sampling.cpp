@@ -55,6 +55,9 @@ void EnvmapDistribution::update(const HemisphereMap& map, const std::string& lab
   glm::dvec3 radianceSum(0.0);
   for (uint32_t row = 0; row < rows; ++row) {
     double* cdf = &conditional_[size_t(row) * (cols + 1)];
+    // The running sum in a register: read back from cdf[col] it went through a store and a
+    // load per pixel, the longest chain in the CDF's build (same additions, same bits).
+    double running = 0.0;
     for (uint32_t col = 0; col < cols; ++col) {
       const float* p = map.radiance.pixel(col, row);
       for (int c = 0; c < 3; ++c) {
@@ -66,7 +69,8 @@ void EnvmapDistribution::update(const HemisphereMap& map, const std::string& lab
       const glm::dvec3 rgb(p[0], p[1], p[2]);
       radianceSum += rgb;
       // Havran 2005 §3.1: equal solid angle per pixel, so the PDF is the luminance itself.
-      cdf[col + 1] = cdf[col] + core::luminance(rgb);
+      running += core::luminance(rgb);
+      cdf[col + 1] = running;
     }
     marginal_[row + 1] = marginal_[row] + cdf[cols];
     normaliseCdf(cdf, cols);

@@ -54,15 +54,24 @@ class FisheyeResampler {
                 const std::string& label = "fisheye frame") const;
 
  private:
-  struct Sample {
-    uint32_t index;  // first sample of the image pixel in core::ImageF's layout
-    float weight;
-  };
+  // Map pixels are resampled kLanes at a time, one kernel step of each per iteration, the
+  // kLanes kernels of one length: a lone kernel is a chain of dependent float additions in a
+  // loop of unpredictable length, whose latency bounded the resampling. Each pixel's own sum
+  // keeps its order, so its bits.
+  static constexpr uint32_t kLanes = 4;
+  static constexpr uint32_t kPrefetchRows = 8;
   FisheyeLens lens_;
   uint32_t cols_, rows_, taps_;
-  std::vector<uint32_t> order_;    // map pixels in the raster order of their first image sample
-  std::vector<uint32_t> offsets_;  // order_[q]'s kernel: samples_[offsets_[q], offsets_[q + 1])
-  std::vector<Sample> samples_;
+  std::vector<uint32_t> order_;  // map pixels in the raster order of their first image sample
+  // Group g is map pixels groupPixels_[g·kLanes …] with steps [groupSteps_[g],
+  // groupSteps_[g + 1]); step s holds lane l's sample at index_/weight_[s·kLanes + l]: the first
+  // sample of its image pixel in core::ImageF's layout, and its weight.
+  std::vector<uint32_t> groupPixels_, groupSteps_{0}, index_;
+  std::vector<float> weight_;
+  // The pixels left over (fewer than kLanes of a length): restPixels_[q]'s kernel is
+  // restIndex_/restWeight_[restOffsets_[q], restOffsets_[q + 1]).
+  std::vector<uint32_t> restPixels_, restOffsets_{0}, restIndex_;
+  std::vector<float> restWeight_;
 };
 
 // A synthetic fisheye photograph of a lat-long environment (lat_long.h) turned by
