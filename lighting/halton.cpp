@@ -8,6 +8,8 @@
 namespace penumbra::lighting {
 
 double radicalInverse(uint64_t index, uint32_t base) {
+  // Base 0 divides by zero and base 1 never ends (index / 1 == index).
+  if (base < 2) throw std::invalid_argument("radicalInverse: base must be at least 2");
   const double inverseBase = 1.0 / base;
   double scale = inverseBase, value = 0;
   while (index > 0) {

@@ -13,6 +13,7 @@ namespace penumbra::lighting {
 
 // The radical inverse of `index` in `base` (van der Corput): the digits of index mirrored
 // about the radix point. Exact in binary64 for base 2; for base 3 one rounding per digit.
+// Throws std::invalid_argument for base < 2.
 double radicalInverse(uint64_t index, uint32_t base);
 
 // Halton point `index` (index ≥ 1: point 0 is the corner (0, 0)) in bases 2 and 3.
