@@ -93,7 +93,10 @@ FisheyeResampler::FisheyeResampler(const FisheyeLens& lens, uint32_t cols, uint3
            {y0 * lens.width + x1, fx * (1 - fy) * inverseTaps},
            {y1 * lens.width + x0, (1 - fx) * fy * inverseTaps},
            {y1 * lens.width + x1, fx * fy * inverseTaps}}};
-      for (const auto& [index, weight] : corners) {
+      // Not a structured binding: clang before 16 cannot capture one in the lambda below.
+      for (const auto& corner : corners) {
+        const uint32_t index = corner.first;
+        const float weight = corner.second;
         if (weight == 0) continue;
         auto it = std::find_if(samples.begin() + begin, samples.end(),
                                [&](const Sample& k) { return k.index == index * 3; });
