@@ -15,6 +15,7 @@ void selectSourceClusters(const ShaftHierarchy& hierarchy,
   // Same tag discipline as the traversal: start one frame behind, reset on a repeat.
   if (sc.nodeTag.size() != nodes.size() || !sc.primed || sc.lastFrame == frame) {
     sc.nodeTag.assign(nodes.size(), frame - 1);
+    sc.nodeKey.assign(nodes.size(), 0.0);
     sc.open.reserve(nodes.size());
     sc.done.reserve(nodes.size());
     sc.stack.reserve(nodes.size());
@@ -58,8 +59,10 @@ void selectSourceClusters(const ShaftHierarchy& hierarchy,
         std::max(glm::length(nodes[node].bounds.centre() - occluder->centre()), 1e-3);
     return nodes[node].averageTransfer * (extent / distance);
   };
+  // Each listed node's key is computed once, when it is listed (two square roots per heap
+  // comparison otherwise).
   const auto lessUrgent = [&](uint32_t a, uint32_t b) {
-    const double ka = key(a), kb = key(b);
+    const double ka = sc.nodeKey[a], kb = sc.nodeKey[b];
     return ka != kb ? ka < kb : a > b;
   };
   sc.open.clear();
@@ -77,6 +80,7 @@ void selectSourceClusters(const ShaftHierarchy& hierarchy,
     if (nodes[node].isLeaf()) {
       sc.done.push_back(node);
     } else {
+      sc.nodeKey[node] = key(node);
       sc.open.push_back(node);
       std::push_heap(sc.open.begin(), sc.open.end(), lessUrgent);
     }

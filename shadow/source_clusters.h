@@ -51,6 +51,7 @@ struct SourceCluster {
 // Scratch state owned by selectSourceClusters(); keep it between frames, do not touch it.
 struct ClusterScratch {
   std::vector<uint32_t> nodeTag;  // per source node: the frame that marked it
+  std::vector<double> nodeKey;    // per source node: its split key, set when it is listed
   std::vector<uint32_t> open;     // the §8 list's expandable nodes (a binary heap)
   std::vector<uint32_t> done;     // the list's leaves
   std::vector<uint32_t> stack;
