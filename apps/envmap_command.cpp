@@ -5,7 +5,7 @@
 
 #include "core/cli.h"
 #ifdef PENUMBRA_HAVE_ENVMAP_BENCH
-#include "lighting/envmap_benchmark.h"
+#include "envmap/envmap_benchmark.h"
 #endif
 
 namespace penumbra::apps {
@@ -18,8 +18,8 @@ struct EnvmapBenchFlags {
 };
 
 int runEnvmapBench(const EnvmapBenchFlags& flags) {
-  const lighting::EnvmapBenchResult r =
-      lighting::benchEnvmap(flags.lights, flags.frames, flags.clusters, flags.taps);
+  const envmap::EnvmapBenchResult r =
+      envmap::benchEnvmap(flags.lights, flags.frames, flags.clusters, flags.taps);
   std::printf("map 360x90 lights %u frames %u clusters_max %u clusters_made %u threads 1\n",
               r.lights, r.frames, r.clusters, r.clustersMade);
   std::printf(

@@ -1,5 +1,5 @@
 // `penumbra bench-envmap [--lights 300] [--frames 200] [--clusters 72]`: live lighting's
-// per-frame stages timed (lighting/envmap_benchmark.h), one line per stage:
+// per-frame stages timed (envmap/envmap_benchmark.h), one line per stage:
 //   cdf_ms <median of fisheye resampling + CDF>
 //   samples_per_ms <lights / median sampling time>
 //   filter_cluster_ms <median>

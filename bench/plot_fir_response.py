@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Frequency response of live lighting's temporal filter (Havran et al. 2005 §3.3; the taps of
-lighting/light_filter.h), printed and normalised: a Markdown table on stdout and a chart.
+envmap/light_filter.h), printed and normalised: a Markdown table on stdout and a chart.
 
     /usr/bin/python3 bench/plot_fir_response.py docs/charts/fir-response.png
 

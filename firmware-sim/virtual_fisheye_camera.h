@@ -1,7 +1,7 @@
 // The simulated environment camera of live lighting (issue 16 item 1; Havran et al. 2005 §5.1):
 // a fisheye HDR camera looking at the zenith, whose frames are an EXR sequence (float RGB
-// radiance) played on the virtual clock. lighting/fisheye_resampler.h turns a frame into the
-// hemisphere map the light sampler reads; lighting/probe_sequences.h makes such sequences from
+// radiance) played on the virtual clock. envmap/fisheye_resampler.h turns a frame into the
+// hemisphere map the light sampler reads; envmap/probe_sequences.h makes such sequences from
 // light probes. Frame k is captured at k × period and shows sequence frame k mod count, so a
 // session replays the same frames at the same virtual times.
 //

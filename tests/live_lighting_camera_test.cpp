@@ -1,5 +1,5 @@
 // Live lighting end to end on the simulated board's side: a lat-long environment turning 5° a
-// frame, photographed through a 256-pixel equidistant fisheye (lighting/fisheye_resampler.h),
+// frame, photographed through a 256-pixel equidistant fisheye (envmap/fisheye_resampler.h),
 // written as an EXR sequence, played by the virtual fisheye camera on the virtual clock
 // (firmware-sim/virtual_fisheye_camera.h), resampled into the hemisphere map and turned into
 // filtered lights (lighting/). Checks what each stage hands the next.
@@ -12,18 +12,18 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/colour.h"
+#include "envmap/envmap_sampling.h"
+#include "envmap/fisheye_resampler.h"
+#include "envmap/lat_long.h"
+#include "envmap/light_filter.h"
 #include "firmware-sim/virtual_fisheye_camera.h"
-#include "lighting/envmap_sampling.h"
-#include "lighting/fisheye_resampler.h"
-#include "lighting/lat_long.h"
-#include "lighting/light_filter.h"
 #include "tests/scratch_dir.h"
 
 namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
-using namespace lighting;
+using namespace envmap;
 
 TEST(LiveLightingCamera, FisheyeExrSequenceBecomesFilteredLights) {
   const fs::path dir = test::scratchPath("live-lighting-camera");

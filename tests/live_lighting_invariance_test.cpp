@@ -12,16 +12,16 @@
 
 #include "core/job_pool.h"
 #include "core/random.h"
-#include "lighting/envmap_sampling.h"
-#include "lighting/light_clustering.h"
-#include "lighting/light_filter.h"
-#include "lighting/reinhard_tonemap.h"
+#include "envmap/envmap_sampling.h"
+#include "envmap/light_clustering.h"
+#include "envmap/light_filter.h"
+#include "envmap/reinhard_tonemap.h"
 #include "scene/sha256.h"
 
 namespace penumbra {
 namespace {
 
-using namespace lighting;
+using namespace envmap;
 
 void append(std::vector<uint8_t>& bytes, const void* data, size_t size) {
   const auto* p = static_cast<const uint8_t*>(data);
