@@ -11,15 +11,7 @@ namespace penumbra::shadow {
 
 ClusterTransfers::ClusterTransfers(const SceneBundle& bundle, const scene::PatchMesh& mesh,
                                    const ClusterTransferOptions& options)
-    : bundle_(bundle), mesh_(mesh), options_(options) {
-  const RadianceTransfers& t = bundle.transfers;
-  receiverVertexOf_.assign(mesh_.positions.size(), kNoIndex);
-  for (size_t i = 0; i < t.receiverVertices.size(); ++i) {
-    receiverVertexOf_[t.receiverVertices[i]] = static_cast<uint32_t>(i);
-  }
-  vertexSlot_.assign(t.receiverVertices.size(), 0);
-  vertexSlotFrame_.assign(t.receiverVertices.size(), kNoIndex);
-}
+    : bundle_(bundle), mesh_(mesh), options_(options), slots_(bundle.transfers, mesh) {}
 
 void ClusterTransfers::compute(std::span<const uint32_t> receiverPatches,
                                const ClusterSelection& selection, uint32_t frame,
@@ -27,29 +19,11 @@ void ClusterTransfers::compute(std::span<const uint32_t> receiverPatches,
   clusters_ = selection.clusters.size();
   gradedVertices_ = 0;
   core::Stopwatch watch;
-  gatherFrameVertices(receiverPatches, frame);
+  slots_.gather(mesh_, receiverPatches, frame);
   computeReceivers(selection, frame, feedback);
   nsReceivers_ = watch.lapNs();
   computeProduct(selection, product, feedback);
   nsProduct_ = watch.lapNs();
-}
-
-// The frame's receiver vertices, each given a slot.
-void ClusterTransfers::gatherFrameVertices(std::span<const uint32_t> receiverPatches,
-                                           uint32_t frame) {
-  frameVertices_.clear();
-  for (uint32_t patch : receiverPatches) {
-    const uint32_t first = mesh_.patches[patch].firstTriangle;
-    for (uint32_t t = first; t < first + 2; ++t) {
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t rv = receiverVertexOf_[mesh_.indices[3 * size_t(t) + size_t(c)]];
-        if (rv == kNoIndex || vertexSlotFrame_[rv] == frame) continue;
-        vertexSlotFrame_[rv] = frame;
-        vertexSlot_[rv] = static_cast<uint32_t>(frameVertices_.size());
-        frameVertices_.push_back(rv);
-      }
-    }
-  }
 }
 
 void ClusterTransfers::setPool(core::JobPool* pool) {
@@ -114,16 +88,17 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
   // cluster stands for exactly those sources, so all blocked energy is accounted for).
   const RadianceTransfers& tr = bundle_.transfers;
   const size_t clusters = clusters_;
-  receiverTransfers_.assign(frameVertices_.size() * clusters, glm::dvec3(0.0));
-  feedback.beginShares(frameVertices_.size() * clusters);
+  const std::span<const uint32_t> frameVertices = slots_.frameVertices();
+  receiverTransfers_.assign(frameVertices.size() * clusters, glm::dvec3(0.0));
+  feedback.beginShares(frameVertices.size() * clusters);
   for (size_t k = 0; k < clusters; ++k) {
     const SourceCluster& cl = selection.clusters[k];
     for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
       const uint32_t s = selection.sources[i];
       for (uint32_t e = tr.sourceStart[s]; e < tr.sourceStart[s + 1]; ++e) {
         const uint32_t rv = tr.entryVertex[e];
-        if (vertexSlotFrame_[rv] != frame) continue;
-        const size_t at = vertexSlot_[rv] * clusters + k;
+        if (!slots_.inFrame(rv, frame)) continue;
+        const size_t at = slots_.slot(rv) * clusters + k;
         receiverTransfers_[at] += glm::dvec3(tr.entryTransfer[e]);
         feedback.addReceiverSource(rv, s, glm::dvec3(tr.entryTransfer[e]), at);
       }
@@ -136,15 +111,15 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
     const uint32_t patch = bundle_.sets.sources[selection.clusters[k].representative];
     sets_[k] = static_cast<uint8_t>(sourceSet(options_.setSeed, patch));
   }
-  receiverS_.resize(frameVertices_.size() * clusters);
-  probes_.resize(frameVertices_.size());
-  for (size_t slot = 0; slot < frameVertices_.size(); ++slot) {
-    probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[frameVertices_[slot]]];
+  receiverS_.resize(frameVertices.size() * clusters);
+  probes_.resize(frameVertices.size());
+  for (size_t slot = 0; slot < frameVertices.size(); ++slot) {
+    probes_[slot] = bundle_.view.staticMesh.positions[tr.receiverVertices[frameVertices[slot]]];
   }
   intensityRows(
-      frameVertices_.size(),
+      frameVertices.size(),
       [&](size_t slot) {
-        const uint32_t rv = frameVertices_[slot];
+        const uint32_t rv = frameVertices[slot];
         return std::pair{glm::dvec3(tr.vertexRadiance[rv]), feedback.receiverShare(rv)};
       },
       receiverTransfers_, receiverS_, feedback);
@@ -154,6 +129,7 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
 void ClusterTransfers::computeProduct(const ClusterSelection& selection,
                                       const ProductLight& product, OcclusionFeedback& feedback) {
   const size_t clusters = clusters_;
+  const size_t frameVertices = slots_.frameVertices().size();
   productVertices_ = options_.selfShadowing ? product.positions.size() : 0;
   productTransfers_.assign(productVertices_ * clusters, glm::dvec3(0.0));
   productS_.resize(productVertices_ * clusters);
@@ -180,9 +156,9 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
       },
       productTransfers_, productS_, feedback);
   // Probes: the receiver vertices, then the product's own vertices.
-  probes_.resize(frameVertices_.size() + productVertices_);
+  probes_.resize(frameVertices + productVertices_);
   std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),
-            probes_.begin() + std::ptrdiff_t(frameVertices_.size()));
+            probes_.begin() + std::ptrdiff_t(frameVertices));
 }
 
 }  // namespace penumbra::shadow

@@ -22,6 +22,7 @@
 #include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
 #include "shadow/occlusion_feedback.h"
+#include "shadow/receiver_vertex_slots.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/source_clusters.h"
 
@@ -69,7 +70,7 @@ class ClusterTransfers {
   size_t clusters() const { return clusters_; }
   // The frame's receiver vertices (indices into RadianceTransfers::receiverVertices), one
   // slot each, in the order the receiver patches reached them.
-  std::span<const uint32_t> frameVertices() const { return frameVertices_; }
+  std::span<const uint32_t> frameVertices() const { return slots_.frameVertices(); }
   std::span<const glm::dvec3> receiverTransfers() const {  // [slot * clusters + k]
     return receiverTransfers_;
   }
@@ -77,7 +78,9 @@ class ClusterTransfers {
   // transfers ([v * clusters + k]).
   size_t productVertices() const { return productVertices_; }
   std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
-  VertexS s() const { return {receiverVertexOf_, vertexSlot_, receiverS_, productS_, clusters_}; }
+  VertexS s() const {
+    return {slots_.receiverVertexOf(), slots_.slots(), receiverS_, productS_, clusters_};
+  }
   // Receiver vertices' world positions by slot, then the product's vertices.
   std::span<const core::Vec3> probes() const { return probes_; }
   // Receiver and product vertices whose S used a measured share this frame.
@@ -95,7 +98,6 @@ class ClusterTransfers {
   template <class VertexOf>
   void intensityRows(size_t vertices, VertexOf vertexOf, std::span<const glm::dvec3> transfers,
                      std::span<core::Rgb16> s, const OcclusionFeedback& feedback);
-  void gatherFrameVertices(std::span<const uint32_t> receiverPatches, uint32_t frame);
   void computeReceivers(const ClusterSelection& selection, uint32_t frame,
                         OcclusionFeedback& feedback);
   void computeProduct(const ClusterSelection& selection, const ProductLight& product,
@@ -104,9 +106,7 @@ class ClusterTransfers {
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
   ClusterTransferOptions options_;
-  std::vector<uint32_t> receiverVertexOf_;  // mesh vertex -> receiver vertex, or kNoIndex
-  std::vector<uint32_t> vertexSlot_;        // receiver vertex -> slot in frameVertices_
-  std::vector<uint32_t> vertexSlotFrame_;   // receiver vertex -> frame that gave its slot
+  ReceiverVertexSlots slots_;
   size_t clusters_ = 0, productVertices_ = 0;
   uint32_t gradedVertices_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
@@ -114,7 +114,6 @@ class ClusterTransfers {
   std::vector<std::vector<double>> sharesScratch_{1};     // per worker: a vertex's shares
   std::vector<std::vector<core::Rgb8>> wholeScratch_{1};  // per worker: whole-level S
   std::vector<uint32_t> gradedByWorker_{0};
-  std::vector<uint32_t> frameVertices_;
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
   std::vector<glm::dvec3> receiverTransfers_;  // [slot * clusters + k]
   std::vector<core::Rgb16> receiverS_;         // [slot * clusters + k]

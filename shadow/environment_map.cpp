@@ -37,7 +37,8 @@ glm::vec3 cross3(const glm::vec3& a, const glm::vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-// c^k for a non-negative integer k by squaring (multiplications only).
+}  // namespace
+
 double powInt(double c, uint32_t k) {
   double r = 1, b = c;
   while (k) {
@@ -47,8 +48,6 @@ double powInt(double c, uint32_t k) {
   }
   return r;
 }
-
-}  // namespace
 
 glm::vec3 CubeEnvironmentMap::lookup(const glm::vec3& d, const ToneInverse& inverse) const {
   // Major axis → face; then the face camera's normalized device coordinates.
@@ -129,6 +128,7 @@ void renderEnvironmentMap(const raster::ShadedMesh& room, const glm::vec3& centr
 PhongLobe::PhongLobe(float exponent) {
   const double e = exponent > 0 && std::isfinite(exponent) ? double(exponent) : 0.0;
   const uint32_t n = static_cast<uint32_t>(e < 1e6 ? e + 0.5 : 1e6);  // rounded
+  roundedExponent = n;
   for (int k = 0; k < kLobeRings; ++k) {
     // The lobe's energy below polar cosine c is 1 - c^(n + 1): ring k sits at the middle
     // quantile (k + 0.5) / kLobeRings, i.e. c^(n + 1) = 1 - (k + 0.5) / kLobeRings.

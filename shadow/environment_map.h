@@ -58,8 +58,12 @@ void renderEnvironmentMap(const raster::ShadedMesh& room, const glm::vec3& centr
 // The lobe pattern for a Phong exponent: kLobeRings (cos, sin) pairs of polar angles.
 struct PhongLobe {
   std::array<float, kLobeRings> cosTheta{}, sinTheta{};
+  uint32_t roundedExponent = 0;  // N: the exponent rounded to an integer
   explicit PhongLobe(float exponent = 1.0f);
 };
+
+// c^k for a non-negative integer k by squaring (multiplications only, in a fixed order).
+double powInt(double c, uint32_t k);
 
 // Mean radiance of the room reflected about `normal` towards `eye` from `position`, over
 // the lobe pattern. `normal` need not be unit length (zero → no reflection, returns 0).

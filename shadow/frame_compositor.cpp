@@ -27,6 +27,7 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
       transfers_(bundle, mesh_,
                  {options.setSeed, options.gradedTransfers, options.selfShadowing,
                   transferKindFor(options.accumulation)}),
+      envTransfers_(bundle, mesh_, hierarchy_),
       passList_(bundle, mesh_, roomBounds(hierarchy_)) {
   if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
   if (options.accumulation == raster::Accumulation::kLinear) {
@@ -45,7 +46,8 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
     feedback_.productPlaced(placement_.mesh().positions.size());
   }
   ns[FrameStage::kPlacement] = watch.lapNs();
-  if (change != PlacementChange::kNone) {
+  if (change != PlacementChange::kNone || litShading_) {
+    litShading_ = false;
     shading_.shade(placement_.mesh(), placement_.normals(), placement_.bounds(), pose.product);
   }
   ns[FrameStage::kShading] = watch.lapNs();
@@ -70,6 +72,17 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   watch.lapNs();
 
   // The frame description (Fig. 2): background, product, proxy, one pass per cluster.
+  frameContent(background, out);
+  ns[FrameStage::kFrameContent] = watch.lapNs();
+  stats.skippedClusters =
+      passList_.build(passListOptions(), blocked_.selection, traversal.receivers, placement_.mesh(),
+                      placement_.bounds(), transfers_.s(), out.passes);
+  stats.passes = static_cast<uint32_t>(out.passes.size());
+  ns[FrameStage::kPassList] = watch.lapNs();
+}
+
+void FrameCompositor::frameContent(std::span<const uint8_t> background,
+                                   raster::FrameContent& out) const {
   if (background.empty()) background = bundle_.background;
   out.background.assign(background.begin(), background.end());
   out.objects.resize(1);
@@ -83,11 +96,63 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   } else {
     out.shadeTable.clear();
   }
+}
+
+void FrameCompositor::composeLit(const ProductPose& pose,
+                                 std::span<const envmap::DirectionalLight> lights, uint32_t frame,
+                                 raster::FrameContent& out, CompositeStats& stats,
+                                 std::span<const uint8_t> background) {
+  if (options_.accumulation != raster::Accumulation::kLinear) {
+    // Fig. 4's S and the graded transfers need the captured transfers L_ij; the lights'
+    // shares need nothing but the lights (docs/pipeline-spec.md §8).
+    throw std::invalid_argument("live lighting needs linear accumulation");
+  }
+  stats = CompositeStats{};
+  FrameStages& ns = stats.stages;
+  core::Stopwatch watch;
+  const PlacementChange change = placement_.place(pose);
+  if (change == PlacementChange::kNewModel) {
+    // Kept sized for the product, should a later frame use the captured sources.
+    feedback_.productPlaced(placement_.mesh().positions.size());
+  }
+  ns[FrameStage::kPlacement] = watch.lapNs();
+  // The lights in world space, split for the stages; the product is shaded again whenever it
+  // or the lights moved (the environment camera's frames arrive slower than the kiosk's).
+  bool lightsChanged = lights.size() != lightDirections_.size();
+  lightDirections_.resize(lights.size());
+  lightPowers_.resize(lights.size());
+  for (size_t k = 0; k < lights.size(); ++k) {
+    lightsChanged = lightsChanged || lightDirections_[k] != lights[k].direction ||
+                    lightPowers_[k] != lights[k].power;
+    lightDirections_[k] = lights[k].direction;
+    lightPowers_[k] = lights[k].power;
+  }
+  if (change != PlacementChange::kNone || lightsChanged || !litShading_) {
+    shading_.shadeFromLights(placement_.mesh(), placement_.normals(), pose.product,
+                             lightDirections_, lightPowers_);
+    litShading_ = true;
+  }
+  ns[FrameStage::kShading] = watch.lapNs();
+  const DistantLights distant{lightDirections_, lightPowers_};
+  const std::span<const core::Vec3> positions =
+      options_.selfShadowing ? std::span<const core::Vec3>(placement_.mesh().positions)
+                             : std::span<const core::Vec3>();
+  envTransfers_.compute(distant, placement_.bounds(), frame,
+                        {positions, shading_.radiance(), shading_.sourceTransfers()});
+  stats.clusters = static_cast<uint32_t>(lights.size());
+  stats.receiverPatches = static_cast<uint32_t>(envTransfers_.distinctPatches());
+  stats.receiverVertices = static_cast<uint32_t>(envTransfers_.frameVertices().size());
+  ns[FrameStage::kRoomTransfers] = envTransfers_.nsReceivers();
+  ns[FrameStage::kProductTransfers] = envTransfers_.nsProduct();
+  watch.lapNs();
+  frameContent(background, out);
   ns[FrameStage::kFrameContent] = watch.lapNs();
-  stats.skippedClusters =
-      passList_.build(passListOptions(), blocked_.selection, traversal.receivers, placement_.mesh(),
-                      placement_.bounds(), transfers_.s(), out.passes);
+  passList_.buildDirectional(passListOptions(), lightDirections_, envTransfers_.receiverPatches(),
+                             envTransfers_.lightPatchStart(), placement_.mesh(),
+                             placement_.bounds(), roomBounds(hierarchy_), envTransfers_.s(),
+                             out.passes);
   stats.passes = static_cast<uint32_t>(out.passes.size());
+  stats.skippedClusters = stats.clusters - stats.passes;
   ns[FrameStage::kPassList] = watch.lapNs();
 }
 

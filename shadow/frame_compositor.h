@@ -22,10 +22,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "envmap/directional_light.h"
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/blocked_light.h"
 #include "shadow/cluster_transfers.h"
+#include "shadow/environment_light_transfers.h"
 #include "shadow/frame_stages.h"
 #include "shadow/occlusion_feedback.h"
 #include "shadow/pass_list.h"
@@ -99,6 +101,18 @@ class FrameCompositor {
   void compose(const ProductPose& pose, size_t passes, uint32_t frame, raster::FrameContent& out,
                CompositeStats& stats, std::span<const uint8_t> background = {});
 
+  // Live lighting (Havran et al. 2005; issue 16): the same frame lit by the environment's
+  // distant lights instead of the captured sources — `lights` in world space (unit
+  // directions towards them, RGB powers in the room camera's radiance units), one pass each,
+  // so the caller sets the pass count by the number of lights. The product is shaded by the
+  // lights (ProductShading::shadeFromLights), each light's share of each receiver's light
+  // comes from environment_light_transfers.h, and the passes are cast by orthographic maps
+  // (PassList::buildDirectional); the compositing is the same. Needs linear accumulation
+  // (std::invalid_argument otherwise): nothing to observe afterwards.
+  void composeLit(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
+                  uint32_t frame, raster::FrameContent& out, CompositeStats& stats,
+                  std::span<const uint8_t> background = {});
+
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
   // as probes, then hand the masks to observe().
@@ -119,6 +133,7 @@ class FrameCompositor {
   void setPool(core::JobPool* pool) {
     shading_.setPool(pool);
     transfers_.setPool(pool);
+    envTransfers_.setPool(pool);
     passList_.setPool(pool);
     feedback_.setPool(pool);
   }
@@ -134,6 +149,8 @@ class FrameCompositor {
 
  private:
   PassListOptions passListOptions() const;
+  // Background, the shaded product, its proxy and the shade table into `out`.
+  void frameContent(std::span<const uint8_t> background, raster::FrameContent& out) const;
 
   const SceneBundle& bundle_;
   CompositorOptions options_;
@@ -146,6 +163,9 @@ class FrameCompositor {
   BlockedLight blocked_;
   OcclusionFeedback feedback_;
   ClusterTransfers transfers_;
+  EnvironmentLightTransfers envTransfers_;                 // composeLit()'s instead of transfers_
+  std::vector<glm::dvec3> lightDirections_, lightPowers_;  // composeLit()'s last lights
+  bool litShading_ = false;          // the product's colours are the lights' (composeLit())
   std::vector<uint8_t> shadeTable_;  // linear accumulation's (raster::FrameContent::shadeTable)
   PassList passList_;
 };

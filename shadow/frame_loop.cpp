@@ -3,8 +3,18 @@
 namespace penumbra::shadow {
 
 void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uint8_t> background) {
+  run([&] { compositor.compose(pose, passes, ++frameNumber, frame, stats, background); });
+}
+
+void FrameLoop::step(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
+                     std::span<const uint8_t> background) {
+  run([&] { compositor.composeLit(pose, lights, ++frameNumber, frame, stats, background); });
+}
+
+template <class Compose>
+void FrameLoop::run(Compose compose) {
   const int64_t start = clock_.nowNanoseconds();
-  compositor.compose(pose, passes, ++frameNumber, frame, stats, background);
+  compose();
   const int64_t composed = clock_.nowNanoseconds();
   // Linear accumulation's transfers do not depend on occlusion: no probes, nothing to observe.
   const bool measure = compositor.measuresOcclusion();

@@ -46,6 +46,10 @@ class FrameLoop {
   // on, at most its number of passes.
   void step(const ProductPose& pose, const FrameRateController::Decision& decision,
             std::span<const uint8_t> background = {});
+  // Live lighting (issue 16): the frame lit by the environment's distant lights, one pass
+  // each (FrameCompositor::composeLit), at the shadow-map size last set.
+  void step(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
+            std::span<const uint8_t> background = {});
   // A still product: the second frame uses the first one's measured occlusion, as
   // `penumbra render` does.
   void still(const ProductPose& pose, size_t passes) {
@@ -70,6 +74,10 @@ class FrameLoop {
   uint32_t frameNumber = 0;          // of the last frame; 0 before the first
 
  private:
+  // compose() (one of the compositor's), render, observe, and the stage times.
+  template <class Compose>
+  void run(Compose compose);
+
   core::SteadyClock clock_;
 };
 

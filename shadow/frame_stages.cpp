@@ -11,23 +11,15 @@ namespace penumbra::shadow {
 namespace {
 
 // In FrameStage's order, one per stage.
-constexpr const char* kNames[] = {"camera",
-                                  "placement",
-                                  "product shading",
-                                  "traversal",
-                                  "clusters",
-                                  "room transfers",
-                                  "product transfers",
-                                  "frame content",
-                                  "pass list",
-                                  "raster objects",
-                                  "raster passes",
-                                  "raster finish",
-                                  "observe",
-                                  "foreground",
-                                  "HUD",
-                                  "display",
-                                  "other",
+constexpr const char* kNames[] = {"camera",          "environment lights",
+                                  "placement",       "product shading",
+                                  "traversal",       "clusters",
+                                  "room transfers",  "product transfers",
+                                  "frame content",   "pass list",
+                                  "raster objects",  "raster passes",
+                                  "raster finish",   "observe",
+                                  "foreground",      "HUD",
+                                  "display",         "other",
                                   "simulator camera"};
 static_assert(std::size(kNames) == kFrameStageCount);
 

@@ -20,6 +20,7 @@ namespace penumbra::shadow {
 
 enum class FrameStage : uint8_t {
   kCamera,            // grab the newest camera frame, convert it to RGBA8
+  kEnvironment,       // live lighting: the environment camera's map into lights (Havran 2005)
   kPlacement,         // the product moved to its pose (product_placement)
   kShading,           // its colours and source transfers, when it moved (product_shading)
   kTraversal,         // Gibson 2003 §6.1 shaft traversal

@@ -4,9 +4,23 @@
 #include <array>
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "scene/camera.h"
 
 namespace penumbra::shadow {
+namespace {
+
+// Up for lookAt: the world axis least aligned with the view direction `f`, so lookAt never
+// degenerates (a ceiling light looking straight down at the object).
+glm::dvec3 leastAlignedAxis(const glm::dvec3& f) {
+  const glm::dvec3 absF = glm::abs(f);
+  if (absF.x <= absF.y && absF.x <= absF.z) return {1, 0, 0};
+  if (absF.y <= absF.z) return {0, 1, 0};
+  return {0, 0, 1};
+}
+
+}  // namespace
 
 std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
                                             const scene::Aabb& occluderBounds, double farDistance) {
@@ -30,24 +44,56 @@ std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
 
   // Up: the world axis least aligned with the view direction, so lookAt never degenerates
   // (a ceiling light looking straight down at the object).
-  const glm::dvec3 f = toCentre / dist;
-  const glm::dvec3 absF = glm::abs(f);
-  glm::dvec3 up(0, 0, 1);
-  if (absF.x <= absF.y && absF.x <= absF.z) {
-    up = glm::dvec3(1, 0, 0);
-  } else if (absF.y <= absF.z) {
-    up = glm::dvec3(0, 1, 0);
-  }
-
   LightFrustum out;
-  out.viewProj =
-      scene::perspectiveFromTanHalf(tanHalf, 1.0, zNear, zFar) * scene::lookAt(source, centre, up);
+  out.viewProj = scene::perspectiveFromTanHalf(tanHalf, 1.0, zNear, zFar) *
+                 scene::lookAt(source, centre, leastAlignedAxis(toCentre / dist));
   out.rasterViewProj = scene::toRasterMat4(out.viewProj);
   out.sphereCentre = centre;
   out.sphereRadius = radius;
   out.zNear = zNear;
   out.zFar = zFar;
   out.tanHalfFovY = tanHalf;
+  return out;
+}
+
+std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight,
+                                                  const scene::Aabb& occluderBounds,
+                                                  const scene::Aabb& room) {
+  if (occluderBounds.empty() || room.empty()) return std::nullopt;
+  const double length = glm::length(towardsLight);
+  const glm::dvec3 centre = occluderBounds.centre();
+  const double radius = 0.5 * glm::length(occluderBounds.size());
+  if (!std::isfinite(length) || !(length > 0) || !std::isfinite(radius) ||
+      !std::isfinite(centre.x + centre.y + centre.z)) {
+    return std::nullopt;
+  }
+  const glm::dvec3 d = towardsLight / length;
+  // The eye one diameter out on the light's side (a point product still gets a 1 cm gap):
+  // the sphere spans distances [eye - R, eye + R] from it.
+  const double back = 2.0 * radius + 0.01;
+  const glm::dvec3 eye = centre + back * d;
+  // Just in front of the sphere (0.1% margin against rounding, as fitLightFrustum); beyond
+  // the farthest room corner along the view, and beyond the sphere in any case.
+  const double zNear = (back - radius) * 0.999;
+  double zFar = back + radius + zNear;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? room.max.x : room.min.x,
+                       (corner & 2) ? room.max.y : room.min.y,
+                       (corner & 4) ? room.max.z : room.min.z);
+    zFar = std::max(zFar, glm::dot(eye - p, d) + 0.01);
+  }
+  // Half-width R: the square's inscribed circle is the sphere's disc (1e-6 wider against the
+  // float rounding of the matrix, as fitLightFrustum).
+  const double half = radius * (1.0 + 1e-6);
+  LightFrustum out;
+  out.viewProj = glm::ortho(-half, half, -half, half, zNear, zFar) *
+                 scene::lookAt(eye, centre, leastAlignedAxis(-d));
+  out.rasterViewProj = scene::toRasterMat4(out.viewProj);
+  out.sphereCentre = centre;
+  out.sphereRadius = radius;
+  out.zNear = zNear;
+  out.zFar = zFar;
+  out.orthographic = true;
   return out;
 }
 

@@ -19,7 +19,8 @@ struct LightFrustum {
   glm::dvec3 sphereCentre{0.0};
   double sphereRadius = 0;
   double zNear = 0, zFar = 0;
-  double tanHalfFovY = 0;  // tan of half the field of view; the map is square (aspect 1)
+  double tanHalfFovY = 0;     // tan of half the field of view; the map is square (aspect 1)
+  bool orthographic = false;  // a distant light's (fitDirectionalFrustum): tanHalfFovY is 0
 };
 
 // Closest distance to the source at which the near plane may sit (1 mm): a closer plane
@@ -34,6 +35,18 @@ inline constexpr double kMinLightNear = 1e-3;
 // object; the caller skips that source) or the bounds are empty or not finite.
 std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
                                             const scene::Aabb& occluderBounds, double farDistance);
+
+// A distant light's frustum (Havran et al. 2005: each environment light is directional): an
+// orthographic view-projection looking along -`towardsLight` (from the scene towards the
+// light; any positive length) at the bounding sphere of `occluderBounds`. The map's square
+// circumscribes the sphere's disc, as fitLightFrustum's cone does, so the whole occluder
+// projects inside the map's inscribed circle. The eye sits on the light's side of the sphere,
+// the near plane just in front of it, the far plane beyond every corner of `room` (every
+// receiver is in range). Window depth is then linear in distance: zFar - zNear metres span
+// [0, 1]. Returns nullopt for empty or non-finite bounds or a zero or non-finite direction.
+std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight,
+                                                  const scene::Aabb& occluderBounds,
+                                                  const scene::Aabb& room);
 
 // Conservative receiver test: false only when all three vertices lie outside one plane of
 // the frustum's clip volume (x, y = ±w, the near plane just in front of the occluder and

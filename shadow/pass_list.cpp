@@ -2,7 +2,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <array>
+#include <stdexcept>
 
 #include "shadow/light_frustum.h"
 #include "shadow/shaft_hierarchy.h"
@@ -49,11 +51,8 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
                          const scene::Aabb& productBounds, const VertexS& s,
                          std::vector<raster::ShadowPass>& passes) {
   const size_t clusters = selection.clusters.size();
-  passes.resize(clusters);
-  passCluster_.clear();
-  passViewProj_.clear();
+  beginBuild(clusters, passes);
   uint32_t skipped = 0;
-  size_t used = 0;
   // The frusta in cluster order (which clusters get a pass), then each pass's triangles.
   for (size_t k = 0; k < clusters; ++k) {
     const SourceCluster& cluster = selection.clusters[k];
@@ -70,33 +69,85 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
       ++skipped;
       continue;
     }
-    passCluster_.push_back(static_cast<uint32_t>(k));
-    raster::ShadowPass& pass = passes[used];
-    pass.lightViewProj = frustum->rasterViewProj;
-    pass.shadowMapSize = options.shadowMapSize;
-    pass.depthBias = options.depthBias;
-    pass.pcf2x2 = options.pcf2x2;
-    pass.occluder = 0;
-    pass.objectDepthBias = options.objectDepthBias;
-    passViewProj_.push_back(frustum->viewProj);
-    ++used;
+    addPass(options, *frustum, k, options.depthBias, options.objectDepthBias, passes);
   }
+  fillPasses(
+      options, [&](size_t) { return receiverPatches; }, receiverPatches.size(), product, s, passes);
+  return skipped;
+}
+
+void PassList::buildDirectional(const PassListOptions& options,
+                                std::span<const glm::dvec3> towardsLight,
+                                std::span<const uint32_t> receiverPatches,
+                                std::span<const uint32_t> lightPatchStart,
+                                const core::Mesh& product, const scene::Aabb& productBounds,
+                                const scene::Aabb& room, const VertexS& s,
+                                std::vector<raster::ShadowPass>& passes) {
+  if (lightPatchStart.size() != towardsLight.size() + 1) {
+    throw std::invalid_argument("PassList::buildDirectional: patch ranges do not match the lights");
+  }
+  beginBuild(towardsLight.size(), passes);
+  size_t widest = 0;
+  for (size_t k = 0; k < towardsLight.size(); ++k) {
+    const auto frustum = fitDirectionalFrustum(towardsLight[k], productBounds, room);
+    if (!frustum) continue;
+    // Window depth is linear here: a bias of b metres is b / (zFar - zNear). The same
+    // distances as the point lights' biases give at the product (~5 mm and ~2.7 cm at 2 m).
+    const double perMetre = 1.0 / (frustum->zFar - frustum->zNear);
+    addPass(options, *frustum, k, static_cast<float>(options.directionalBiasMetres * perMetre),
+            static_cast<float>(options.directionalObjectBiasMetres * perMetre), passes);
+    widest = std::max<size_t>(widest, lightPatchStart[k + 1] - lightPatchStart[k]);
+  }
+  fillPasses(
+      options,
+      [&](size_t k) {
+        return receiverPatches.subspan(lightPatchStart[k],
+                                       lightPatchStart[k + 1] - lightPatchStart[k]);
+      },
+      widest, product, s, passes);
+}
+
+void PassList::beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes) {
+  passes.resize(lights);
+  passCluster_.clear();
+  passViewProj_.clear();
+}
+
+void PassList::addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
+                       float depthBias, float objectDepthBias,
+                       std::vector<raster::ShadowPass>& passes) {
+  raster::ShadowPass& pass = passes[passCluster_.size()];
+  passCluster_.push_back(static_cast<uint32_t>(column));
+  pass.lightViewProj = frustum.rasterViewProj;
+  pass.shadowMapSize = options.shadowMapSize;
+  pass.depthBias = depthBias;
+  pass.pcf2x2 = options.pcf2x2;
+  pass.occluder = 0;
+  pass.objectDepthBias = objectDepthBias;
+  passViewProj_.push_back(frustum.viewProj);
+}
+
+template <class PatchesOf>
+void PassList::fillPasses(const PassListOptions& options, PatchesOf patchesOf, size_t mostPatches,
+                          const core::Mesh& product, const VertexS& s,
+                          std::vector<raster::ShadowPass>& passes) {
+  const size_t used = passCluster_.size();
   passes.resize(used);
   // Each pass's lists at their largest size, here on the calling thread: the workers then
   // never allocate. (Grown on whichever worker filled a pass, in glibc's per-thread arenas,
   // they held the soak's heap in use at 55 MB at frame 2000 against 42 MB reserved here.)
   const size_t productTriangles = s.productS.empty() ? 0 : product.triangleCount();
   for (raster::ShadowPass& pass : passes) {
-    pass.receiverTriangles.reserve(2 * receiverPatches.size());
-    pass.receiverS.reserve(6 * receiverPatches.size());
+    pass.receiverTriangles.reserve(2 * mostPatches);
+    pass.receiverS.reserve(6 * mostPatches);
     pass.objectTriangles.reserve(productTriangles);
     pass.objectS.reserve(3 * productTriangles);
   }
   core::forEachChunk(pool_, used, 1, [&](size_t i, size_t, int) {
-    addReceivers(options, passViewProj_[i], receiverPatches, s, passCluster_[i], passes[i]);
+    addReceivers(options, passViewProj_[i], patchesOf(passCluster_[i]), s, passCluster_[i],
+                 passes[i]);
   });
   addProduct(product, s, passes);
-  return skipped;
 }
 
 void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,

@@ -19,6 +19,7 @@
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/cluster_transfers.h"
+#include "shadow/light_frustum.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/source_clusters.h"
 
@@ -30,6 +31,10 @@ struct PassListOptions {
   bool pcf2x2 = true;
   bool cullReceivers = true;      // leave out receivers the frustum cannot shadow
   float objectDepthBias = 0.01f;  // the product's own triangles (§7.2)
+  // Distant lights' orthographic maps (buildDirectional) have linear depth: their biases in
+  // metres, about what depthBias and objectDepthBias come to at the product from 2 m.
+  double directionalBiasMetres = 0.005;
+  double directionalObjectBiasMetres = 0.025;
 };
 
 class PassList {
@@ -47,19 +52,40 @@ class PassList {
                  const scene::Aabb& productBounds, const VertexS& s,
                  std::vector<raster::ShadowPass>& passes);
 
+  // Live lighting (Havran et al. 2005): one pass per distant light k, cast along
+  // -towardsLight[k] by an orthographic map fitted around the product (fitDirectionalFrustum),
+  // over the receiver patches receiverPatches[lightPatchStart[k], lightPatchStart[k + 1]) and
+  // the product, with S column k of `s`. `room` bounds the receivers (the maps' far plane).
+  // Throws std::invalid_argument when lightPatchStart does not hold one range per light.
+  void buildDirectional(const PassListOptions& options, std::span<const glm::dvec3> towardsLight,
+                        std::span<const uint32_t> receiverPatches,
+                        std::span<const uint32_t> lightPatchStart, const core::Mesh& product,
+                        const scene::Aabb& productBounds, const scene::Aabb& room, const VertexS& s,
+                        std::vector<raster::ShadowPass>& passes);
+
   // Where a cluster's shadow map is cast from: the centroid of its sources' patch centres
   // weighted by their average transfers (`sources`: ClusterSelection::sources); a
   // one-source cluster's own patch centre exactly. If the product's bounding sphere holds
   // that point, build() casts from the representative patch instead.
   glm::dvec3 clusterCentroid(const SourceCluster& cluster, std::span<const uint32_t> sources) const;
 
-  // Per pass of the last build: its cluster.
+  // Per pass of the last build: its cluster (its light, for buildDirectional): the column
+  // of S it subtracts.
   std::span<const uint32_t> passCluster() const { return passCluster_; }
   // Threads for filling the passes (the renderer's pool); null: the calling thread. Each
   // pass is filled from its own cluster's S alone, so the bytes do not depend on it.
   void setPool(core::JobPool* pool) { pool_ = pool; }
 
  private:
+  void beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes);
+  void addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
+               float depthBias, float objectDepthBias, std::vector<raster::ShadowPass>& passes);
+  // Each pass's receiver triangles from patchesOf(its column) (at most mostPatches patches),
+  // and the product's triangles.
+  template <class PatchesOf>
+  void fillPasses(const PassListOptions& options, PatchesOf patchesOf, size_t mostPatches,
+                  const core::Mesh& product, const VertexS& s,
+                  std::vector<raster::ShadowPass>& passes);
   void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
                     std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
                     raster::ShadowPass& pass) const;

@@ -1,5 +1,6 @@
 #include "shadow/product_shading.h"
 
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -42,24 +43,27 @@ void ProductShading::shade(const core::Mesh& placed, const scene::Aabb& bounds, 
   shade(placed, normals, bounds, product);
 }
 
+std::span<const glm::vec3> ProductShading::reflectancesOf(const ProductModel& model,
+                                                          size_t vertices, size_t normals) const {
+  if (normals != vertices) {
+    throw std::invalid_argument("ProductShading::shade: " + std::to_string(normals) +
+                                " normals for " + std::to_string(vertices) + " vertices");
+  }
+  // Per-vertex reflectance (the model's colours), or the product's one reflectance.
+  if (model.reflectances.empty()) return {&model.reflectance, 1};
+  if (model.reflectances.size() != vertices) {
+    throw std::invalid_argument("ProductShading::shade: the placed mesh is not product " +
+                                model.name + "'s");
+  }
+  return model.reflectances;
+}
+
 void ProductShading::shade(const core::Mesh& placed, std::span<const glm::vec3> normals,
                            const scene::Aabb& bounds, uint32_t product) {
   const core::Mesh& m = placed;
   const size_t vertices = m.positions.size();
   const ProductModel& model = bundle_.products.at(product);
-  if (normals.size() != vertices) {
-    throw std::invalid_argument("ProductShading::shade: " + std::to_string(normals.size()) +
-                                " normals for " + std::to_string(vertices) + " vertices");
-  }
-  // Per-vertex reflectance (the model's colours), or the product's one reflectance.
-  std::span<const glm::vec3> reflectances(&model.reflectance, 1);
-  if (!model.reflectances.empty()) {
-    if (model.reflectances.size() != vertices) {
-      throw std::invalid_argument("ProductShading::shade: the placed mesh is not product " +
-                                  std::to_string(product) + "'s");
-    }
-    reflectances = model.reflectances;
-  }
+  const std::span<const glm::vec3> reflectances = reflectancesOf(model, vertices, normals.size());
   const auto reflectanceOf = [&](size_t v) {
     return glm::dvec3(reflectances[reflectances.size() == 1 ? 0 : v]);
   };
@@ -112,6 +116,62 @@ void ProductShading::shade(const core::Mesh& placed, std::span<const glm::vec3> 
                         volumeRadiance_[v].z + model.specular.z * s.z);
       radiance_[v] = glm::dvec3(l);
       colours_[v] = bundle_.tone.map(l);
+    }
+  });
+}
+
+void ProductShading::shadeFromLights(const core::Mesh& placed, std::span<const glm::vec3> normals,
+                                     uint32_t product, std::span<const glm::dvec3> towardsLight,
+                                     std::span<const glm::dvec3> power) {
+  const size_t vertices = placed.positions.size(), lights = towardsLight.size();
+  const ProductModel& model = bundle_.products.at(product);
+  const std::span<const glm::vec3> reflectances = reflectancesOf(model, vertices, normals.size());
+  if (power.size() != lights) {
+    throw std::invalid_argument("ProductShading::shadeFromLights: " + std::to_string(power.size()) +
+                                " powers for " + std::to_string(lights) + " lights");
+  }
+  const glm::dvec3 specular(model.specular);
+  const bool glossy = options_.specular && (specular.x > 0 || specular.y > 0 || specular.z > 0);
+  const uint32_t n = lobes_[product].roundedExponent;
+  // The normalised Phong lobe's peak: (N + 1) / (2 pi) integrates cos^N over the hemisphere
+  // to 1, so a light of power P in the mirror direction gives radiance P (N + 1)/(2 pi).
+  const double lobeScale = (n + 1.0) / (2.0 * std::numbers::pi);
+  colours_.resize(vertices);
+  radiance_.resize(vertices);
+  sourceTransfers_.assign(lights * vertices, glm::dvec3(0.0));
+  core::forEachChunk(pool_, vertices, kVertexChunk, [&](size_t begin, size_t end, int) {
+    for (size_t v = begin; v < end; ++v) {
+      const glm::dvec3 normal(normals[v]);
+      const double length = glm::length(normal);
+      const glm::dvec3 nrm = length > 0 ? normal / length : glm::dvec3(0, 1, 0);
+      const glm::dvec3 diffuse =
+          glm::dvec3(reflectances[reflectances.size() == 1 ? 0 : v]) * (1.0 / std::numbers::pi);
+      // r = 2 (n.e) n - e, e the unit direction to the kiosk's camera.
+      glm::dvec3 mirror(0.0);
+      if (glossy) {
+        const glm::dvec3 toEye =
+            glm::dvec3(eye_) -
+            glm::dvec3(placed.positions[v].x, placed.positions[v].y, placed.positions[v].z);
+        const double el = glm::length(toEye);
+        if (el > 0) {
+          const glm::dvec3 e = toEye / el;
+          mirror = 2.0 * glm::dot(nrm, e) * nrm - e;
+        }
+      }
+      glm::dvec3 radiance(0.0);
+      for (size_t k = 0; k < lights; ++k) {
+        const double cosine = glm::dot(nrm, towardsLight[k]);
+        if (!(cosine > 0)) continue;  // below the vertex's horizon
+        glm::dvec3 transfer = diffuse * (power[k] * cosine);
+        if (glossy) {
+          const double rl = glm::dot(mirror, towardsLight[k]);
+          if (rl > 0) transfer += specular * (power[k] * (lobeScale * powInt(rl, n)));
+        }
+        sourceTransfers_[k * vertices + v] = transfer;
+        radiance += transfer;
+      }
+      radiance_[v] = radiance;
+      colours_[v] = bundle_.tone.map(radiance);
     }
   });
 }

@@ -46,6 +46,17 @@ class ProductShading {
              const scene::Aabb& bounds, uint32_t product);
   // The same with area-weighted vertex normals of `placed` (vertexNormals).
   void shade(const core::Mesh& placed, const scene::Aabb& bounds, uint32_t product);
+  // Live lighting (Havran et al. 2005 §4): the same product lit by distant lights k of unit
+  // direction towardsLight[k] and RGB power power[k] (radiance x solid angle), unshadowed:
+  // per light, diffuse reflectance/pi x power x max(0, n.l) plus, for a product with a
+  // specular reflectance, its normalised Phong lobe about the mirrored eye direction,
+  // specular x power x (N + 1)/(2 pi) x max(0, r.l)^N — the directional form of the cube-map
+  // lobe shade() uses (N the exponent rounded). Each light's term is kept as its transfer
+  // (sourceTransfers(), light k in place of source k) for self-shadowing. Throws
+  // std::invalid_argument on a size mismatch.
+  void shadeFromLights(const core::Mesh& placed, std::span<const glm::vec3> normals,
+                       uint32_t product, std::span<const glm::dvec3> towardsLight,
+                       std::span<const glm::dvec3> power);
   // Threads for the per-vertex work (the renderer's pool); null: the calling thread. The
   // bytes do not depend on it.
   void setPool(core::JobPool* pool) { pool_ = pool; }
@@ -58,6 +69,10 @@ class ProductShading {
   std::span<const glm::dvec3> sourceTransfers() const { return sourceTransfers_; }
 
  private:
+  // The model's per-vertex reflectances, or its one reflectance; checks the sizes.
+  std::span<const glm::vec3> reflectancesOf(const ProductModel& model, size_t vertices,
+                                            size_t normals) const;
+
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
   ProductShadingOptions options_;

@@ -1,0 +1,215 @@
+// Live lighting's frame on the bundled showroom (issue 16 item 6): distant lights shade the
+// product, and its shadows are cast by orthographic maps and subtracted through the same
+// compositor and rasterizer as the captured sources'.
+#include "shadow/environment_light_transfers.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "shadow/frame_loop.h"
+#include "shadow/light_frustum.h"
+#include "tests/showroom_bundle.h"
+
+namespace penumbra::shadow {
+namespace {
+
+envmap::DirectionalLight light(uint32_t id, const glm::dvec3& towards, double power) {
+  envmap::DirectionalLight l;
+  l.id = id;
+  l.direction = glm::normalize(towards);
+  l.power = glm::dvec3(power);
+  return l;
+}
+
+// The pixels a frame changed outside the product (those `productOnly`, a frame without
+// lights, left at the background): their count and mean column.
+struct Changed {
+  size_t count = 0;
+  double meanColumn = 0;
+};
+
+Changed shadowPixels(const SceneBundle& b, const std::vector<uint8_t>& lit,
+                     const std::vector<uint8_t>& productOnly) {
+  Changed c;
+  for (size_t i = 0; i < lit.size() / 4; ++i) {
+    if (productOnly[4 * i] != b.background[4 * i]) continue;  // the product itself
+    if (lit[4 * i] == b.background[4 * i] && lit[4 * i + 1] == b.background[4 * i + 1] &&
+        lit[4 * i + 2] == b.background[4 * i + 2]) {
+      continue;
+    }
+    ++c.count;
+    c.meanColumn += double(i % b.view.width);
+  }
+  if (c.count) c.meanColumn /= double(c.count);
+  return c;
+}
+
+TEST(DirectionalFrustum, HoldsTheOccluderInItsInscribedCircleAndEveryReceiverInDepth) {
+  scene::Aabb product{{2.8, 0.0, 2.2}, {3.2, 0.9, 2.6}};
+  const scene::Aabb room{{0, 0, 0}, {6, 3, 5}};
+  for (const glm::dvec3& towards : {glm::dvec3(0, 1, 0), glm::dvec3(1, 1, 0.3),
+                                    glm::dvec3(-0.2, 0.05, -1), glm::dvec3(0, 0, 1)}) {
+    const auto f = fitDirectionalFrustum(towards, product, room);
+    ASSERT_TRUE(f.has_value());
+    EXPECT_TRUE(f->orthographic);
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec3 p((corner & 1) ? product.max.x : product.min.x,
+                         (corner & 2) ? product.max.y : product.min.y,
+                         (corner & 4) ? product.max.z : product.min.z);
+      const glm::dvec4 clip = f->viewProj * glm::dvec4(p, 1.0);
+      EXPECT_DOUBLE_EQ(clip.w, 1.0);
+      EXPECT_LE(clip.x * clip.x + clip.y * clip.y, 1.0) << "inside the inscribed circle";
+      EXPECT_GT(clip.z, -1.0);
+      EXPECT_LT(clip.z, 1.0);
+      const glm::dvec3 q((corner & 1) ? room.max.x : room.min.x,
+                         (corner & 2) ? room.max.y : room.min.y,
+                         (corner & 4) ? room.max.z : room.min.z);
+      EXPECT_LT((f->viewProj * glm::dvec4(q, 1.0)).z, 1.0) << "room corner beyond the far plane";
+    }
+    // Nearer the light is nearer in depth: the light looks along -towards.
+    const glm::dvec3 c = product.centre(), d = glm::normalize(towards);
+    EXPECT_LT((f->viewProj * glm::dvec4(c + 0.1 * d, 1.0)).z,
+              (f->viewProj * glm::dvec4(c - 0.1 * d, 1.0)).z);
+  }
+  EXPECT_FALSE(fitDirectionalFrustum({0, 0, 0}, product, room).has_value());
+  EXPECT_FALSE(fitDirectionalFrustum({0, 1, 0}, scene::Aabb::emptyBox(), room).has_value());
+}
+
+// Every receiver patch with a vertex inside a light's shadow cylinder is listed for that
+// light (the octree walk is conservative), and the shares at a vertex are each light's
+// cosine-weighted power over the sum.
+TEST(EnvironmentLightTransfers, ListsEveryReceiverInTheShadowAndSharesTheLight) {
+  const SceneBundle& b = testing::showroomBundle();
+  const scene::PatchMesh mesh = patchMeshOf(b);
+  const ShaftHierarchy hierarchy(mesh, b.sets, b.transfers);
+  EnvironmentLightTransfers stage(b, mesh, hierarchy);
+  const std::vector<glm::dvec3> towards = {glm::normalize(glm::dvec3(0, 1, 0)),
+                                           glm::normalize(glm::dvec3(1, 0.6, 0.2)),
+                                           glm::normalize(glm::dvec3(-0.3, 0.4, 1))};
+  const std::vector<glm::dvec3> power = {glm::dvec3(1.0), glm::dvec3(0.5, 0.6, 0.7),
+                                         glm::dvec3(2.0)};
+  const scene::Aabb product{{2.8, 0.0, 2.2}, {3.2, 0.9, 2.6}};
+  stage.compute({towards, power}, product, 1, {});
+  const glm::dvec3 centre = product.centre();
+  const double radius = 0.5 * glm::length(product.size());
+  const auto listed = [&](size_t k, uint32_t patch) {
+    const auto start = stage.lightPatchStart();
+    const auto patches = stage.receiverPatches();
+    return std::find(patches.begin() + start[k], patches.begin() + start[k + 1], patch) !=
+           patches.begin() + start[k + 1];
+  };
+  size_t inside = 0;
+  for (uint32_t patch : b.sets.receivers) {
+    for (size_t k = 0; k < towards.size(); ++k) {
+      bool shadowed = false;
+      for (uint32_t t = mesh.patches[patch].firstTriangle;
+           t < mesh.patches[patch].firstTriangle + 2; ++t) {
+        for (int c = 0; c < 3; ++c) {
+          const glm::dvec3 p = mesh.positions[mesh.indices[3 * t + c]] - centre;
+          const double along = glm::dot(p, towards[k]);
+          shadowed = shadowed || (along <= radius && glm::length(p - along * towards[k]) <= radius);
+        }
+      }
+      if (!shadowed) continue;
+      ++inside;
+      EXPECT_TRUE(listed(k, patch)) << "patch " << patch << " light " << k;
+    }
+  }
+  EXPECT_GT(inside, 10u);
+  EXPECT_LT(stage.distinctPatches(), b.sets.receivers.size() / 2) << "the walk culls";
+
+  // Shares: a floor vertex (normal +y) sees light k with E_k = power_k (n.l_k).
+  const VertexS s = stage.s();
+  ASSERT_EQ(s.clusters, 3u);
+  size_t checked = 0;
+  for (uint32_t rv : stage.frameVertices()) {
+    const glm::dvec3& n = mesh.normals[b.transfers.receiverVertices[rv]];
+    glm::dvec3 e[3], total(0.0);
+    for (size_t k = 0; k < 3; ++k) {
+      e[k] = power[k] * std::max(0.0, glm::dot(n, towards[k]));
+      total += e[k];
+    }
+    for (size_t k = 0; k < 3; ++k) {
+      const core::Rgb16 got = s.receiverS[size_t(s.vertexSlot[rv]) * 3 + k];
+      EXPECT_NEAR(got.r, total.x > 0 ? 65280.0 * e[k].x / total.x : 0.0, 0.5);
+      EXPECT_NEAR(got.b, total.z > 0 ? 65280.0 * e[k].z / total.z : 0.0, 0.5);
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 20u);
+  EXPECT_THROW(stage.compute({towards, std::span(power).first(2)}, product, 2, {}),
+               std::invalid_argument);
+}
+
+// The whole frame: an overhead light puts the shadow under the product; a light from +x moves
+// it towards -x; the product is lit from the side that faces the light; bytes do not depend
+// on the thread count.
+TEST(EnvironmentLightFrame, ShadowsFollowTheLightsAndBytesDoNotDependOnThreads) {
+  const SceneBundle& b = testing::showroomBundle();
+  FrameLoop one(b, 256, {}), two(b, 256, {simd::Isa::kScalar, 2, 32});
+  const envmap::LightSet none;
+  one.step(b.startPose, none);
+  const std::vector<uint8_t> productOnly = one.rgba;
+  EXPECT_EQ(one.stats.passes, 0u);
+
+  const envmap::LightSet above = {light(1, {0, 1, 0}, 0.6)};
+  one.step(b.startPose, above);
+  const Changed under = shadowPixels(b, one.rgba, productOnly);
+  EXPECT_EQ(one.stats.passes, 1u);
+  EXPECT_GT(under.count, 200u);
+
+  const envmap::LightSet fromPlusX = {light(1, {1, 0.5, 0}, 0.6)};
+  one.step(b.startPose, fromPlusX);
+  const Changed moved = shadowPixels(b, one.rgba, productOnly);
+  two.step(b.startPose, fromPlusX);
+  EXPECT_EQ(one.rgba, two.rgba) << "1 and 2 threads";
+  EXPECT_GT(moved.count, under.count) << "a lower light casts a longer shadow";
+  // The camera looks along (2.85, -0.9, 2.45): its right is (-2.45, 0, 2.85), so a shadow
+  // pushed towards -x moves right in the image.
+  EXPECT_GT(moved.meanColumn, under.meanColumn + 5.0);
+
+  // Many lights, one pass each; the same lights give the same bytes again (no state leaks).
+  envmap::LightSet many;
+  for (uint32_t i = 0; i < 24; ++i) {
+    many.push_back(light(i + 1, {std::cos(0.26 * i), 0.3 + 0.05 * i, std::sin(0.26 * i)}, 0.05));
+  }
+  one.step(b.startPose, many);
+  EXPECT_EQ(one.stats.passes, 24u);
+  const std::vector<uint8_t> first = one.rgba;
+  one.step(b.startPose, above);
+  one.step(b.startPose, many);
+  EXPECT_EQ(one.rgba, first);
+  two.step(b.startPose, many);
+  EXPECT_EQ(two.rgba, first);
+
+  CompositorOptions u8;
+  u8.accumulation = raster::Accumulation::kU8;
+  FrameLoop graded(b, u8, {});
+  EXPECT_THROW(graded.step(b.startPose, above), std::invalid_argument);
+}
+
+TEST(EnvironmentLightFrame, TheProductIsLitOnTheSideFacingTheLight) {
+  const SceneBundle& b = testing::showroomBundle();
+  FrameLoop loop(b, 256, {});
+  const auto meanRedFacing = [&](double towardsX) {
+    loop.step(b.startPose, envmap::LightSet{light(1, {towardsX, 0.2, 0}, 1.0)});
+    const raster::ShadedMesh& product = loop.frame.objects[0];
+    const std::vector<glm::vec3> normals =
+        shadingNormals(b.products[b.startPose.product], product.mesh, b.startPose);
+    double sum = 0;
+    size_t count = 0;
+    for (size_t v = 0; v < normals.size(); ++v) {
+      if (glm::normalize(glm::dvec3(normals[v])).x < 0.7) continue;  // faces +x
+      sum += product.colours[v].r;
+      ++count;
+    }
+    EXPECT_GT(count, 0u);
+    return sum / double(count);
+  };
+  const double lit = meanRedFacing(1.0), away = meanRedFacing(-1.0);
+  EXPECT_GT(lit, away + 20.0) << "faces +x: lit by a light at +x, dark under one at -x";
+}
+
+}  // namespace
+}  // namespace penumbra::shadow
