@@ -121,13 +121,29 @@ void readProductFiles(const JsonValue& root, const std::filesystem::path& dir, S
   }
 }
 
+// "environment": the simulated environment camera and the live lights' options.
+void readEnvironment(const JsonValue& root, const std::filesystem::path& dir, Session& s) {
+  if (!root.has("environment")) return;
+  const JsonValue e =
+      root["environment"].object({"frames", "fps", "stop_at_ms", "samples", "lights", "yaw_deg",
+                                  "radiance_scale", "stale_after_ms"});
+  EnvironmentScript env;
+  const std::string frames = e["frames"].string();
+  if (frames.empty()) e["frames"].fail("must name a folder of fisheye EXR frames");
+  env.frames = dir / frames;
+  env.periodNs = 1'000'000'000 / e.integerOr("fps", 21, 1, 240);
+  env.stopAtNs = e.has("stop_at_ms") ? e["stop_at_ms"].integer(0, kHour) * kNsPerMs : -1;
+  kiosk::readLiveLightOptions(e, s.kiosk);
+  s.environment = env;
+}
+
 }  // namespace
 
 Session loadSession(const std::filesystem::path& path) {
   const core::JsonDocument doc(path, core::throwAs<SessionError>);
   const JsonValue root =
       doc.root().object({"format", "version", "bundle", "last_good_bundle", "frames", "kiosk",
-                         "board", "camera", "gpio", "startup", "product_files"});
+                         "board", "camera", "gpio", "startup", "product_files", "environment"});
   Session s;
   s.file = path;
   if (root["format"].string() != "penumbra-session") {
@@ -157,6 +173,7 @@ Session loadSession(const std::filesystem::path& path) {
   s.corruptBundle = u.booleanOr("corrupt_bundle", false);
   s.corruptProduct = u.stringOr("corrupt_product", "");
   readProductFiles(root, dir, s);
+  readEnvironment(root, dir, s);
   return s;
 }
 

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,6 +44,14 @@ struct ScriptedProductFile {
   std::filesystem::path file;  // resolved against the session file's folder
 };
 
+// "environment" (issue 16): live lighting from a simulated fisheye camera playing an EXR
+// sequence; the lights' options go to Session::kiosk (kiosk::readLiveLightOptions).
+struct EnvironmentScript {
+  std::filesystem::path frames;   // a folder of *.exr, resolved against the session's folder
+  int64_t periodNs = 47'619'048;  // 21 Hz, Havran 2005's camera
+  int64_t stopAtNs = -1;          // the camera hangs from then on; < 0: never
+};
+
 struct Session {
   std::filesystem::path file;
   std::filesystem::path bundle;    // resolved against the session file's folder
@@ -63,6 +72,7 @@ struct Session {
   bool corruptBundle = false;  // start-up: the configured bundle is a corrupted copy
   std::string corruptProduct;  // start-up: this product's mesh holds a NaN vertex
   std::vector<ScriptedProductFile> productFiles;  // in time order
+  std::optional<EnvironmentScript> environment;   // none: the bundle's captured light
 };
 
 Session loadSession(const std::filesystem::path& path);

@@ -6,6 +6,7 @@
 #include "simd/targets.h"
 #ifdef PENUMBRA_HAVE_FOOTAGE
 #include "firmware-sim/footage.h"
+#include "firmware-sim/virtual_environment_camera.h"
 #endif
 
 #include <unistd.h>
@@ -133,6 +134,22 @@ SimRun::SimRun(const Session& s, const SimOptions& options)
     io.camera = camera_.get();
   } else {
     log_.write(0, kiosk::LogLevel::kWarning, "camera: none found (simulated: absent)");
+  }
+  if (s.environment) {
+#ifdef PENUMBRA_HAVE_FOOTAGE
+    try {
+      environment_ = std::make_unique<VirtualEnvironmentCamera>(
+          loadExrSequence(s.environment->frames), s.environment->frames.filename().string(),
+          s.environment->periodNs, s.environment->stopAtNs);
+    } catch (const std::exception& e) {
+      throw SessionError(s.file.string() + ": environment.frames: " + e.what());
+    }
+    io.environment = environment_.get();
+#else
+    throw SessionError(s.file.string() +
+                       ": environment: the fisheye camera needs a build with OpenCV "
+                       "(PENUMBRA_WITH_OPENCV)");
+#endif
   }
   try {
     if (!s.gpioPresent) throw GpioUnavailable("/dev/gpiochip0: no such GPIO chip (simulated)");

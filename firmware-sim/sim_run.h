@@ -66,6 +66,7 @@ class SimRun {
   std::unique_ptr<kiosk::GuardedBundle> bundle_;
   std::unique_ptr<VirtualCamera> camera_;
   std::unique_ptr<VirtualGpio> gpio_;
+  std::unique_ptr<kiosk::EnvironmentCamera> environment_;  // session "environment"
   std::unique_ptr<kiosk::KioskLoop> loop_;
   std::vector<ScriptedProductFile> pendingProductFiles_;  // hot-swaps still to come
 };

@@ -1,5 +1,7 @@
 #include "kiosk/kiosk_config.h"
 
+#include "scene/portable_trig.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -169,6 +171,22 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   c.bundle = dir / bundle;
   if (!lastGood.empty()) c.lastGood = dir / lastGood;
   return c;
+}
+
+void readLiveLightOptions(const JsonValue& e, KioskOptions& o) {
+  envmap::LiveLightsOptions& l = o.liveLights;
+  l.samples = static_cast<uint32_t>(e.integerOr("samples", l.samples, 1, 4096));
+  l.maxLights = static_cast<uint32_t>(e.integerOr("lights", l.maxLights, 1, 256));
+  if (l.maxLights > l.samples) e["lights"].fail("must not exceed samples");
+  // The camera's frame: z along its optical axis (the zenith, world +y), x its image's right.
+  // Turned by yaw about +y, x goes to (cos, 0, sin) and y = z × x to (sin, 0, -cos): a
+  // rotation (right-handed, orthonormal), from portable sine and cosine.
+  double s = 0, c = 1;
+  scene::sinCosDegrees(e.numberOr("yaw_deg", 0.0, -360.0, 360.0), s, c);
+  l.toWorld = glm::dmat3(glm::dvec3(c, 0, s), glm::dvec3(s, 0, -c), glm::dvec3(0, 1, 0));
+  l.radianceScale = e.numberOr("radiance_scale", l.radianceScale, 1e-9, 1e9);
+  o.environmentStaleAfterNs =
+      e.integerOr("stale_after_ms", o.environmentStaleAfterNs / 1'000'000, 1, 60'000) * 1'000'000;
 }
 
 }  // namespace penumbra::kiosk

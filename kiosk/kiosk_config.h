@@ -62,4 +62,13 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path);
 KioskOptions readLoopOptions(const core::JsonValue& parent, std::string_view key,
                              HudMode hudDefault);
 
+// Live lighting's options (issue 16) from an "environment" object `e` (docs/kiosk.md) into
+// `o`: "samples" (Halton samples per map, 1..4096), "lights" (the most lights, one shadow
+// pass each, 1..256 and at most samples; the loop's max_passes caps a frame's), "yaw_deg"
+// (the environment camera's azimuth 0 in the room: its image's +x turned this far from the
+// room's +x about +y; the camera looks at the zenith), "radiance_scale" (its radiance units
+// in the room camera's, > 0), "stale_after_ms". Keys other than these are the caller's to
+// allow (`e.object(...)` before this call).
+void readLiveLightOptions(const core::JsonValue& e, KioskOptions& o);
+
 }  // namespace penumbra::kiosk

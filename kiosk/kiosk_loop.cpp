@@ -116,6 +116,12 @@ struct KioskLoop::State {
   int64_t staleSinceNs = 0;
   bool frameNew = false;
 
+  // Live lighting (io.environment).
+  std::unique_ptr<envmap::LiveLights> live;
+  envmap::HemisphereMap environmentMap;
+  int64_t environmentFrameNs = -1;  // when the last good environment frame arrived
+  bool environmentDisconnected = false, environmentStaleSaid = false, environmentBad = false;
+
   // Frame bookkeeping.
   std::vector<int64_t> recentStarts;  // the last frames' start times, for the HUD's fps
   LedState led = LedState::kError;
@@ -139,6 +145,9 @@ KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& opti
     throw std::invalid_argument("KioskLoop: the bundle has no usable product");
   }
   s_ = std::make_unique<State>(bundle, options_, render);
+  if (io_.environment != nullptr) {
+    s_->live = std::make_unique<envmap::LiveLights>(options_.liveLights);
+  }
 
   // The floor's extent from the room's own triangles (the patch mesh spans the shell).
   const auto& pos = bundle.view.staticMesh.positions;
@@ -168,6 +177,11 @@ KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& opti
                 std::to_string(bundle.view.width) + "x" + std::to_string(bundle.view.height));
   info(now, io_.camera ? "camera: " + io_.camera->describe()
                        : "camera: none configured; showing the calibration photograph");
+  if (io_.environment) {
+    info(now, "live lighting: " + io_.environment->describe() + ", " +
+                  std::to_string(options_.liveLights.samples) + " samples, at most " +
+                  std::to_string(options_.liveLights.maxLights) + " lights");
+  }
   if (io_.buttons) {
     info(now, "buttons: " + io_.buttons->describe());
   } else {
@@ -365,6 +379,43 @@ shadow::ProductPose KioskLoop::inputAndPose(int64_t now) {
   return s.attract ? attractPose(now) : s.pose;
 }
 
+// Live lighting: the environment camera's newest map becomes the lights (Havran 2005 §3:
+// CDF, Halton samples, FIR); a camera that stops, a map that cannot be used, are said once
+// each, and the lights of the last good map stay. Before the first good map: the captured
+// sources.
+bool KioskLoop::environmentLights(int64_t now) {
+  State& s = *s_;
+  if (io_.environment == nullptr) return false;
+  GrabStatus status = GrabStatus::kNoFrame;
+  try {
+    status = io_.environment->grab(now, s.environmentMap);
+    if (status == GrabStatus::kFrame) {
+      s.live->update(s.environmentMap, io_.environment->describe());
+      s.environmentFrameNs = now;
+      if (s.environmentBad || s.environmentStaleSaid || s.environmentDisconnected) {
+        info(now, "environment camera: frames again, live lighting resumed");
+      }
+      s.environmentBad = s.environmentStaleSaid = s.environmentDisconnected = false;
+    }
+  } catch (const std::exception& e) {
+    if (!s.environmentBad) warn(now, std::string("environment frame refused: ") + e.what());
+    s.environmentBad = true;
+  }
+  if (status == GrabStatus::kDisconnected && !s.environmentDisconnected) {
+    warn(now, "environment camera lost: " + io_.environment->describe() +
+                  (s.live->ready() ? " (the last lights kept)" : " (captured light)"));
+    s.environmentDisconnected = true;
+  }
+  const bool stale =
+      s.environmentFrameNs < 0 || now - s.environmentFrameNs > options_.environmentStaleAfterNs;
+  if (stale && !s.environmentStaleSaid && !s.environmentDisconnected) {
+    warn(now, s.live->ready() ? "environment camera: no new frame, the last lights kept"
+                              : "environment camera: no frame yet, captured light");
+    s.environmentStaleSaid = true;
+  }
+  return s.live->ready();
+}
+
 // 2. The newest camera frame becomes the background (design §1 step 1); a camera that
 // stops sending is said once when it stops and once when it is back.
 KioskLoop::CameraStatus KioskLoop::cameraBackground(int64_t now) {
@@ -416,6 +467,16 @@ std::vector<std::string> KioskLoop::warnings(int64_t now, const CameraStatus& ca
   }
   if (s.lastBadFrameNs != INT64_MIN && now - s.lastBadFrameNs <= options_.staleAfterNs) {
     w.push_back("BAD CAMERA FRAME REFUSED");
+  }
+  if (io_.environment != nullptr) {
+    if (!s.live->ready()) {
+      w.push_back("NO ENVIRONMENT FRAME - CAPTURED LIGHT");
+    } else if (s.environmentDisconnected) {
+      w.push_back("ENVIRONMENT CAMERA LOST - LAST LIGHTS");
+    } else if (now - s.environmentFrameNs > options_.environmentStaleAfterNs) {
+      w.push_back("ENVIRONMENT FROZEN - LAST LIGHTS");
+    }
+    if (s.environmentBad) w.push_back("BAD ENVIRONMENT FRAME REFUSED");
   }
   if (io_.buttons == nullptr) w.push_back("NO BUTTONS");
   if (s.debouncer.anyStuck()) {
@@ -476,10 +537,20 @@ FrameReport KioskLoop::step() {
   // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
   const shadow::FrameRateController::Decision d = s.controller->next();
   other += watch.lapNs();
-  s.loop.step(pose, d, s.background);
+  r.liveLighting = environmentLights(start);
+  const int64_t environmentNs = watch.lapNs();
+  if (r.liveLighting) {
+    // One pass per light: the controller's pass count is the light count, taken along the
+    // Halton prefix (envmap/live_lights.h), its map size as for the captured sources.
+    s.loop.compositor.setShadowMapSize(d.shadowMapSize);
+    s.loop.step(pose, s.live->lights(std::max<size_t>(d.passes, 1)), s.background);
+  } else {
+    s.loop.step(pose, d, s.background);
+  }
   other += watch.lapNs() - s.loop.frameNs;
   r.stages = s.loop.stages;
   r.stages[FrameStage::kCamera] = cameraNs;
+  r.stages[FrameStage::kEnvironment] = environmentNs;
   // Whatever the camera shows in front of the empty room stays in front of the product and
   // its shadow. Over the bundle's own photograph (no camera frame yet) nothing can.
   if (options_.hideForeground && camera.haveFrame) {
@@ -501,7 +572,8 @@ FrameReport KioskLoop::step() {
     h.passes = passes;
     h.shadowMapSize = d.shadowMapSize;
     h.product = bundle_.products[pose.product].name;
-    h.mode = s.attract ? "ATTRACT" : (s.quality ? "QUALITY" : "FAST");
+    h.mode = std::string(s.attract ? "ATTRACT" : (s.quality ? "QUALITY" : "FAST")) +
+             (r.liveLighting ? " LIVE" : "");
     h.warnings = r.warnings;
     other += watch.lapNs();
     drawHud(s.loop.rgba, bundle_.view.width, bundle_.view.height, h);

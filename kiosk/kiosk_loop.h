@@ -23,7 +23,9 @@
 #include <vector>
 
 #include "core/clock.h"
+#include "envmap/live_lights.h"
 #include "kiosk/buttons.h"
+#include "kiosk/environment_camera.h"
 #include "kiosk/foreground_mask.h"
 #include "kiosk/frame_source.h"
 #include "kiosk/hud.h"
@@ -91,6 +93,14 @@ struct KioskOptions {
   // room, its pixels are shown over the product and its shadow (kiosk/foreground_mask.h).
   bool hideForeground = true;
   ForegroundOptions foreground;
+  // Live lighting (issue 16; Peripherals::environment): how the environment camera's maps
+  // become lights — the Halton samples per map, the most lights (one shadow pass each; the
+  // controller's pass count picks how many of them a frame uses), the camera's orientation
+  // in the room and its radiance scale (envmap/live_lights.h).
+  envmap::LiveLightsOptions liveLights;
+  // No new environment frame for this long: said on the HUD and in the log, the lights of
+  // the last frame kept.
+  int64_t environmentStaleAfterNs = 500'000'000;
 };
 
 struct Peripherals {
@@ -100,6 +110,10 @@ struct Peripherals {
   Display* display = nullptr;       // null: frames are only kept (simulator, tests)
   Timebase* time = nullptr;         // required
   KioskLog* log = nullptr;          // required
+  // Live lighting: the environment camera whose frames light the product and cast its
+  // shadows (KioskOptions::liveLights). Null: the captured sources of the bundle (Gibson
+  // 2003). Until its first good frame, the captured sources too, said so.
+  EnvironmentCamera* environment = nullptr;
 };
 
 // What happened in one frame (the simulator's summary, the tests' assertions).
@@ -117,6 +131,7 @@ struct FrameReport {
   int64_t backgroundAgeNs = -1;     // now − capture of the shown frame; -1: no camera frame
   int64_t latencyNs = -1;           // capture → shown; -1 when no camera frame is shown
   bool stale = false;               // old or no camera frame on screen
+  bool liveLighting = false;        // lit by the environment camera's lights this frame
   LedState led = LedState::kError;
   std::vector<std::string> warnings;  // as on the HUD
   bool quit = false;                  // the display asked to stop
@@ -168,6 +183,9 @@ class KioskLoop {
   };
   shadow::ProductPose inputAndPose(int64_t now);
   CameraStatus cameraBackground(int64_t now);
+  // Live lighting: a new environment frame becomes the lights. True when this frame is lit
+  // by them (a good environment frame has arrived).
+  bool environmentLights(int64_t now);
   void noteBudget(int64_t now, bool overBudget);
   std::vector<std::string> warnings(int64_t now, const CameraStatus& camera, bool overBudget) const;
   LedState showLed(int64_t now, const std::vector<std::string>& warnings);
