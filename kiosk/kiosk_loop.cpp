@@ -118,8 +118,10 @@ struct KioskLoop::State {
 
   // Live lighting (io.environment).
   std::unique_ptr<envmap::LiveLights> live;
-  envmap::HemisphereMap environmentMap;
-  int64_t environmentFrameNs = -1;  // when the last good environment frame arrived
+  envmap::HemisphereMap environmentMap;  // the last good one (the HUD's inset shows it)
+  envmap::HemisphereMap grabbedMap;
+  std::unique_ptr<EnvironmentInset> inset;  // on the HUD, when it is shown
+  int64_t environmentFrameNs = -1;          // when the last good environment frame arrived
   bool environmentDisconnected = false, environmentStaleSaid = false, environmentBad = false;
 
   // Frame bookkeeping.
@@ -388,9 +390,10 @@ bool KioskLoop::environmentLights(int64_t now) {
   if (io_.environment == nullptr) return false;
   GrabStatus status = GrabStatus::kNoFrame;
   try {
-    status = io_.environment->grab(now, s.environmentMap);
+    status = io_.environment->grab(now, s.grabbedMap);
     if (status == GrabStatus::kFrame) {
-      s.live->update(s.environmentMap, io_.environment->describe());
+      s.live->update(s.grabbedMap, io_.environment->describe());
+      std::swap(s.environmentMap, s.grabbedMap);
       s.environmentFrameNs = now;
       if (s.environmentBad || s.environmentStaleSaid || s.environmentDisconnected) {
         info(now, "environment camera: frames again, live lighting resumed");
@@ -539,11 +542,13 @@ FrameReport KioskLoop::step() {
   other += watch.lapNs();
   r.liveLighting = environmentLights(start);
   const int64_t environmentNs = watch.lapNs();
+  const envmap::LightSet* lights = nullptr;
   if (r.liveLighting) {
     // One pass per light: the controller's pass count is the light count, taken along the
     // Halton prefix (envmap/live_lights.h), its map size as for the captured sources.
+    lights = &s.live->lights(std::max<size_t>(d.passes, 1));
     s.loop.compositor.setShadowMapSize(d.shadowMapSize);
-    s.loop.step(pose, s.live->lights(std::max<size_t>(d.passes, 1)), s.background);
+    s.loop.step(pose, *lights, s.background);
   } else {
     s.loop.step(pose, d, s.background);
   }
@@ -577,6 +582,14 @@ FrameReport KioskLoop::step() {
     h.warnings = r.warnings;
     other += watch.lapNs();
     drawHud(s.loop.rgba, bundle_.view.width, bundle_.view.height, h);
+    if (lights != nullptr) {
+      // Below the top band, at the right edge.
+      if (!s.inset) s.inset = std::make_unique<EnvironmentInset>();
+      const int size = static_cast<int>(s.inset->size());
+      s.inset->draw(s.environmentMap, *lights, options_.liveLights.toWorld, s.loop.rgba,
+                    bundle_.view.width, bundle_.view.height,
+                    static_cast<int>(bundle_.view.width) - size - 4, 26);
+    }
     r.stages[FrameStage::kHud] = watch.lapNs();
   }
   other += watch.lapNs();

@@ -26,6 +26,7 @@
 #include "envmap/live_lights.h"
 #include "kiosk/buttons.h"
 #include "kiosk/environment_camera.h"
+#include "kiosk/environment_inset.h"
 #include "kiosk/foreground_mask.h"
 #include "kiosk/frame_source.h"
 #include "kiosk/hud.h"
