@@ -93,7 +93,7 @@ void writeExr(const std::filesystem::path& path, const core::ImageF& image, ExrP
   const bool half = pixels == ExrPixels::Half;
   try {
     Imf::Header header(image.width, image.height);
-    header.compression() = half ? Imf::PIZ_COMPRESSION : Imf::ZIP_COMPRESSION;
+    header.compression() = Imf::ZIP_COMPRESSION;
     const char* names[3] = {"R", "G", "B"};
     for (const char* n : names)
       header.channels().insert(n, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));

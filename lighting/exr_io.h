@@ -30,10 +30,11 @@ core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report = 
 // that must read back bit for bit.
 enum class ExrPixels { Float, Half };
 
-// Writes R, G, B (32-bit float by default) with lossless compression: ZIP for float, PIZ (the
-// wavelet coder, smaller on noisy photographs) for half. Throws for an empty or inconsistent
-// image, a non-finite value, or, as half, a value beyond ±65504 (it would become infinite); on
-// error no file is left behind.
+// Writes R, G, B (32-bit float by default) with lossless ZIP compression (for half frames, 8%
+// smaller than PIZ on interior.exr photographed by `penumbra envmap-sequence`: 4.30 against
+// 4.66 MB for 48 frames of 160²). Throws for an empty or inconsistent image, a non-finite
+// value, or, as half, a value beyond ±65504 (it would become infinite); on error no file is
+// left behind.
 void writeExr(const std::filesystem::path& path, const core::ImageF& image,
               ExrPixels pixels = ExrPixels::Float);
 
