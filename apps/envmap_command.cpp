@@ -103,7 +103,10 @@ uint32_t shrinkFactor(const core::ImageF& probe, uint32_t size) {
 }
 
 int runEnvmapSequence(const EnvmapSequenceFlags& flags) {
-  const fs::path out(flags.out);
+  fs::path out = fs::path(flags.out).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "DIR/": the folder itself
+  if (out.empty() || out == "." || out == "..")
+    throw cli::UsageError("-o: '" + flags.out + "' is not a folder to create");
   std::error_code ec;
   if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec)))
     throw core::Error(flags.out, "", "exists and is not an empty folder (nothing written)");

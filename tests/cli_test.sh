@@ -97,6 +97,11 @@ assert struct.unpack("<4i", attr("dataWindow")) == (0, 0, 47, 47)
 PY
   check "envmap-sequence frames are 48x48 half float, ZIP" $?
 
+  "${run[@]}" envmap-sequence "$tmp/probe.exr" -o "$tmp/slash/" --frames 1 --size 16 >/dev/null 2>&1
+  status=$?
+  [[ $status == 0 && -f "$tmp/slash/env_0000.exr" ]] && ! ls -a "$tmp" "$tmp/slash" | grep -q partial
+  check "envmap-sequence -o DIR/ (a trailing slash) writes into DIR" $?
+
   # expect_sequence_error NAME EXIT TEXT ARGS...: the exit code, TEXT in the message, no output.
   expect_sequence_error() {
     local name="$1" rc_want="$2" text="$3"
