@@ -51,7 +51,7 @@ TEST_F(ExrFiles, ReadsEveryBlenderProbeAndClampsNegatives) {
     EXPECT_GT(maxV, 0.0f);
     EXPECT_LE(report.mostNegative, 0.0f);
     EXPECT_EQ(report.clampedNegative == 0, report.mostNegative == 0.0f);
-    std::printf("%s: %dx%d, max %.3g, clamped %zu negative values (most negative %.3g)\n",
+    std::printf("%s: %ux%u, max %.3g, clamped %zu negative values (most negative %.3g)\n",
                 f.filename().c_str(), img.width, img.height, double(maxV), report.clampedNegative,
                 double(report.mostNegative));
     totalClamped += report.clampedNegative;
