@@ -8,6 +8,7 @@
 //   accuracy BUNDLE     ms and error against a reference per pass count (with OpenCV)
 //   capture             photographs + probe -> scene bundle (apps/capture_command.h)
 //   bench-envmap        live lighting's stages timed (apps/envmap_command.h)
+//   envmap-sequence     a light probe animated into fisheye EXR frames (apps/envmap_command.h)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>

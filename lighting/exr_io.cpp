@@ -1,5 +1,6 @@
 #include "lighting/exr_io.h"
 
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -9,8 +10,13 @@
 #include <cmath>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace penumbra::lighting {
+
+namespace {
+constexpr float kHalfMax = 65504.0f;  // the largest finite binary16
+}  // namespace
 
 core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report) {
   const std::string name = path.filename().string();
@@ -72,7 +78,7 @@ core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report) {
   return img;
 }
 
-void writeExr(const std::filesystem::path& path, const core::ImageF& image) {
+void writeExr(const std::filesystem::path& path, const core::ImageF& image, ExrPixels pixels) {
   const std::string name = path.filename().string();
   if (image.width <= 0 || image.height <= 0 ||
       image.pixels.size() != size_t(image.width) * size_t(image.height) * 3) {
@@ -80,23 +86,30 @@ void writeExr(const std::filesystem::path& path, const core::ImageF& image) {
   }
   for (float v : image.pixels) {
     if (!std::isfinite(v)) throw HdrError(name + ": image holds NaN or infinite values");
+    if (pixels == ExrPixels::Half && std::fabs(v) > kHalfMax)
+      throw HdrError(name + ": value " + std::to_string(v) +
+                     " is beyond half float's range (65504); write it as float");
   }
+  const bool half = pixels == ExrPixels::Half;
   try {
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     const char* names[3] = {"R", "G", "B"};
-    for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+    for (const char* n : names)
+      header.channels().insert(n, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
     Imf::OutputFile file(path.c_str(), header);
+    // OpenEXR writes a channel from a slice of its own type only: half samples are rounded to
+    // the nearest binary16 here (Imath's conversion; in range, checked above).
+    std::vector<Imath::half> halves;
+    if (half) halves.assign(image.pixels.begin(), image.pixels.end());
+    // OpenEXR's slices take a non-const base pointer even for writing.
+    char* base = half ? reinterpret_cast<char*>(halves.data())
+                      : const_cast<char*>(reinterpret_cast<const char*>(image.pixels.data()));
+    const size_t sample = half ? sizeof(Imath::half) : sizeof(float);
+    const size_t xs = 3 * sample, ys = xs * size_t(image.width);
     Imf::FrameBuffer fb;
-    const size_t xs = 3 * sizeof(float), ys = xs * size_t(image.width);
-    for (int c = 0; c < 3; ++c) {
-      // OpenEXR's slices take a non-const base pointer even for writing.
-      fb.insert(
-          names[c],
-          Imf::Slice(Imf::FLOAT,
-                     const_cast<char*>(reinterpret_cast<const char*>(image.pixels.data() + c)), xs,
-                     ys));
-    }
+    for (int c = 0; c < 3; ++c)
+      fb.insert(names[c], Imf::Slice(half ? Imf::HALF : Imf::FLOAT, base + c * sample, xs, ys));
     file.setFrameBuffer(fb);
     file.writePixels(image.height);
   } catch (const std::exception& e) {

@@ -24,8 +24,18 @@ struct ExrReadReport {
 // and infinite values (counting them in the message).
 core::ImageF readExr(const std::filesystem::path& path, ExrReadReport* report = nullptr);
 
-// Writes 32-bit float R, G, B with lossless ZIP compression. Throws for an empty or
-// inconsistent image or a non-finite value; on error no file is left behind.
-void writeExr(const std::filesystem::path& path, const core::ImageF& image);
+// How writeExr stores the samples. Half (binary16: 11 significant bits, up to 65504) is what
+// HDR video and light probes are usually kept in, at half the bytes; it rounds each value to
+// the nearest half, so it is for images that are data (a camera's frames), not for results
+// that must read back bit for bit.
+enum class ExrPixels { Float, Half };
+
+// Writes R, G, B (32-bit float by default) with lossless ZIP compression (for half frames, 8%
+// smaller than PIZ on interior.exr photographed by `penumbra envmap-sequence`: 4.30 against
+// 4.66 MB for 48 frames of 160²). Throws for an empty or inconsistent image, a non-finite
+// value, or, as half, a value beyond ±65504 (it would become infinite); on error no file is
+// left behind.
+void writeExr(const std::filesystem::path& path, const core::ImageF& image,
+              ExrPixels pixels = ExrPixels::Float);
 
 }  // namespace penumbra::lighting

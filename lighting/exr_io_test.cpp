@@ -51,7 +51,7 @@ TEST_F(ExrFiles, ReadsEveryBlenderProbeAndClampsNegatives) {
     EXPECT_GT(maxV, 0.0f);
     EXPECT_LE(report.mostNegative, 0.0f);
     EXPECT_EQ(report.clampedNegative == 0, report.mostNegative == 0.0f);
-    std::printf("%s: %dx%d, max %.3g, clamped %zu negative values (most negative %.3g)\n",
+    std::printf("%s: %ux%u, max %.3g, clamped %zu negative values (most negative %.3g)\n",
                 f.filename().c_str(), img.width, img.height, double(maxV), report.clampedNegative,
                 double(report.mostNegative));
     totalClamped += report.clampedNegative;
@@ -68,6 +68,35 @@ TEST_F(ExrFiles, WriteReadRoundTripIsExact) {
   EXPECT_EQ(back.height, 23);
   EXPECT_EQ(back.pixels, img.pixels);
   EXPECT_EQ(report.clampedNegative, 0u);
+}
+
+// Half: values a half holds exactly come back exactly, others within half an ulp of binary16
+// (2⁻¹¹ relative), at about half the bytes; beyond 65504 refused (it would be infinite).
+TEST_F(ExrFiles, HalfRoundTripIsTheNearestHalf) {
+  core::ImageF img(40, 30);
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+    img.pixels[i] = i % 2 == 0 ? float(i % 997) / 64.0f : float(i) / 3.0f;
+  writeExr(dir / "half.exr", img, ExrPixels::Half);
+  writeExr(dir / "float.exr", img);
+  const core::ImageF back = readExr(dir / "half.exr");
+  ASSERT_EQ(back.pixels.size(), img.pixels.size());
+  for (size_t i = 0; i < img.pixels.size(); ++i) {
+    if (i % 2 == 0)
+      EXPECT_EQ(back.pixels[i], img.pixels[i]) << i;
+    else
+      EXPECT_NEAR(back.pixels[i], img.pixels[i], img.pixels[i] / 2048.0f) << i;
+  }
+  EXPECT_LT(std::filesystem::file_size(dir / "half.exr"),
+            std::filesystem::file_size(dir / "float.exr"));
+  img.pixels[7] = 70000.0f;
+  try {
+    writeExr(dir / "bright.exr", img, ExrPixels::Half);
+    FAIL();
+  } catch (const HdrError& e) {
+    EXPECT_NE(std::string(e.what()).find("bright.exr: value 70000"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "bright.exr"));
+  EXPECT_NO_THROW(writeExr(dir / "bright.exr", img));  // float holds it
 }
 
 TEST_F(ExrFiles, BadFilesAndImagesNamed) {

@@ -11,6 +11,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 envmap_bench=()
 [[ "${PENUMBRA_HAVE_ENVMAP_BENCH:-0}" == 1 ]] && envmap_bench=(bench-envmap)
+[[ "${PENUMBRA_HAVE_ENVMAP_SEQUENCE:-0}" == 1 ]] && envmap_bench+=(envmap-sequence)
 for sub in "" replay isas bench-replay "${envmap_bench[@]}"; do
   "${run[@]}" $sub --help >"$tmp/help" 2>&1
   check "help: penumbra $sub --help" $?
@@ -21,7 +22,7 @@ got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)
 [[ "$got" == "sha256 $want" ]]
 check "replay --hash matches tests/golden_hashes.txt" $?
 
-if [[ ${#envmap_bench[@]} == 1 ]]; then
+if [[ ${#envmap_bench[@]} -ge 1 ]]; then
   # bench-envmap: one "key value" line per stage (values are timings: only their presence is
   # checked), and a bad flag refused.
   "${run[@]}" bench-envmap --lights 50 --frames 3 >"$tmp/envmap" 2>&1
@@ -40,6 +41,91 @@ else
   "${run[@]}" bench-envmap >/dev/null 2>&1
   [[ $? != 0 ]]
   check "without the fisheye library, bench-envmap is refused" $?
+fi
+
+if [[ "${PENUMBRA_HAVE_ENVMAP_SEQUENCE:-0}" == 1 ]]; then
+  # envmap-sequence on small generated lat-long probes (uncompressed float EXR written here):
+  # frames named in order, half float with ZIP, and clear refusals leaving nothing behind.
+  python3 - "$tmp" <<'PY'
+import os, struct, sys
+def write_exr(path, w, h, value):
+    def attr(name, kind, data):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(data)) + data
+    chlist = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
+    header = (attr("channels", "chlist", chlist) + attr("compression", "compression", b"\0")
+              + attr("dataWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
+              + attr("displayWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
+              + attr("lineOrder", "lineOrder", b"\0") + attr("pixelAspectRatio", "float", struct.pack("<f", 1))
+              + attr("screenWindowCenter", "v2f", struct.pack("<2f", 0, 0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+    start = 8 + len(header) + 8 * h
+    line = 8 + 3 * 4 * w
+    out = bytearray(b"\x76\x2f\x31\x01" + struct.pack("<i", 2) + header)
+    out += b"".join(struct.pack("<Q", start + y * line) for y in range(h))
+    for y in range(h):
+        out += struct.pack("<ii", y, 3 * 4 * w)
+        for c in range(3):  # B, G, R
+            out += b"".join(struct.pack("<f", value(x, y, c)) for x in range(w))
+    open(path, "wb").write(out)
+d = sys.argv[1]
+# A dim sky and a warm window above the horizon (rows 6-9 of 32 are 34-56° from the zenith).
+window = lambda x, y, c: (40.0, 30.0, 20.0)[c] if 10 <= x < 16 and 6 <= y < 10 else 0.5
+write_exr(os.path.join(d, "probe.exr"), 64, 32, window)
+write_exr(os.path.join(d, "square.exr"), 32, 32, window)
+write_exr(os.path.join(d, "blinding.exr"), 64, 32, lambda x, y, c: 1e6 if (x, y) == (12, 8) else 0.5)
+PY
+  "${run[@]}" envmap-sequence "$tmp/probe.exr" -o "$tmp/seq" --frames 6 --size 48 \
+    --animate lamp-off noise >"$tmp/seq.out" 2>&1
+  status=$?
+  [[ $status == 0 && "$(ls "$tmp/seq" | tr '\n' ' ')" == "env_0000.exr env_0001.exr env_0002.exr env_0003.exr env_0004.exr env_0005.exr " ]] \
+    && ! ls -a "$tmp" | grep -q partial
+  check "envmap-sequence writes env_0000.exr ... env_0005.exr and no partial folder: $(tail -1 "$tmp/seq.out")" $?
+  python3 - "$tmp/seq/env_0003.exr" <<'PY'
+import struct, sys
+b = open(sys.argv[1], "rb").read()
+assert b[:4] == b"\x76\x2f\x31\x01", "not an EXR"
+def attr(name):
+    at = b.index(name.encode() + b"\0") + len(name) + 1
+    at = b.index(b"\0", at) + 1
+    size, = struct.unpack_from("<i", b, at)
+    return b[at + 4:at + 4 + size]
+chl = attr("channels")
+types = [struct.unpack_from("<i", chl, chl.index(c + b"\0") + 2)[0] for c in (b"B", b"G", b"R")]
+assert types == [1, 1, 1], f"pixel types {types}, expected half (1)"
+assert attr("compression") == b"\x03", f"compression {attr('compression')}, expected ZIP (3)"
+assert struct.unpack("<4i", attr("dataWindow")) == (0, 0, 47, 47)
+PY
+  check "envmap-sequence frames are 48x48 half float, ZIP" $?
+
+  "${run[@]}" envmap-sequence "$tmp/probe.exr" -o "$tmp/slash/" --frames 1 --size 16 >/dev/null 2>&1
+  status=$?
+  [[ $status == 0 && -f "$tmp/slash/env_0000.exr" ]] && ! ls -a "$tmp" "$tmp/slash" | grep -q partial
+  check "envmap-sequence -o DIR/ (a trailing slash) writes into DIR" $?
+
+  # expect_sequence_error NAME EXIT TEXT ARGS...: the exit code, TEXT in the message, no output.
+  expect_sequence_error() {
+    local name="$1" rc_want="$2" text="$3"
+    shift 3
+    "${run[@]}" envmap-sequence "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+    local rc=$?
+    [[ $rc == "$rc_want" ]] && grep -qF -- "$text" "$tmp/stderr" && [[ ! -e "$tmp/none" ]] \
+      && ! ls -a "$tmp" | grep -q partial
+    status=$?
+    check "envmap-sequence $name: exit $rc, $(head -c 200 "$tmp/stderr")" $status
+  }
+  expect_sequence_error "missing probe" 1 "absent.exr" "$tmp/absent.exr" -o "$tmp/none"
+  expect_sequence_error "unreadable probe" 1 "tiny.json" "$data/traces/tiny.json" -o "$tmp/none"
+  expect_sequence_error "not lat-long" 1 "square.exr: 32x32 is not a lat-long probe" \
+    "$tmp/square.exr" -o "$tmp/none"
+  expect_sequence_error "bad size" 2 "--size" "$tmp/probe.exr" -o "$tmp/none" --size 4
+  expect_sequence_error "unknown animation" 2 "unknown animation 'sparkle'" "$tmp/probe.exr" \
+    -o "$tmp/none" --animate cloud sparkle
+  expect_sequence_error "output not empty" 1 "seq: exists and is not an empty folder" \
+    "$tmp/probe.exr" -o "$tmp/seq"
+  [[ "$(ls "$tmp/seq" | wc -l)" == 6 ]]
+  check "envmap-sequence leaves a non-empty output folder as it was" $?
+  expect_sequence_error "beyond half float" 1 "env_0000.exr: value" "$tmp/blinding.exr" \
+    -o "$tmp/none" --size 32
 fi
 
 # expect_error NAME TRACE FIELD: exit 1, message names the file and the field, no PNG.
