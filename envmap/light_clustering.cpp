@@ -34,9 +34,17 @@ double clusterRadiusDegrees(uint32_t maxClusters, double correction) {
   return correction * arcsinDegrees(s);
 }
 
-LightClusters clusterLights(const LightSet& lights, uint32_t maxClusters, double correction) {
-  double sine = 0, cosE = 0;
-  scene::sinCosDegrees(std::min(180.0, clusterRadiusDegrees(maxClusters, correction)), sine, cosE);
+LightClusters clusterLights(const LightSet& lights, uint32_t maxClusters, double correction,
+                            ClusterMemory* memory) {
+  const double e = clusterRadiusDegrees(maxClusters, correction);
+  double sine = 0, cosE = 0, cosWide = 0, cosNarrow = 0;
+  scene::sinCosDegrees(std::min(180.0, e), sine, cosE);
+  const double h = memory ? memory->hysteresis : 0.0;
+  scene::sinCosDegrees(std::min(180.0, e * (1.0 + h)), sine, cosWide);
+  scene::sinCosDegrees(std::min(180.0, e * (1.0 - h)), sine, cosNarrow);
+  const auto lastSeed = [&](uint32_t id) {
+    return memory && id < memory->seedOf.size() ? memory->seedOf[id] : 0u;
+  };
 
   constexpr uint32_t kNone = UINT32_MAX;
   LightClusters out;
@@ -47,9 +55,16 @@ LightClusters clusterLights(const LightSet& lights, uint32_t maxClusters, double
     const uint32_t cluster = uint32_t(seeds.size());
     seeds.push_back(i);
     out.clusterOf[i] = cluster;
-    for (size_t j = i + 1; j < lights.size(); ++j)
-      if (out.clusterOf[j] == kNone && glm::dot(lights[i].direction, lights[j].direction) >= cosE)
+    const uint32_t seedId = lights[i].id;
+    for (size_t j = i + 1; j < lights.size(); ++j) {
+      if (out.clusterOf[j] != kNone) continue;
+      // The paper's radius for a light the memory has not placed; wider for one that was
+      // this seed's, narrower for one that was another's (or a seed itself).
+      const uint32_t last = lastSeed(lights[j].id);
+      const double threshold = last == 0 ? cosE : (last == seedId ? cosWide : cosNarrow);
+      if (glm::dot(lights[i].direction, lights[j].direction) >= threshold)
         out.clusterOf[j] = cluster;
+    }
   }
   // At most Q: a cluster beyond the Q-th goes to the nearest of the first Q seeds.
   std::vector<uint32_t> target(seeds.size());
@@ -80,6 +95,14 @@ LightClusters clusterLights(const LightSet& lights, uint32_t maxClusters, double
     glm::dvec3 d = glm::dot(weighted[c], weighted[c]) > 0 ? weighted[c] : plain[c];
     const double length = std::sqrt(glm::dot(d, d));
     out.lights[c].direction = length > 1e-12 ? d / length : lights[seeds[c]].direction;
+  }
+  if (memory) {
+    for (const DirectionalLight& l : lights) {
+      if (l.id >= memory->seedOf.size()) memory->seedOf.resize(size_t(l.id) + 1, 0);
+    }
+    for (size_t i = 0; i < lights.size(); ++i) {
+      memory->seedOf[lights[i].id] = out.lights[out.clusterOf[i]].id;
+    }
   }
   return out;
 }

@@ -35,8 +35,23 @@ struct LightClusters {
   std::vector<uint32_t> clusterOf;  // per input light, the index of its cluster in `lights`
 };
 
-// Throws std::invalid_argument for maxClusters = 0 or a correction ≤ 0.
+// Temporal coherence (beyond the paper): what one frame's clustering remembers for the next.
+// The greedy pass is discontinuous: a light wandering across a seed's radius by a fraction of
+// a degree changes cluster, or starts one, and every later seed and cluster can change with
+// it — powers jump between clusters and shadows flicker however smoothly the FIR moves the
+// lights (docs/live-lighting.md, "Flicker"). With a memory, a light stays with last frame's
+// seed while within e·(1 + hysteresis) of it, joins another seed only within
+// e·(1 − hysteresis), and a light that was a seed is taken by another only within
+// e·(1 − hysteresis). A light the memory has not seen is clustered as the paper says.
+struct ClusterMemory {
+  std::vector<uint32_t> seedOf;  // by light id: the id of its cluster's seed last frame; 0: none
+  double hysteresis = 0.15;
+};
+
+// Throws std::invalid_argument for maxClusters = 0 or a correction ≤ 0. With `memory`, the
+// coherence above; the memory is updated for the next frame.
 LightClusters clusterLights(const LightSet& lights, uint32_t maxClusters,
-                            double correction = kClusterCorrection);
+                            double correction = kClusterCorrection,
+                            ClusterMemory* memory = nullptr);
 
 }  // namespace penumbra::envmap

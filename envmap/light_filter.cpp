@@ -34,24 +34,40 @@ LightSet TemporalLightFilter::push(const LightSet& lights) {
   filteredTotal_ = glm::max(fir(totals_), glm::dvec3(0.0));  // negative taps can undershoot
 
   LightSet out(lights);
+  glm::dvec3 shareSum(0.0);
   for (DirectionalLight& light : out) {
     if (light.id == 0 || light.id > kMaxId)
       throw std::invalid_argument("TemporalLightFilter: light id " + std::to_string(light.id) +
                                   " outside 1.." + std::to_string(kMaxId));
     if (tracks_.size() < light.id) tracks_.resize(light.id);
     Track& track = tracks_[light.id - 1];
-    if (track.lastFrame == 0 || track.lastFrame != frame_)  // new, or back after a gap
+    // This frame's share of the total, per channel (equal shares where a channel is dark).
+    glm::dvec3 share(0.0);
+    for (int c = 0; c < 3; ++c)
+      share[c] = total[c] > 0 ? light.power[c] / total[c] : 1.0 / double(out.size());
+    if (track.lastFrame == 0 || track.lastFrame != frame_) {  // new, or back after a gap
       track.directions.fill(light.direction);
+      track.shares.fill(share);
+    }
     track.directions[slot] = light.direction;
+    track.shares[slot] = share;
     track.lastFrame = frame_ + 1;
     const glm::dvec3 d = fir(track.directions);
     const double length = std::sqrt(glm::dot(d, d));
     // Havran 2005 §3.3: filtered in 3D, then normalised to a unit vector. (The sum can only
     // vanish for directions spread over more than a hemisphere; keep the raw one then.)
     if (length > 1e-9) light.direction = d / length;
+    // Beyond §3.3, which filters the total and the directions: each light's share of the
+    // total, filtered too. A light's colour is the colour of the map pixel its sample hit,
+    // so sensor noise reshuffles the shares (and the shadows' colours) every frame however
+    // calm the total is. Held here, normalised below so the powers add up to the total.
+    light.power = glm::max(fir(track.shares), glm::dvec3(0.0));
+    shareSum += light.power;
+  }
+  for (DirectionalLight& light : out) {
     for (int c = 0; c < 3; ++c)
-      light.power[c] = total[c] > 0 ? filteredTotal_[c] * (light.power[c] / total[c])
-                                    : filteredTotal_[c] / double(out.size());
+      light.power[c] = shareSum[c] > 0 ? filteredTotal_[c] * (light.power[c] / shareSum[c])
+                                       : filteredTotal_[c] / double(out.size());
   }
   ++frame_;
   return out;

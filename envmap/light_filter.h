@@ -33,10 +33,11 @@ class TemporalLightFilter {
 
   // Pushes one frame's lights (ids ≥ 1, e.g. from EnvmapDistribution::sample) and returns them
   // filtered: the same ids in the same order, each direction the renormalised FIR of that id's
-  // last 9 directions, and powers that add up to the FIR of the frames' total powers, each
-  // light keeping its share of this frame's total per channel. A light seen for the first
-  // time (or again after missing a frame) starts with a history of its current direction, and
-  // the first frame fills the power history, so a constant input passes unchanged.
+  // last 9 directions, and powers that add up to the FIR of the frames' total powers, shared
+  // among the lights per channel by the FIR of each light's share of its frame's total
+  // (clamped at 0, renormalised to sum to 1). A light seen for the first time (or again after
+  // missing a frame) starts with a history of its current direction and share, and the first
+  // frame fills the power history, so a constant input passes unchanged.
   LightSet push(const LightSet& lights);
 
   // The filtered total power of the last frame pushed.
@@ -46,6 +47,7 @@ class TemporalLightFilter {
  private:
   struct Track {
     std::array<glm::dvec3, kFirTaps> directions{};
+    std::array<glm::dvec3, kFirTaps> shares{};  // of the frame's total, per channel
     uint64_t lastFrame = 0;  // frame number + 1 of the last push that held the light; 0: never
   };
   glm::dvec3 fir(const std::array<glm::dvec3, kFirTaps>& ring) const;

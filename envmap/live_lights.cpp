@@ -76,7 +76,13 @@ void LiveLights::update(const HemisphereMap& map, const std::string& label) {
   else
     distribution_.emplace(map, label);
   // All N every frame (see the header): the filter tracks every id through every frame.
-  filtered_ = filter_.push(distribution_->sample(pattern_, options_.samples));
+  if (options_.temporalFilter) {
+    filtered_ = filter_.push(distribution_->sample(pattern_, options_.samples));
+    total_ = filter_.filteredTotalPower();
+  } else {
+    filtered_ = distribution_->sample(pattern_, options_.samples);
+    total_ = envmap::totalPower(filtered_);
+  }
   ++updates_;
 }
 
@@ -88,11 +94,13 @@ const LightSet& LiveLights::lights(size_t count) {
   if (entry.update == updates_) return entry.lights;
 
   const uint32_t n = prefixSampleCount(options_.samples, options_.maxLights, q);
-  const LightSet prefix = rescaledPrefix(filtered_, n, filter_.filteredTotalPower());
+  const LightSet prefix = rescaledPrefix(filtered_, n, total_);
   // Clustering in the environment frame (a rotation does not change angles), then the frame
   // and units of the room: the camera's radiance scale is one factor per light, so the sum
   // stays the filtered total × scale up to one rounding per light.
-  entry.lights = clusterLights(prefix, q, options_.clusterCorrection).lights;
+  entry.lights = clusterLights(prefix, q, options_.clusterCorrection,
+                               options_.coherentClusters ? &entry.memory : nullptr)
+                     .lights;
   for (DirectionalLight& light : entry.lights) {
     light.direction = toWorldDirection(options_.toWorld, light.direction);
     light.power *= options_.radianceScale;
@@ -102,7 +110,7 @@ const LightSet& LiveLights::lights(size_t count) {
 }
 
 glm::dvec3 LiveLights::totalPower() const {
-  return ready() ? filter_.filteredTotalPower() * options_.radianceScale : glm::dvec3(0.0);
+  return ready() ? total_ * options_.radianceScale : glm::dvec3(0.0);
 }
 
 }  // namespace penumbra::envmap

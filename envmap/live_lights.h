@@ -40,6 +40,12 @@ struct LiveLightsOptions {
   glm::dmat3 toWorld{
       1.0};  // environment frame (z = zenith) -> world frame (columns: images of x, y, z)
   double radianceScale = 1.0;  // environment camera's radiance units -> the room camera's
+  // §3.3's FIR on the lights. false: each map's samples as drawn, to measure what the filter
+  // does against them (docs/live-lighting.md, "Flicker").
+  bool temporalFilter = true;
+  // Clusters kept from frame to frame with hysteresis (light_clustering.h, ClusterMemory).
+  // false: each frame clustered afresh, as the paper does.
+  bool coherentClusters = true;
 };
 
 // The largest N accepted: the temporal filter tracks lights by id in a table of this bound.
@@ -81,7 +87,8 @@ class LiveLights {
   // tests and diagnostics; lights() draws its prefixes from these). Empty before the first.
   const LightSet& filtered() const { return filtered_; }
 
-  // The filtered total power in world units (radianceScale applied); 0 before the first update.
+  // The filtered total power (the drawn total without the filter) in world units
+  // (radianceScale applied); 0 before the first update.
   glm::dvec3 totalPower() const;
 
   const LiveLightsOptions& options() const { return options_; }
@@ -90,6 +97,7 @@ class LiveLights {
   struct CacheEntry {
     uint64_t update = 0;  // updates_ when computed; 0: never
     LightSet lights;
+    ClusterMemory memory;  // this budget's clustering, remembered for its next frame
   };
 
   LiveLightsOptions options_;
@@ -98,6 +106,7 @@ class LiveLights {
       distribution_;  // built by the first map (it has no empty state)
   TemporalLightFilter filter_;
   LightSet filtered_;
+  glm::dvec3 total_{0.0};  // the power lights() hands out: filtered_'s total (filtered or not)
   uint64_t updates_ = 0;
   std::vector<CacheEntry> cache_;  // by q − 1
 };
