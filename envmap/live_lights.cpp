@@ -109,6 +109,19 @@ const LightSet& LiveLights::lights(size_t count) {
   return entry.lights;
 }
 
+const LightSet& LiveLights::fineLights() {
+  if (!ready()) throw std::logic_error("live lights: fineLights() asked before the first update()");
+  if (fineUpdate_ != updates_) {
+    fine_ = filtered_;
+    for (DirectionalLight& light : fine_) {
+      light.direction = toWorldDirection(options_.toWorld, light.direction);
+      light.power *= options_.radianceScale;
+    }
+    fineUpdate_ = updates_;
+  }
+  return fine_;
+}
+
 glm::dvec3 LiveLights::totalPower() const {
   return ready() ? total_ * options_.radianceScale : glm::dvec3(0.0);
 }

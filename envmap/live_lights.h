@@ -83,6 +83,11 @@ class LiveLights {
   // std::invalid_argument for count = 0.
   const LightSet& lights(size_t count);
 
+  // The N filtered lights of the last update in the world frame, powers × radianceScale: the
+  // fine lights of Havran 2005 §4.2's glossy strata (the frame's lights are clustered from a
+  // prefix of them). Cached per update; throws std::logic_error before the first.
+  const LightSet& fineLights();
+
   // The N filtered lights of the last update, in the environment frame and its units (for
   // tests and diagnostics; lights() draws its prefixes from these). Empty before the first.
   const LightSet& filtered() const { return filtered_; }
@@ -106,7 +111,10 @@ class LiveLights {
       distribution_;  // built by the first map (it has no empty state)
   TemporalLightFilter filter_;
   LightSet filtered_;
-  glm::dvec3 total_{0.0};  // the power lights() hands out: filtered_'s total (filtered or not)
+  glm::dvec3 total_{0.0};
+  LightSet fine_;            // fineLights()
+  uint64_t fineUpdate_ = 0;  // updates_ when fine_ was made  // the power lights() hands out:
+                             // filtered_'s total (filtered or not)
   uint64_t updates_ = 0;
   std::vector<CacheEntry> cache_;  // by q − 1
 };

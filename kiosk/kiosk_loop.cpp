@@ -548,7 +548,7 @@ FrameReport KioskLoop::step() {
     // Halton prefix (envmap/live_lights.h), its map size as for the captured sources.
     lights = &s.live->lights(std::max<size_t>(d.passes, 1));
     s.loop.compositor.setShadowMapSize(d.shadowMapSize);
-    s.loop.step(pose, *lights, s.background);
+    s.loop.step(pose, *lights, s.background, s.live->fineLights());
   } else {
     s.loop.step(pose, d, s.background);
   }

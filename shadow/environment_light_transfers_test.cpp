@@ -5,10 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "shadow/frame_loop.h"
 #include "shadow/light_frustum.h"
+#include "shadow/product_shading.h"
 #include "tests/showroom_bundle.h"
 
 namespace penumbra::shadow {
@@ -209,6 +213,53 @@ TEST(EnvironmentLightFrame, TheProductIsLitOnTheSideFacingTheLight) {
   };
   const double lit = meanRedFacing(1.0), away = meanRedFacing(-1.0);
   EXPECT_GT(lit, away + 20.0) << "faces +x: lit by a light at +x, dark under one at -x";
+}
+
+}  // namespace
+}  // namespace penumbra::shadow
+
+namespace penumbra::shadow {
+namespace {
+
+// Havran 2005 §4.2: a glossy highlight from many faint lights beside the mirror direction is
+// dimmer than from their cluster, which sits in the middle of them, right on it; with fine
+// lights equal to the frame's lights the two strata give the frame's lights' colour.
+TEST(EnvironmentLightShading, GlossyStrataTakeTheFineLightsInsideTheLobesCone) {
+  SceneBundle b = testing::showroomBundle();
+  b.products[0].specular = glm::vec3(0.6f);
+  b.products[0].specularExponent = 60.0f;
+  b.products[0].reflectances.clear();
+  b.products[0].reflectance = glm::vec3(0.05f);
+  const scene::PatchMesh mesh = patchMeshOf(b);
+  ProductShading shading(b, mesh, scene::Aabb{{0, 0, 0}, {6, 3, 5}}, {});
+  core::Mesh tile;
+  tile.positions = {{3.0f, 0.5f, 2.4f}, {3.1f, 0.5f, 2.4f}, {3.0f, 0.5f, 2.5f}};
+  tile.indices = {0, 1, 2};
+  const std::vector<glm::vec3> normals(3, glm::vec3(0, 1, 0));
+  // The mirror direction of the kiosk camera (eye (0.35, 1.6, 0.35)) about +y at vertex 0.
+  const glm::dvec3 toEye = glm::normalize(glm::dvec3(0.35, 1.6, 0.35) - glm::dvec3(3.0, 0.5, 2.4));
+  const glm::dvec3 mirror = 2.0 * toEye.y * glm::dvec3(0, 1, 0) - toEye;
+  // Two fine lights 12° either side of it (turned about the axis across it in the xz plane).
+  const glm::dvec3 across = glm::normalize(glm::cross(mirror, glm::dvec3(0, 1, 0)));
+  const double c = std::cos(12.0 * std::numbers::pi / 180),
+               s = std::sin(12.0 * std::numbers::pi / 180);
+  const std::vector<glm::dvec3> fine = {c * mirror + s * across, c * mirror - s * across};
+  const std::vector<glm::dvec3> finePower(2, glm::dvec3(0.01));
+  const std::vector<glm::dvec3> cluster = {glm::normalize(fine[0] + fine[1])};
+  const std::vector<glm::dvec3> clusterPower = {glm::dvec3(0.02)};
+
+  shading.shadeFromLights(tile, normals, 0, cluster, clusterPower);
+  const core::Rgb8 coarse = shading.colours()[0];
+  const glm::dvec3 coarseRadiance = shading.radiance()[0];
+  shading.shadeFromLights(tile, normals, 0, cluster, clusterPower, fine, finePower);
+  const core::Rgb8 strata = shading.colours()[0];
+  EXPECT_EQ(shading.radiance()[0], coarseRadiance) << "the passes' shares keep the clusters";
+  EXPECT_LT(int(strata.r) + 20, int(coarse.r)) << "the peak of the lobe is not where the light is";
+  shading.shadeFromLights(tile, normals, 0, cluster, clusterPower, cluster, clusterPower);
+  EXPECT_EQ(shading.colours()[0], coarse) << "fine lights = the clusters: the same colour";
+  EXPECT_THROW(shading.shadeFromLights(tile, normals, 0, cluster, clusterPower, fine,
+                                       std::span(finePower).first(1)),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -101,7 +101,8 @@ void FrameCompositor::frameContent(std::span<const uint8_t> background,
 void FrameCompositor::composeLit(const ProductPose& pose,
                                  std::span<const envmap::DirectionalLight> lights, uint32_t frame,
                                  raster::FrameContent& out, CompositeStats& stats,
-                                 std::span<const uint8_t> background) {
+                                 std::span<const uint8_t> background,
+                                 std::span<const envmap::DirectionalLight> fineLights) {
   if (options_.accumulation != raster::Accumulation::kLinear) {
     // Fig. 4's S and the graded transfers need the captured transfers L_ij; the lights'
     // shares need nothing but the lights (docs/pipeline-spec.md §8).
@@ -127,9 +128,16 @@ void FrameCompositor::composeLit(const ProductPose& pose,
     lightDirections_[k] = lights[k].direction;
     lightPowers_[k] = lights[k].power;
   }
+  // The fine lights come with the lights (one environment frame): no test of their own.
   if (change != PlacementChange::kNone || lightsChanged || !litShading_) {
+    fineDirections_.resize(fineLights.size());
+    finePowers_.resize(fineLights.size());
+    for (size_t f = 0; f < fineLights.size(); ++f) {
+      fineDirections_[f] = fineLights[f].direction;
+      finePowers_[f] = fineLights[f].power;
+    }
     shading_.shadeFromLights(placement_.mesh(), placement_.normals(), pose.product,
-                             lightDirections_, lightPowers_);
+                             lightDirections_, lightPowers_, fineDirections_, finePowers_);
     litShading_ = true;
   }
   ns[FrameStage::kShading] = watch.lapNs();

@@ -108,10 +108,13 @@ class FrameCompositor {
   // lights (ProductShading::shadeFromLights), each light's share of each receiver's light
   // comes from environment_light_transfers.h, and the passes are cast by orthographic maps
   // (PassList::buildDirectional); the compositing is the same. Needs linear accumulation
-  // (std::invalid_argument otherwise): nothing to observe afterwards.
+  // (std::invalid_argument otherwise): nothing to observe afterwards. `fineLights`, the many
+  // faint lights `lights` were clustered from (world space too), refine a glossy product's
+  // highlight (Havran 2005 §4.2, ProductShading::shadeFromLights); empty: none.
   void composeLit(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
                   uint32_t frame, raster::FrameContent& out, CompositeStats& stats,
-                  std::span<const uint8_t> background = {});
+                  std::span<const uint8_t> background = {},
+                  std::span<const envmap::DirectionalLight> fineLights = {});
 
   // World positions of the last composed frame's receiver vertices, then of the product's
   // own vertices (from index objectProbesFrom()): pass them to raster::Renderer::render()
@@ -165,6 +168,7 @@ class FrameCompositor {
   ClusterTransfers transfers_;
   EnvironmentLightTransfers envTransfers_;                 // composeLit()'s instead of transfers_
   std::vector<glm::dvec3> lightDirections_, lightPowers_;  // composeLit()'s last lights
+  std::vector<glm::dvec3> fineDirections_, finePowers_;    // and its fine lights
   bool litShading_ = false;          // the product's colours are the lights' (composeLit())
   std::vector<uint8_t> shadeTable_;  // linear accumulation's (raster::FrameContent::shadeTable)
   PassList passList_;

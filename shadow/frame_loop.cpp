@@ -7,8 +7,11 @@ void FrameLoop::step(const ProductPose& pose, size_t passes, std::span<const uin
 }
 
 void FrameLoop::step(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
-                     std::span<const uint8_t> background) {
-  run([&] { compositor.composeLit(pose, lights, ++frameNumber, frame, stats, background); });
+                     std::span<const uint8_t> background,
+                     std::span<const envmap::DirectionalLight> fineLights) {
+  run([&] {
+    compositor.composeLit(pose, lights, ++frameNumber, frame, stats, background, fineLights);
+  });
 }
 
 template <class Compose>

@@ -49,7 +49,8 @@ class FrameLoop {
   // Live lighting (issue 16): the frame lit by the environment's distant lights, one pass
   // each (FrameCompositor::composeLit), at the shadow-map size last set.
   void step(const ProductPose& pose, std::span<const envmap::DirectionalLight> lights,
-            std::span<const uint8_t> background = {});
+            std::span<const uint8_t> background = {},
+            std::span<const envmap::DirectionalLight> fineLights = {});
   // A still product: the second frame uses the first one's measured occlusion, as
   // `penumbra render` does.
   void still(const ProductPose& pose, size_t passes) {

@@ -122,7 +122,9 @@ void ProductShading::shade(const core::Mesh& placed, std::span<const glm::vec3> 
 
 void ProductShading::shadeFromLights(const core::Mesh& placed, std::span<const glm::vec3> normals,
                                      uint32_t product, std::span<const glm::dvec3> towardsLight,
-                                     std::span<const glm::dvec3> power) {
+                                     std::span<const glm::dvec3> power,
+                                     std::span<const glm::dvec3> fineTowardsLight,
+                                     std::span<const glm::dvec3> finePower) {
   const size_t vertices = placed.positions.size(), lights = towardsLight.size();
   const ProductModel& model = bundle_.products.at(product);
   const std::span<const glm::vec3> reflectances = reflectancesOf(model, vertices, normals.size());
@@ -130,12 +132,33 @@ void ProductShading::shadeFromLights(const core::Mesh& placed, std::span<const g
     throw std::invalid_argument("ProductShading::shadeFromLights: " + std::to_string(power.size()) +
                                 " powers for " + std::to_string(lights) + " lights");
   }
+  if (finePower.size() != fineTowardsLight.size()) {
+    throw std::invalid_argument(
+        "ProductShading::shadeFromLights: " + std::to_string(finePower.size()) + " powers for " +
+        std::to_string(fineTowardsLight.size()) + " fine lights");
+  }
   const glm::dvec3 specular(model.specular);
   const bool glossy = options_.specular && (specular.x > 0 || specular.y > 0 || specular.z > 0);
   const uint32_t n = lobes_[product].roundedExponent;
   // The normalised Phong lobe's peak: (N + 1) / (2 pi) integrates cos^N over the hemisphere
   // to 1, so a light of power P in the mirror direction gives radiance P (N + 1)/(2 pi).
   const double lobeScale = (n + 1.0) / (2.0 * std::numbers::pi);
+  const bool strata = glossy && !fineTowardsLight.empty();
+  // Havran 2005 §4.2's cone C about the mirror direction: where the lobe holds 90% of its
+  // energy, cos^(N+1) θ = 0.1 (1 − c^(N+1) is the energy beyond polar cosine c), by bisection.
+  double coneCos = 0;
+  if (strata) {
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 50; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (powInt(mid, n + 1) < 0.1 ? lo : hi) = mid;
+    }
+    coneCos = 0.5 * (lo + hi);
+  }
+  const auto lobe = [&](const glm::dvec3& mirror, const glm::dvec3& l, const glm::dvec3& p) {
+    const double rl = glm::dot(mirror, l);
+    return rl > 0 ? p * (lobeScale * powInt(rl, n)) : glm::dvec3(0.0);
+  };
   colours_.resize(vertices);
   radiance_.resize(vertices);
   sourceTransfers_.assign(lights * vertices, glm::dvec3(0.0));
@@ -158,20 +181,37 @@ void ProductShading::shadeFromLights(const core::Mesh& placed, std::span<const g
           mirror = 2.0 * glm::dot(nrm, e) * nrm - e;
         }
       }
-      glm::dvec3 radiance(0.0);
+      glm::dvec3 radiance(0.0), diffuseSum(0.0), coarseOutside(0.0);
       for (size_t k = 0; k < lights; ++k) {
         const double cosine = glm::dot(nrm, towardsLight[k]);
         if (!(cosine > 0)) continue;  // below the vertex's horizon
-        glm::dvec3 transfer = diffuse * (power[k] * cosine);
+        const glm::dvec3 lit = diffuse * (power[k] * cosine);
+        glm::dvec3 transfer = lit;
         if (glossy) {
-          const double rl = glm::dot(mirror, towardsLight[k]);
-          if (rl > 0) transfer += specular * (power[k] * (lobeScale * powInt(rl, n)));
+          const glm::dvec3 reflected = lobe(mirror, towardsLight[k], power[k]);
+          transfer += specular * reflected;
+          if (strata && glm::dot(mirror, towardsLight[k]) < coneCos) coarseOutside += reflected;
         }
+        diffuseSum += lit;
         sourceTransfers_[k * vertices + v] = transfer;
         radiance += transfer;
       }
       radiance_[v] = radiance;
-      colours_[v] = bundle_.tone.map(radiance);
+      if (!strata) {
+        colours_[v] = bundle_.tone.map(radiance);
+        continue;
+      }
+      // §4.2's two strata for the colour: inside the cone C the many faint lights (the
+      // lobe's peak sampled finely), outside it the frame's lights. The passes' shares keep
+      // the frame's lights (radiance_), whose shadows they cast.
+      glm::dvec3 fineInside(0.0);
+      for (size_t f = 0; f < fineTowardsLight.size(); ++f) {
+        if (glm::dot(nrm, fineTowardsLight[f]) > 0 &&
+            glm::dot(mirror, fineTowardsLight[f]) >= coneCos) {
+          fineInside += lobe(mirror, fineTowardsLight[f], finePower[f]);
+        }
+      }
+      colours_[v] = bundle_.tone.map(diffuseSum + specular * (fineInside + coarseOutside));
     }
   });
 }

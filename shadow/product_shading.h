@@ -52,11 +52,17 @@ class ProductShading {
   // specular reflectance, its normalised Phong lobe about the mirrored eye direction,
   // specular x power x (N + 1)/(2 pi) x max(0, r.l)^N — the directional form of the cube-map
   // lobe shade() uses (N the exponent rounded). Each light's term is kept as its transfer
-  // (sourceTransfers(), light k in place of source k) for self-shadowing. Throws
-  // std::invalid_argument on a size mismatch.
+  // (sourceTransfers(), light k in place of source k) for self-shadowing. With `fine` lights
+  // (the many faint lights the frame's lights were clustered from, fineTowardsLight and
+  // finePower) a glossy product's colour takes Havran 2005 §4.2's two strata: inside the cone
+  // about the mirror direction that holds 90% of the lobe's energy, the fine lights; outside
+  // it, the frame's lights. radiance() and the transfers stay the frame's lights' (the
+  // passes' shares). Throws std::invalid_argument on a size mismatch.
   void shadeFromLights(const core::Mesh& placed, std::span<const glm::vec3> normals,
                        uint32_t product, std::span<const glm::dvec3> towardsLight,
-                       std::span<const glm::dvec3> power);
+                       std::span<const glm::dvec3> power,
+                       std::span<const glm::dvec3> fineTowardsLight = {},
+                       std::span<const glm::dvec3> finePower = {});
   // Threads for the per-vertex work (the renderer's pool); null: the calling thread. The
   // bytes do not depend on it.
   void setPool(core::JobPool* pool) { pool_ = pool; }
