@@ -19,12 +19,12 @@ envmap::FisheyeLens squareLens(const ExrSequence& sequence, const std::string& s
 
 }  // namespace
 
-VirtualEnvironmentCamera::VirtualEnvironmentCamera(ExrSequence sequence, std::string source,
+VirtualEnvironmentCamera::VirtualEnvironmentCamera(ExrSequence&& sequence, std::string source,
                                                    int64_t periodNs, int64_t stopAtNs)
-    : names_(sequence.names),
+    : names_(std::move(sequence.names)),
       source_(std::move(source)),
-      camera_(sequence.frames, periodNs),
       resampler_(squareLens(sequence, source_)),
+      camera_(std::move(sequence.frames), periodNs),
       stopAtNs_(stopAtNs) {}
 
 kiosk::GrabStatus VirtualEnvironmentCamera::grab(int64_t nowNs, envmap::HemisphereMap& map) {

@@ -21,7 +21,7 @@ class VirtualEnvironmentCamera final : public kiosk::EnvironmentCamera {
  public:
   // `source` names the sequence in messages. Frames stop at `stopAtNs` (a camera that hangs;
   // < 0: never). Throws FootageError naming `source` for non-square frames.
-  VirtualEnvironmentCamera(ExrSequence sequence, std::string source, int64_t periodNs,
+  VirtualEnvironmentCamera(ExrSequence&& sequence, std::string source, int64_t periodNs,
                            int64_t stopAtNs = -1);
 
   kiosk::GrabStatus grab(int64_t nowNs, envmap::HemisphereMap& map) override;
@@ -30,8 +30,8 @@ class VirtualEnvironmentCamera final : public kiosk::EnvironmentCamera {
  private:
   std::vector<std::string> names_;
   std::string source_;
+  envmap::FisheyeResampler resampler_;  // before camera_, which takes the frames
   VirtualFisheyeCamera camera_;
-  envmap::FisheyeResampler resampler_;
   int64_t stopAtNs_;
   core::ImageF image_;
 };

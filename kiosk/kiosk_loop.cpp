@@ -132,8 +132,8 @@ struct KioskLoop::State {
   float minX = 0, maxX = 0, minZ = 0, maxZ = 0;
 };
 
-KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& options, Peripherals io,
-                     const raster::RenderOptions& render)
+KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& options,
+                     const Peripherals& io, const raster::RenderOptions& render)
     : bundle_(bundle), options_(options), io_(io) {
   if (io_.led == nullptr || io_.time == nullptr || io_.log == nullptr) {
     throw std::invalid_argument("KioskLoop: the LED, the timebase and the log are required");

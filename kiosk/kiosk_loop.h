@@ -145,7 +145,7 @@ class KioskLoop {
  public:
   // `bundle` must outlive the loop. Throws std::invalid_argument when a required peripheral
   // is missing or the bundle has no usable product (validateProducts).
-  KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& options, Peripherals io,
+  KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& options, const Peripherals& io,
             const raster::RenderOptions& render);
   ~KioskLoop();
   KioskLoop(const KioskLoop&) = delete;
