@@ -82,12 +82,27 @@ std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight
                        (corner & 4) ? room.max.z : room.min.z);
     zFar = std::max(zFar, glm::dot(eye - p, d) + 0.01);
   }
-  // Half-width R: the square's inscribed circle is the sphere's disc (1e-6 wider against the
-  // float rounding of the matrix, as fitLightFrustum).
-  const double half = radius * (1.0 + 1e-6);
+  // The window: the occluder's box projected across the light, plus 3% of its extent on each
+  // side (PCF's 2 × 2 taps and the float rounding of the matrix stay inside the map). Not
+  // the bounding sphere's square: seen from above, the chair's box covers a fifth of it, so
+  // the map's texels are ~2.2× denser and the receivers the pass may shade ~5× fewer. A
+  // receiver wholly outside the window is outside the map (M = 0, spec §7): it cannot be
+  // shadowed, as no occluder texel lies beyond the box.
+  const glm::dmat4 view = scene::lookAt(eye, centre, leastAlignedAxis(-d));
+  glm::dvec2 lo(INFINITY), hi(-INFINITY);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p((corner & 1) ? occluderBounds.max.x : occluderBounds.min.x,
+                       (corner & 2) ? occluderBounds.max.y : occluderBounds.min.y,
+                       (corner & 4) ? occluderBounds.max.z : occluderBounds.min.z);
+    const glm::dvec4 q = view * glm::dvec4(p, 1.0);
+    lo = glm::min(lo, glm::dvec2(q));
+    hi = glm::max(hi, glm::dvec2(q));
+  }
+  const glm::dvec2 margin = 0.03 * (hi - lo) + 1e-4;  // 0.1 mm for a flat or point product
+  lo -= margin;
+  hi += margin;
   LightFrustum out;
-  out.viewProj = glm::ortho(-half, half, -half, half, zNear, zFar) *
-                 scene::lookAt(eye, centre, leastAlignedAxis(-d));
+  out.viewProj = glm::ortho(lo.x, hi.x, lo.y, hi.y, zNear, zFar) * view;
   out.rasterViewProj = scene::toRasterMat4(out.viewProj);
   out.sphereCentre = centre;
   out.sphereRadius = radius;

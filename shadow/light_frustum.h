@@ -38,9 +38,9 @@ std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
 
 // A distant light's frustum (Havran et al. 2005: each environment light is directional): an
 // orthographic view-projection looking along -`towardsLight` (from the scene towards the
-// light; any positive length) at the bounding sphere of `occluderBounds`. The map's square
-// circumscribes the sphere's disc, as fitLightFrustum's cone does, so the whole occluder
-// projects inside the map's inscribed circle. The eye sits on the light's side of the sphere,
+// light; any positive length) at the bounding sphere of `occluderBounds`. The map's window is
+// the box projected across the light with 3% of its extent added on each side (so the texels
+// are square only for a square projection). The eye sits on the light's side of the sphere,
 // the near plane just in front of it, the far plane beyond every corner of `room` (every
 // receiver is in range). Window depth is then linear in distance: zFar - zNear metres span
 // [0, 1]. Returns nullopt for empty or non-finite bounds or a zero or non-finite direction.
