@@ -76,7 +76,7 @@ std::unique_ptr<kiosk::FrameSource> openOpenCvCamera(const std::string& device, 
 }
 
 std::unique_ptr<kiosk::EnvironmentCamera> openOpenCvEnvironmentCamera(
-    const kiosk::EnvironmentCameraSettings& settings, EnvironmentLog log) {
+    const kiosk::EnvironmentCameraSettings& settings, const EnvironmentLog& log) {
   // As above: a source that is not there is said without loading OpenCV. An image sequence
   // ("frame_%03d.png") is left to VideoCapture.
   if (settings.device.find('%') == std::string::npos && !std::filesystem::exists(settings.device)) {

@@ -53,6 +53,6 @@ std::unique_ptr<kiosk::FrameSource> openOpenCvCamera(const std::string& device, 
 // Throws HardwareUnavailable when the module is missing or broken or the source cannot be
 // opened, envmap::FisheyeError for a lens that does not see the whole hemisphere.
 std::unique_ptr<kiosk::EnvironmentCamera> openOpenCvEnvironmentCamera(
-    const kiosk::EnvironmentCameraSettings& settings, EnvironmentLog log);
+    const kiosk::EnvironmentCameraSettings& settings, const EnvironmentLog& log);
 
 }  // namespace penumbra::platform
