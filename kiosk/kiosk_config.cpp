@@ -169,7 +169,13 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
       c.productFiles.push_back({e["product"].string(), dir / e["file"].string()});
     }
   }
-  if (const auto e = j.find("environment")) c.environment = readEnvironmentCamera(*e, dir, c.loop);
+  if (const auto e = j.find("environment")) {
+    c.environment = readEnvironmentCamera(*e, dir, c.loop);
+    if (c.environment->device == c.camera) {
+      (*e)["device"].fail("the room camera is " + c.camera +
+                          " too: a V4L2 device serves one of them");
+    }
+  }
   c.bundle = dir / bundle;
   if (!lastGood.empty()) c.lastGood = dir / lastGood;
   return c;

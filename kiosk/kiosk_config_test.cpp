@@ -216,6 +216,9 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "samples": 8, "lights": 9}})",
        "environment.lights: must not exceed samples"},
+      {R"({"bundle": "b", "camera": "/dev/video2", "environment": {"device": "/dev/video2",
+          "width": 480, "height": 480, "lens": "equidistant180"}})",
+       "environment.device: the room camera is /dev/video2 too"},
   };
   for (const auto& [text, expected] : cases) {
     const auto path = write(text);

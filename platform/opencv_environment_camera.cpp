@@ -146,6 +146,7 @@ kiosk::GrabStatus OpenCvEnvironmentCamera::grab(int64_t nowNs, envmap::Hemispher
     // Frame k of a recording is due at startNs + k·period: the newest one due is decoded, the
     // ones before it only grabbed.
     if (m.startNs < 0) m.startNs = nowNs;
+    if (nowNs < m.startNs) return kiosk::GrabStatus::kNoFrame;  // a clock that went back
     uint64_t due = uint64_t((nowNs - m.startNs) / m.periodNs);
     if (due < m.framesRead) return kiosk::GrabStatus::kNoFrame;
     if (due - m.framesRead > kMostFramesSkipped) {
