@@ -1,5 +1,6 @@
 // The board program's configuration file (docs/kiosk.md, "The board program"): which
-// bundle, which camera with which fixed controls, what to fall back to, GPIO chip, screen.
+// bundle, which camera with which fixed controls, what to fall back to, GPIO chip, screen,
+// and the environment camera of live lighting.
 // Strict: unknown keys, wrong types and out-of-range values are refused with a ConfigError
 // naming the file and the key. Paths are resolved against the file's folder.
 #pragma once
