@@ -49,6 +49,8 @@ struct OpenCvEnvironmentCamera::Impl {
   int64_t nextReadNs = 0;              // a device: its next read
   uint64_t framesRead = 0;             // since opened (a recording: the next frame's index)
   uint64_t frames = 0;                 // returned, ever
+  uint64_t position = 0;               // frames read since the reader was opened
+  uint64_t sequenceLength = 0;         // an image sequence's frames (0: a video, or unknown)
   int64_t nextReopenNs = 0;
   int64_t nextSaturationLogNs = 0;
   bool lostSaid = false;
@@ -88,24 +90,42 @@ struct OpenCvEnvironmentCamera::Impl {
       const int64_t framePeriod = fps > 0 && fps <= 1000 ? int64_t(1e9 / fps) : kSecondNs / 30;
       periodNs = std::max(kHavranPeriodNs, framePeriod + framePeriod / 2);
     } else {
-      if (!cap.open(settings.device, cv::CAP_ANY)) {
-        why = "cannot be read as a video file or image sequence";
+      if (!cap.open(settings.device, api())) {
+        why = pattern ? "no image sequence there" : "cannot be read as a video file";
         return false;
       }
-      const double fps = cap.get(cv::CAP_PROP_FPS);
+      // An image sequence has no rate of its own (FFmpeg's reader would say 25): Havran's.
+      const double fps = pattern ? 0 : cap.get(cv::CAP_PROP_FPS);
+      const double count = pattern ? cap.get(cv::CAP_PROP_FRAME_COUNT) : 0;
+      sequenceLength = count >= 1 && count < 1e9 ? uint64_t(count) : 0;
+      position = 0;
       periodNs = fps > 0 && fps <= 1000 ? int64_t(1e9 / fps) : kHavranPeriodNs;
     }
     return true;
   }
 
+  // A recording's reader: OpenCV's own for an image sequence ("frame_%03d.png": it reads each
+  // file when its frame is due), whichever OpenCV finds for a video file.
+  int api() const {
+    return settings.device.find('%') != std::string::npos ? cv::CAP_IMAGES : cv::CAP_ANY;
+  }
+
   // The source's next frame (skip: grabbed, not decoded into `frame`). A recording starts
   // again at its end.
   bool next(bool decode) {
-    const auto step = [&] { return decode ? cap.read(frame) && !frame.empty() : cap.grab(); };
-    if (step()) return true;
-    if (device) return false;
+    const auto step = [&] {
+      ++position;
+      return decode ? cap.read(frame) && !frame.empty() : cap.grab();
+    };
+    // An image sequence's end is known (its reader counted the files): started again without
+    // asking for the file after the last, which OpenCV would warn about on stderr.
+    if (sequenceLength == 0 || position < sequenceLength) {
+      if (step()) return true;
+      if (device) return false;
+    }
     cap.release();
-    return cap.open(settings.device, cv::CAP_ANY) && step();
+    position = 0;
+    return cap.open(settings.device, api()) && step();
   }
 
   kiosk::GrabStatus lost(int64_t nowNs, const std::string& why) {

@@ -7,11 +7,11 @@
 // kernel). Lives in libpenumbra_opencv_camera.so beside the V4L2 room camera
 // (opencv_camera_module.h): OpenCV's libraries are mapped only when a kiosk uses either.
 //
-// Pacing: a recording plays at its own frame rate on the kiosk's clock (21 Hz, Havran's rate,
-// when the file does not say) and loops at its end; a device is read at most every 1.5 of its
-// frame periods (and at most at 21 Hz), so that with a one-frame buffer the newest frame is
-// normally waiting and the read does not wait for the sensor. A device that fails or goes is
-// kDisconnected, said in the log with the reason, and reopened every second.
+// Pacing: a recording plays on the kiosk's clock — a video at its own frame rate (21 Hz when
+// it does not say), an image sequence at 21 Hz, Havran's rate — and loops at its end; a device is
+// read at most every 1.5 of its frame periods (and at most at 21 Hz), so that with a one-frame
+// buffer the newest frame is normally waiting and the read does not wait for the sensor. A device
+// that fails or goes is kDisconnected, said in the log with the reason, and reopened every second.
 #pragma once
 
 #include <cstdint>

@@ -155,6 +155,7 @@ TEST(OpenCvEnvironmentCamera, RecordingGivesTheLampsDirectionAndTheEncodedRadian
 
   // Paced at the recording's rate (21 Hz when an image sequence does not say), then looped.
   EXPECT_EQ(camera->grab(10 * kMs, map), kiosk::GrabStatus::kNoFrame);
+  EXPECT_EQ(camera->grab(47 * kMs, map), kiosk::GrabStatus::kNoFrame);  // due at 47.6 ms
   EXPECT_EQ(camera->grab(48 * kMs, map), kiosk::GrabStatus::kFrame);
   EXPECT_EQ(camera->grab(96 * kMs, map), kiosk::GrabStatus::kFrame);
   EXPECT_EQ(camera->grab(143 * kMs, map), kiosk::GrabStatus::kFrame);  // frame 0 again
@@ -197,6 +198,9 @@ TEST(OpenCvEnvironmentCamera, VideoFileOpensThroughTheModule) {
   // 10 fps: the next frame is due at 100 ms.
   EXPECT_EQ(camera->grab(60 * kMs, map), kiosk::GrabStatus::kNoFrame);
   EXPECT_EQ(camera->grab(100 * kMs, map), kiosk::GrabStatus::kFrame);
+  EXPECT_EQ(camera->grab(300 * kMs, map), kiosk::GrabStatus::kFrame);  // frame 3, the last
+  EXPECT_EQ(camera->grab(400 * kMs, map), kiosk::GrabStatus::kFrame);  // frame 0 again
+  EXPECT_LT(degreesBetween(brightestRegion(map), lampDirection()), 2.0);
   std::filesystem::remove_all(rec.dir);
 }
 
@@ -241,8 +245,8 @@ TEST(OpenCvEnvironmentCamera, VanishedSourceIsDisconnectedSaidAndReopened) {
   for (int i = 0; i < 2; ++i) {
     std::filesystem::remove(rec.dir / ("frame_00" + std::to_string(i) + ".png"));
   }
-  // A reader may hold a frame or two it read ahead (FFmpeg's image2 demuxer does): the
-  // recording runs dry within a few frames, and cannot be started again.
+  // The recording runs dry (within a few frames, should a reader hold some it read ahead), and
+  // cannot be started again.
   int64_t gone = -1;
   for (int64_t t = 48 * kMs; t < 480 * kMs && gone < 0; t += 48 * kMs) {
     if (camera->grab(t, map) == kiosk::GrabStatus::kDisconnected) gone = t;
