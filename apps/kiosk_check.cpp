@@ -3,7 +3,10 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <numbers>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -56,6 +59,48 @@ const char* hudName(kiosk::HudMode m) {
       break;
   }
   return "on";
+}
+
+// The environment camera and live lighting's options, or the captured light without one.
+void describeEnvironment(const kiosk::KioskConfig& c, std::ostream& out) {
+  if (!c.environment) {
+    out << "environment camera: none (the bundle's captured light)\n";
+    return;
+  }
+  const kiosk::EnvironmentCameraSettings& e = *c.environment;
+  std::string where;
+  if (e.device.rfind("/dev/", 0) == 0) {
+    where = describeV4l2(e.device);
+  } else if (e.device.find('%') != std::string::npos) {
+    where = e.device + " (image sequence)";
+  } else {
+    where = e.device + (std::filesystem::exists(e.device) ? " (recording)" : " (not present)");
+  }
+  std::ostringstream lens;
+  lens << (e.equidistant180 ? "equidistant 180" : "fisheye") << " lens f " << e.lens.fx << " "
+       << e.lens.fy << " centre " << e.lens.cx << " " << e.lens.cy;
+  if (!e.equidistant180) {
+    lens << " k " << e.lens.k[0] << " " << e.lens.k[1] << " " << e.lens.k[2] << " " << e.lens.k[3];
+  }
+#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+  const char* module = " (OpenCV module)";
+#else
+  const char* module = " (this build has no OpenCV: not opened)";
+#endif
+  out << "environment camera: " << where << module << " -> the bundle's captured light; " << e.width
+      << "x" << e.height << ", " << lens.str() << ", response ";
+  if (e.gamma == 0) {
+    out << "sRGB";
+  } else {
+    out << "gamma " << e.gamma;
+  }
+  out << ", exposure scale " << e.exposureScale << "\n";
+  const envmap::LiveLightsOptions& l = c.loop.liveLights;
+  // The yaw back from the rotation: the image's +x goes to (cos, 0, sin).
+  const double yaw = std::atan2(l.toWorld[0][2], l.toWorld[0][0]) * 180 / std::numbers::pi;
+  out << "live lighting: " << l.samples << " samples, at most " << l.maxLights << " lights, yaw "
+      << yaw << " deg, radiance scale " << l.radianceScale << ", stale after "
+      << c.loop.environmentStaleAfterNs / 1'000'000 << " ms\n";
 }
 
 }  // namespace
@@ -151,6 +196,7 @@ void checkKioskConfig(const std::filesystem::path& configPath, std::ostream& out
         << (driver != nullptr ? std::string(driver) : "unset (SDL picks; kmsdrm on a board)");
   }
   out << "\n";
+  describeEnvironment(c, out);
   out << "render: " << kioskThreads(c) << " threads" << (c.threads == 0 ? " (one per core)" : "")
       << "\n";
   out << "loop: " << 1'000'000'000 / c.loop.fastFrameNs << " fps, quality "

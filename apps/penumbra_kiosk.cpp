@@ -4,7 +4,9 @@
 // camera libcamera → V4L2 webcam (OpenCV) → the simulated camera if configured → the
 // calibration photograph;
 // buttons and LED on libgpiod → none (attract mode only); screen SDL2 → none (frames are
-// rendered and counted, for a headless check). Every fallback is logged to stderr (journald).
+// rendered and counted, for a headless check); the environment camera of live lighting
+// (configured: an 8-bit fisheye through the OpenCV module) → the bundle's captured light.
+// Every fallback is logged to stderr (journald).
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <functional>
@@ -22,6 +24,7 @@
 #include "kiosk/kiosk_config.h"
 #include "kiosk/kiosk_loop.h"
 #include "platform/hardware.h"
+#include "platform/opencv_environment_camera.h"
 #include "platform/service_notifier.h"
 #ifdef PENUMBRA_HAVE_GPIOD
 #include "platform/gpiod_io.h"
@@ -88,6 +91,28 @@ std::unique_ptr<kiosk::FrameSource> openCamera(const kiosk::KioskConfig& config,
                                                          firmware_sim::CameraScript{});
   }
   warn("camera: none; showing the calibration photograph");
+  return nullptr;
+}
+
+// Live lighting's environment camera ("environment" in the configuration): the 8-bit fisheye
+// through the OpenCV module. Anything that keeps it from opening (no device, no module, a lens
+// that does not see the hemisphere) is one line in the log, and the kiosk lights the product
+// with the bundle's captured light.
+std::unique_ptr<kiosk::EnvironmentCamera> openEnvironment(
+    const kiosk::KioskConfig& config, const platform::EnvironmentLog& say,
+    const std::function<void(std::string)>& warn) {
+  if (!config.environment) return nullptr;
+#ifdef PENUMBRA_HAVE_OPENCV_CAMERA
+  try {
+    return platform::openOpenCvEnvironmentCamera(*config.environment, say);
+  } catch (const std::exception& e) {
+    warn(std::string(e.what()) + "; live lighting off, the bundle's captured light");
+  }
+#else
+  (void)say;
+  warn("environment camera: built without OpenCV, " + config.environment->device +
+       " not opened; live lighting off, the bundle's captured light");
+#endif
   return nullptr;
 }
 
@@ -203,6 +228,12 @@ Examples:
     const std::unique_ptr<kiosk::FrameSource> camera = openCamera(config, b, fallback);
     if (camera)
       log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo, "camera: " + camera->describe());
+    const std::unique_ptr<kiosk::EnvironmentCamera> environment = openEnvironment(
+        config,
+        [&](kiosk::LogLevel level, const std::string& text) {
+          log.write(time.nowNanoseconds(), level, text);
+        },
+        fallback);
 
     kiosk::RecordingLed noLed;
     kiosk::StatusLed* led = &noLed;
@@ -253,6 +284,7 @@ Examples:
 
     kiosk::Peripherals io;
     io.camera = camera.get();
+    io.environment = environment.get();
     io.buttons = buttons.get();
     io.led = led;
     io.display = display.get();

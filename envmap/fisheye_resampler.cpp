@@ -31,11 +31,6 @@ void checkLens(const FisheyeLens& lens) {
 
 }  // namespace
 
-FisheyeLens FisheyeLens::equidistant180(uint32_t size) {
-  const double f = (size / 2.0) / (std::numbers::pi / 2);
-  return {size, size, f, f, size / 2.0, size / 2.0, {}};
-}
-
 FisheyeResampler::FisheyeResampler(const FisheyeLens& lens, uint32_t cols, uint32_t rows,
                                    uint32_t supersample)
     : lens_(lens), cols_(cols), rows_(rows), taps_(supersample * supersample) {

@@ -14,8 +14,10 @@
 // OpenCV's projection could only move a snapped position at a tie).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -38,7 +40,14 @@ struct FisheyeLens {
 
   // An ideal equidistant lens with a 180° field of view whose image circle fills a square
   // image of `size` pixels: f = (size / 2) / (π / 2).
-  static FisheyeLens equidistant180(uint32_t size);
+  static FisheyeLens equidistant180(uint32_t size) { return equidistant180(size, size); }
+  // The same lens centred in a width × height image, its image circle the shorter side's
+  // (header-only: the kiosk's configuration uses it without OpenCV).
+  static FisheyeLens equidistant180(uint32_t width, uint32_t height) {
+    const uint32_t size = std::min(width, height);
+    const double f = (size / 2.0) / (std::numbers::pi / 2);
+    return {width, height, f, f, width / 2.0, height / 2.0, {}};
+  }
 };
 
 class FisheyeResampler {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "core/json_reader.h"
@@ -126,7 +127,7 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   const JsonValue j = doc.root().object(
       {"bundle", "last_good_bundle", "camera", "camera_id", "camera_controls", "camera_fallback",
        "camera_rotation", "camera_flip", "gpio_chip", "gpio_lines", "led_line", "display",
-       "fullscreen", "product_files", "threads", "loop"});
+       "fullscreen", "product_files", "threads", "loop", "environment"});
   KioskConfig c;
   const std::string bundle = j.stringOr("bundle", "");
   if (bundle.empty()) doc.fail("bundle", "required");
@@ -168,6 +169,13 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
       c.productFiles.push_back({e["product"].string(), dir / e["file"].string()});
     }
   }
+  if (const auto e = j.find("environment")) {
+    c.environment = readEnvironmentCamera(*e, dir, c.loop);
+    if (c.environment->device == c.camera) {
+      (*e)["device"].fail("the room camera is " + c.camera +
+                          " too: a V4L2 device serves one of them");
+    }
+  }
   c.bundle = dir / bundle;
   if (!lastGood.empty()) c.lastGood = dir / lastGood;
   return c;
@@ -187,6 +195,56 @@ void readLiveLightOptions(const JsonValue& e, KioskOptions& o) {
   l.radianceScale = e.numberOr("radiance_scale", l.radianceScale, 1e-9, 1e9);
   o.environmentStaleAfterNs =
       e.integerOr("stale_after_ms", o.environmentStaleAfterNs / 1'000'000, 1, 60'000) * 1'000'000;
+}
+
+EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
+                                                const std::filesystem::path& dir, KioskOptions& o) {
+  e.object({"device", "width", "height", "lens", "response", "exposure_scale", "samples", "lights",
+            "yaw_deg", "radiance_scale", "stale_after_ms"});
+  EnvironmentCameraSettings s;
+  s.device = e["device"].nonEmptyString();
+  // A device node stays as given; a recording is a path like the configuration's others.
+  if (s.device.rfind("/dev/", 0) != 0) s.device = (dir / s.device).string();
+  s.width = static_cast<uint32_t>(e["width"].integer(2, 4096));
+  s.height = static_cast<uint32_t>(e["height"].integer(2, 4096));
+  const JsonValue lens = e["lens"];
+  if (!lens.json().is_string() && !lens.json().is_object()) {
+    lens.fail(R"(expected "equidistant180" or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]})");
+  }
+  if (lens.json().is_string()) {
+    lens.oneOf({"equidistant180"});
+    s.lens = envmap::FisheyeLens::equidistant180(s.width, s.height);
+    s.equidistant180 = true;
+  } else {
+    lens.object({"fx", "fy", "cx", "cy", "k"});
+    s.lens.width = s.width;
+    s.lens.height = s.height;
+    s.lens.fx = lens["fx"].number(1e-3, 1e6);
+    s.lens.fy = lens["fy"].number(1e-3, 1e6);
+    s.lens.cx = lens["cx"].number(0, s.width);
+    s.lens.cy = lens["cy"].number(0, s.height);
+    const std::vector<double> k = lens["k"].numbers(4);
+    for (size_t i = 0; i < 4; ++i) {
+      if (!(std::abs(k[i]) <= 100))
+        lens["k"].fail("k" + std::to_string(i + 1) + " must be in [-100, 100]");
+      s.lens.k[i] = k[i];
+    }
+    s.equidistant180 = false;
+  }
+  if (const auto r = e.find("response")) {
+    if (!r->json().is_string() && !r->json().is_number()) {
+      r->fail(R"(expected "srgb" or a gamma (a number in [1, 4]))");
+    }
+    if (r->json().is_string()) {
+      r->oneOf({"srgb"});
+      s.gamma = 0;
+    } else {
+      s.gamma = r->number(1.0, 4.0);
+    }
+  }
+  s.exposureScale = e.numberOr("exposure_scale", 1.0, 1e-6, 1e6);
+  readLiveLightOptions(e, o);
+  return s;
 }
 
 }  // namespace penumbra::kiosk

@@ -1,5 +1,6 @@
 // The board program's configuration file (docs/kiosk.md, "The board program"): which
-// bundle, which camera with which fixed controls, what to fall back to, GPIO chip, screen.
+// bundle, which camera with which fixed controls, what to fall back to, GPIO chip, screen,
+// and the environment camera of live lighting.
 // Strict: unknown keys, wrong types and out-of-range values are refused with a ConfigError
 // naming the file and the key. Paths are resolved against the file's folder.
 #pragma once
@@ -7,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -14,6 +16,7 @@
 #include "core/error.h"
 #include "core/json_reader.h"
 #include "kiosk/buttons.h"
+#include "kiosk/environment_camera.h"
 #include "kiosk/exposure_control.h"
 #include "kiosk/kiosk_loop.h"
 #include "kiosk/product_files.h"
@@ -51,6 +54,9 @@ struct KioskConfig {
   bool fullscreen = true;
   // Product models from files (kiosk/product_files.h), watched while the kiosk runs.
   std::vector<ProductFile> productFiles;
+  // "environment": live lighting from the real environment camera (absent: captured light;
+  // its light options are in `loop`, readLiveLightOptions).
+  std::optional<EnvironmentCameraSettings> environment;
 };
 
 KioskConfig loadKioskConfig(const std::filesystem::path& path);
@@ -70,5 +76,13 @@ KioskOptions readLoopOptions(const core::JsonValue& parent, std::string_view key
 // in the room camera's, > 0), "stale_after_ms". Keys other than these are the caller's to
 // allow (`e.object(...)` before this call).
 void readLiveLightOptions(const core::JsonValue& e, KioskOptions& o);
+
+// The configuration's "environment" object (docs/kiosk.md, "Environment camera"): "device"
+// (a /dev/videoN, or a video file or image sequence relative to `dir`), "width", "height"
+// (2..4096), "lens" ("equidistant180", or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]}),
+// "response" ("srgb" or a gamma, 1..4; default "srgb"), "exposure_scale" (> 0, default 1),
+// and the light options of readLiveLightOptions into `o`. Strict, like the rest.
+EnvironmentCameraSettings readEnvironmentCamera(const core::JsonValue& e,
+                                                const std::filesystem::path& dir, KioskOptions& o);
 
 }  // namespace penumbra::kiosk

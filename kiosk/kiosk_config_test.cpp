@@ -76,6 +76,53 @@ TEST(KioskConfig, ReadsASitesWiringLoopAndCameraMounting) {
   EXPECT_FALSE(f.loop.cameraOrientation.mirrorY);
 }
 
+// "environment": the real environment camera of live lighting and the lights' options.
+TEST(KioskConfig, ReadsTheEnvironmentCamera) {
+  EXPECT_FALSE(loadKioskConfig(write(R"({"bundle": "b"})")).environment.has_value());
+
+  const auto path = write(R"({"bundle": "b", "environment": {"device": "/dev/video2",
+      "width": 640, "height": 480, "lens": "equidistant180", "response": "srgb",
+      "exposure_scale": 0.5, "samples": 128, "lights": 16, "yaw_deg": 90, "radiance_scale": 2,
+      "stale_after_ms": 300}})");
+  const KioskConfig c = loadKioskConfig(path);
+  ASSERT_TRUE(c.environment.has_value());
+  const EnvironmentCameraSettings& e = *c.environment;
+  EXPECT_EQ(e.device, "/dev/video2");  // a device node is not a path of the configuration's
+  EXPECT_EQ(e.width, 640u);
+  EXPECT_EQ(e.height, 480u);
+  EXPECT_TRUE(e.equidistant180);
+  // The image circle is the shorter side's, centred: f = 240 / (π / 2).
+  EXPECT_EQ(e.lens.width, 640u);
+  EXPECT_EQ(e.lens.height, 480u);
+  EXPECT_DOUBLE_EQ(e.lens.fx, 480 / 3.14159265358979323846);
+  EXPECT_EQ(e.lens.fx, e.lens.fy);
+  EXPECT_EQ(e.lens.cx, 320.0);
+  EXPECT_EQ(e.lens.cy, 240.0);
+  EXPECT_EQ(e.gamma, 0.0);  // sRGB
+  EXPECT_EQ(e.exposureScale, 0.5);
+  EXPECT_EQ(c.loop.liveLights.samples, 128u);
+  EXPECT_EQ(c.loop.liveLights.maxLights, 16u);
+  EXPECT_EQ(c.loop.liveLights.radianceScale, 2.0);
+  EXPECT_EQ(c.loop.environmentStaleAfterNs, 300'000'000);
+  EXPECT_NEAR(c.loop.liveLights.toWorld[0][2], 1.0, 1e-12);  // yaw 90°: image +x to room +z
+
+  // A recording relative to the configuration, a calibrated lens, a gamma; the defaults.
+  const auto path2 = write(R"({"bundle": "b", "environment": {"device": "footage/day.avi",
+      "width": 480, "height": 480, "response": 2.2,
+      "lens": {"fx": 150.5, "fy": 151, "cx": 239.5, "cy": 241, "k": [0.01, -0.002, 0, 0.0001]}}})");
+  const KioskConfig d = loadKioskConfig(path2);
+  ASSERT_TRUE(d.environment.has_value());
+  EXPECT_EQ(d.environment->device, (path2.parent_path() / "footage" / "day.avi").string());
+  EXPECT_FALSE(d.environment->equidistant180);
+  EXPECT_EQ(d.environment->lens.fx, 150.5);
+  EXPECT_EQ(d.environment->lens.cy, 241.0);
+  EXPECT_EQ(d.environment->lens.k[1], -0.002);
+  EXPECT_EQ(d.environment->lens.width, 480u);
+  EXPECT_EQ(d.environment->gamma, 2.2);
+  EXPECT_EQ(d.environment->exposureScale, 1.0);
+  EXPECT_EQ(d.loop.liveLights.samples, envmap::LiveLightsOptions{}.samples);
+}
+
 TEST(KioskConfig, BadValuesNameTheFileAndKey) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {R"({"bundle": "b", "camera_controls": {"exposure_us": 0}})",
@@ -115,6 +162,63 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
        "loop.stuck_after_ms: the service hold (3000 ms) must be shorter"},
       {R"({"bundle": "b", "loop": {"speed": 2}})", "loop.speed: unknown field"},
       {R"({"bundle": )", "line 1: "},
+      {R"({"bundle": "b", "environment": "/dev/video2"})",
+       "environment: expected an object, got a string"},
+      {R"({"bundle": "b", "environment": {"width": 480, "height": 480, "lens": "equidistant180"}})",
+       "environment.device: missing"},
+      {R"({"bundle": "b", "environment": {"device": "", "width": 480, "height": 480,
+          "lens": "equidistant180"}})",
+       "environment.device: expected a non-empty string"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "fps": 30}})",
+       "environment.fps: unknown field"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 1, "height": 480,
+          "lens": "equidistant180"}})",
+       "environment.width: 1 is not in [2, 4096]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480,
+          "lens": "equidistant180"}})",
+       "environment.height: missing"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480}})",
+       "environment.lens: missing"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "pinhole"}})",
+       "environment.lens: expected one of \"equidistant180\", got \"pinhole\""},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": 180}})",
+       "environment.lens: expected \"equidistant180\" or {\"fx\""},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": {"fx": 150, "fy": 150, "cx": 240, "cy": 240}}})",
+       "environment.lens.k: missing"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": {"fx": 150, "fy": 150, "cx": 240, "cy": 240, "k": [0, 0, 0]}}})",
+       "environment.lens.k: expected an array of 4 numbers, got an array of 3"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": {"fx": 0, "fy": 150, "cx": 240, "cy": 240, "k": [0, 0, 0, 0]}}})",
+       "environment.lens.fx: 0 is not in"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": {"fx": 150, "fy": 150, "cx": 481, "cy": 240, "k": [0, 0, 0, 0]}}})",
+       "environment.lens.cx: 481 is not in [0, 480]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": {"fx": 150, "fy": 150, "cx": 240, "cy": 240, "k": [0, 0, 0, 0], "k5": 0}}})",
+       "environment.lens.k5: unknown field"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "response": "linear"}})",
+       "environment.response: expected one of \"srgb\", got \"linear\""},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "response": 0.45}})",
+       "environment.response: 0.45 is not in [1, 4]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "response": true}})",
+       "environment.response: expected \"srgb\" or a gamma"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "exposure_scale": 0}})",
+       "environment.exposure_scale: 0 is not in"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "samples": 8, "lights": 9}})",
+       "environment.lights: must not exceed samples"},
+      {R"({"bundle": "b", "camera": "/dev/video2", "environment": {"device": "/dev/video2",
+          "width": 480, "height": 480, "lens": "equidistant180"}})",
+       "environment.device: the room camera is /dev/video2 too"},
   };
   for (const auto& [text, expected] : cases) {
     const auto path = write(text);

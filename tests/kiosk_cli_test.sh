@@ -60,11 +60,71 @@ for line in "config: $tmp/site.json: valid" "products chair" "product file: chai
             "-> V4L2 /dev/video0 (not present) -> the calibration photograph" "mirrored top-bottom" \
             "lines next 17 previous 6 left 13 right 19 forward 26 back 16 rotate 20 quality 4, LED none" \
             "gpiochip-penumbra-absent (not present: no buttons, no LED)" "render: 3 threads" \
-            "loop: 25 fps, quality 15 fps" "HUD service (hold next + previous 2000 ms)"; do
+            "loop: 25 fps, quality 15 fps" "HUD service (hold next + previous 2000 ms)" \
+            "environment camera: none (the bundle's captured light)"; do
   grep -qF -- "$line" "$tmp/check" || fail "--check does not say '$line': $(cat "$tmp/check")"
 done
 if "$kiosk" --check "$tmp/models.json" >"$tmp/check2" 2>"$tmp/check2_err"; then fail "--check passed a bad product file"; fi
 grep -q "truncated.obj: line 174" "$tmp/check2_err" || fail "--check: product file error unclear: $(cat "$tmp/check2_err")"
+# The environment camera of live lighting: --check says what it would open and with what;
+# the kiosk without it (no device here) says so in one line and runs on the captured light.
+cat >"$tmp/env.json" <<JSON
+{"bundle": "$data/showroom/showroom.bundle", "camera": "none", "display": "none",
+ "gpio_chip": "/dev/gpiochip-penumbra-absent",
+ "environment": {"device": "/dev/video-penumbra-absent", "width": 480, "height": 480,
+                 "lens": "equidistant180", "response": 2.2, "exposure_scale": 0.25,
+                 "samples": 64, "lights": 8, "yaw_deg": 30, "stale_after_ms": 400}}
+JSON
+"$kiosk" --check "$tmp/env.json" >"$tmp/check_env" 2>"$tmp/check_env_err" || fail "--check refused an environment camera: $(cat "$tmp/check_env_err")"
+for line in "environment camera: /dev/video-penumbra-absent (not present)" "-> the bundle's captured light; 480x480" \
+            "equidistant 180 lens f 152.789 152.789 centre 240 240, response gamma 2.2, exposure scale 0.25" \
+            "live lighting: 64 samples, at most 8 lights, yaw 30 deg, radiance scale 1, stale after 400 ms"; do
+  grep -qF -- "$line" "$tmp/check_env" || fail "--check does not say '$line': $(cat "$tmp/check_env")"
+done
+"$kiosk" "$tmp/env.json" --frames 3 --threads 2 >"$tmp/out7" 2>"$tmp/err7" || fail "kiosk with an absent environment camera failed: $(cat "$tmp/err7")"
+grep -q "3 frames" "$tmp/out7" || fail "did not run 3 frames without the environment camera"
+grep -qF "environment camera: cannot open /dev/video-penumbra-absent: no such device; live lighting off, the bundle's captured light" "$tmp/err7" ||
+  fail "absent environment camera not said: $(cat "$tmp/err7")"
+# A node that is no camera goes through the OpenCV module (where built), whose refusal is said.
+if [ -e "$(dirname "$kiosk")/libpenumbra_opencv_camera.so" ]; then
+  sed 's|/dev/video-penumbra-absent|/dev/null|' "$tmp/env.json" >"$tmp/env_null.json"
+  "$kiosk" "$tmp/env_null.json" --frames 2 --threads 2 >"$tmp/out8" 2>"$tmp/err8" || fail "kiosk with /dev/null as environment camera failed: $(cat "$tmp/err8")"
+  grep -qF "environment camera: cannot open /dev/null: cannot be opened with V4L2; live lighting off" "$tmp/err8" ||
+    fail "the module's refusal not said: $(cat "$tmp/err8")"
+  # A recording (an image sequence beside the configuration): a 96-pixel fisheye disc with a
+  # lamp that clips. The kiosk plays it, lights from it, and says the lamp is saturated.
+  mkdir "$tmp/env_frames"
+  python3 - "$tmp/env_frames" <<'PY'
+import math, sys
+n = 96
+for k in range(3):
+    px = bytearray()
+    for y in range(n):
+        for x in range(n):
+            r = math.hypot(x + 0.5 - n / 2, y + 0.5 - n / 2)
+            v = 40 + int(30 * (1 - r / (n / 2))) if r < n / 2 else 0
+            px += bytes((255, 240, 200) if math.hypot(x - 64, y - 40) < 5 else (v, v, v + 10))
+    with open("%s/f_%03d.ppm" % (sys.argv[1], k), "wb") as f:
+        f.write(b"P6\n%d %d\n255\n" % (n, n) + px)
+PY
+  cat >"$tmp/env_rec.json" <<JSON
+{"bundle": "$data/showroom/showroom.bundle", "camera": "none", "display": "none",
+ "gpio_chip": "/dev/gpiochip-penumbra-absent",
+ "environment": {"device": "env_frames/f_%03d.ppm", "width": 96, "height": 96,
+                 "lens": "equidistant180", "samples": 64, "lights": 16}}
+JSON
+  "$kiosk" "$tmp/env_rec.json" --frames 20 --threads 2 >"$tmp/out9" 2>"$tmp/err9" || fail "kiosk with a recorded environment failed: $(cat "$tmp/err9")"
+  grep -qF "live lighting: fisheye recording $tmp/env_frames/f_%03d.ppm via OpenCV, 96x96" "$tmp/err9" ||
+    fail "the recording is not the environment camera: $(cat "$tmp/err9")"
+  grep -q "environment camera: [0-9]* of 9216 pixels saturated" "$tmp/err9" || fail "saturated lamp not said: $(cat "$tmp/err9")"
+  if grep -qE "environment frame refused|environment camera lost|environment camera: no frame yet" "$tmp/err9"; then
+    fail "the recording did not light the kiosk: $(cat "$tmp/err9")"
+  fi
+fi
+sed 's|"equidistant180"|"fisheye"|' "$tmp/env.json" >"$tmp/env_bad.json"
+if "$kiosk" --check "$tmp/env_bad.json" 2>"$tmp/env_bad_err"; then fail "--check passed a bad lens"; fi
+grep -qF "env_bad.json: environment.lens: expected one of \"equidistant180\", got \"fisheye\"" "$tmp/env_bad_err" ||
+  fail "unclear lens error: $(cat "$tmp/env_bad_err")"
 echo '{"bundle": "x.bundle", "gpio_lines": {"next": 6}}' >"$tmp/dup.json"
 if "$kiosk" --check "$tmp/dup.json" 2>"$tmp/dup_err"; then fail "--check passed two buttons on one line"; fi
 grep -q "dup.json: gpio_lines: next and previous are both on line 6" "$tmp/dup_err" || fail "unclear: $(cat "$tmp/dup_err")"
