@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -72,6 +73,9 @@ class FisheyeResampler {
   // restIndex_/restWeight_[restOffsets_[q], restOffsets_[q + 1]).
   std::vector<uint32_t> restPixels_, restOffsets_{0}, restIndex_;
   std::vector<float> restWeight_;
+  // Per image row, the samples [first, end) that the kernels read (a step reads 4 floats), in
+  // core::ImageF's layout; first ≥ end for a row that none reads. Only these are prefetched.
+  std::vector<std::pair<uint32_t, uint32_t>> rowSpans_;
 };
 
 // A synthetic fisheye photograph of a lat-long environment (lat_long.h) turned by
