@@ -202,12 +202,21 @@ void FisheyeResampler::resample(const core::ImageF& image, HemisphereMap& map,
     // Per lane r, g, b (and a fourth float, the next image sample, computed and dropped), each
     // summed in its kernel's fixed order, w × p then +: the scalar sum's operations.
     Float4 sum[kLanes] = {};
-    for (uint32_t s = 0; s < steps; ++s, index += kLanes, weight += kLanes)
-      for (uint32_t lane = 0; lane < kLanes; ++lane) {
-        Float4 p;
-        std::memcpy(&p, in + index[lane], sizeof p);
-        sum[lane] += weight[lane] * p;
-      }
+    static_assert(kLanes == 4);
+    for (uint32_t s = 0; s < steps; ++s, index += kLanes, weight += kLanes) {
+      // The step's four weights in one load, each lane's spread over a vector by a shuffle.
+      Float4 w;
+      std::memcpy(&w, weight, sizeof w);
+      Float4 p0, p1, p2, p3;
+      std::memcpy(&p0, in + index[0], sizeof p0);
+      std::memcpy(&p1, in + index[1], sizeof p1);
+      std::memcpy(&p2, in + index[2], sizeof p2);
+      std::memcpy(&p3, in + index[3], sizeof p3);
+      sum[0] += __builtin_shufflevector(w, w, 0, 0, 0, 0) * p0;
+      sum[1] += __builtin_shufflevector(w, w, 1, 1, 1, 1) * p1;
+      sum[2] += __builtin_shufflevector(w, w, 2, 2, 2, 2) * p2;
+      sum[3] += __builtin_shufflevector(w, w, 3, 3, 3, 3) * p3;
+    }
     for (uint32_t lane = 0; lane < kLanes; ++lane)
       for (int c = 0; c < 3; ++c)
         out[size_t(groupPixels_[g * kLanes + lane]) * 3 + c] = sum[lane][c];
