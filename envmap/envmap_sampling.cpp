@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "core/colour.h"
@@ -22,6 +23,88 @@ void normaliseCdf(double* cdf, size_t bins) {
   const double total = cdf[bins];
   for (size_t k = 1; k < bins; ++k) cdf[k] = total > 0 ? cdf[k] / total : double(k) / double(bins);
   cdf[bins] = 1.0;
+}
+
+// The conditional CDFs are built by sumRow, which divides the row before's running sums by
+// their total while it adds up its own (below), cdf[bins] included: total / total, 1 for a row
+// with mass, NaN (0 / 0) for one without, which finishCdf then makes the uniform CDF as
+// normaliseCdf does. `divide`: the divisions were not done yet (the last row).
+void finishCdf(double* cdf, size_t bins, bool divide = false) {
+  if (divide || !(cdf[bins] > 0))
+    normaliseCdf(cdf, bins);
+  else
+    cdf[bins] = 1.0;
+}
+
+struct RowSums {
+  double r = 0, g = 0, b = 0;  // radiance, over all rows so far, in pixel order
+  float lowest = 0;            // the least sample of the last row (or 0)
+};
+
+using Double2 = double __attribute__((vector_size(16)));
+
+// One map row: its pixels copied from `in` to `copy`, their luminance's running sums into
+// cdf[0 … cols] and their radiance added to `sums`; with kDividePrevious, also previous[k] /=
+// previous[cols] for k = 1 … cols − 1 (the row before's normalisation, which normaliseCdf
+// would do after it: the same divisions, so the same bits, but here, two at a time, the divider
+// works in the shadow of this row's chain of additions instead of after it).
+//
+// Checks, without a branch per sample: a NaN or infinite sample makes the row's running sum
+// NaN or infinite (a double sum of finite floats cannot overflow); a negative one makes
+// `lowest` negative (−0 is not: the per-sample test of throwBadPixel accepts it too).
+template <bool kDividePrevious>
+void sumRow(const float* in, float* copy, double* cdf, uint32_t cols, double* previous,
+            RowSums& sums) {
+  const double total = kDividePrevious ? previous[cols] : 1.0;
+  const Double2 divisor = {total, total};
+  double running = 0.0, r = sums.r, g = sums.g, b = sums.b;
+  float lowest = 0.0f;
+  cdf[0] = 0.0;
+  // Per pixel: r, g, b converted and summed in pixel order, the luminance (core::luminance's
+  // operations) added to the running sum.
+  const auto pixel = [&](uint32_t col) {
+    const float* p = in + size_t(col) * 3;
+    float* o = copy + size_t(col) * 3;
+    o[0] = p[0], o[1] = p[1], o[2] = p[2];
+    lowest = std::min(lowest, std::min(p[0], std::min(p[1], p[2])));
+    const glm::dvec3 rgb(p[0], p[1], p[2]);
+    r += rgb.x, g += rgb.y, b += rgb.z;
+    // Havran 2005 §3.1: equal solid angle per pixel, so the PDF is the luminance itself.
+    running += core::luminance(rgb);
+    cdf[col + 1] = running;
+  };
+  uint32_t col = 0;
+  for (; col + 2 <= cols; col += 2) {
+    pixel(col);
+    pixel(col + 1);
+    if constexpr (kDividePrevious) {
+      // previous[col + 1], previous[col + 2]: up to previous[cols] (total / total, set to
+      // exactly 1 by finishCdf anyway).
+      Double2 v;
+      std::memcpy(&v, previous + col + 1, sizeof v);
+      v = v / divisor;
+      std::memcpy(previous + col + 1, &v, sizeof v);
+    }
+  }
+  for (; col < cols; ++col) {
+    pixel(col);
+    if constexpr (kDividePrevious) previous[col + 1] = previous[col + 1] / total;
+  }
+  sums.r = r, sums.g = g, sums.b = b;
+  sums.lowest = lowest;
+}
+
+// The first sample of `row` that is not a finite non-negative number, named in the error.
+[[noreturn]] void throwBadPixel(const HemisphereMap& map, uint32_t row, const std::string& label) {
+  for (uint32_t col = 0; col < map.cols(); ++col) {
+    const float* p = map.radiance.pixel(col, row);
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(p[c]) || p[c] < 0.0f)
+        throw EnvmapError(
+            label, "pixel (" + std::to_string(col) + ", " + std::to_string(row) + ")",
+            "radiance " + std::to_string(p[c]) + " is not a finite non-negative number");
+  }
+  throw EnvmapError(label, "row " + std::to_string(row), "a radiance is not finite non-negative");
 }
 
 // The position of `x` in bin `k` of a CDF, in [0, 1]; 0 for a bin of no mass (which a search
@@ -48,33 +131,25 @@ void EnvmapDistribution::update(const HemisphereMap& map, const std::string& lab
                       "holds " + std::to_string(map.radiance.pixels.size()) +
                           " samples, expected " + std::to_string(map.radiance.pixelCount() * 3));
   const uint32_t rows = map.rows(), cols = map.cols();
-  radiance_.assign(map.radiance.pixels.begin(), map.radiance.pixels.end());
+  const float* in = map.radiance.pixels.data();
+  radiance_.resize(map.radiance.pixels.size());
   marginal_.assign(rows + 1, 0.0);
-  conditional_.assign(size_t(rows) * (cols + 1), 0.0);
+  conditional_.resize(size_t(rows) * (cols + 1));
   const double solidAngle = map.pixelSolidAngle();
-  glm::dvec3 radianceSum(0.0);
+  RowSums sums;
   for (uint32_t row = 0; row < rows; ++row) {
     double* cdf = &conditional_[size_t(row) * (cols + 1)];
-    // The running sum in a register: read back from cdf[col] it went through a store and a
-    // load per pixel, the longest chain in the CDF's build (same additions, same bits).
-    double running = 0.0;
-    for (uint32_t col = 0; col < cols; ++col) {
-      const float* p = map.radiance.pixel(col, row);
-      for (int c = 0; c < 3; ++c) {
-        if (!std::isfinite(p[c]) || p[c] < 0.0f)
-          throw EnvmapError(
-              label, "pixel (" + std::to_string(col) + ", " + std::to_string(row) + ")",
-              "radiance " + std::to_string(p[c]) + " is not a finite non-negative number");
-      }
-      const glm::dvec3 rgb(p[0], p[1], p[2]);
-      radianceSum += rgb;
-      // Havran 2005 §3.1: equal solid angle per pixel, so the PDF is the luminance itself.
-      running += core::luminance(rgb);
-      cdf[col + 1] = running;
-    }
+    const size_t first = size_t(row) * cols * 3;
+    if (row == 0)
+      sumRow<false>(in + first, &radiance_[first], cdf, cols, nullptr, sums);
+    else
+      sumRow<true>(in + first, &radiance_[first], cdf, cols, cdf - (cols + 1), sums);
+    if (!(sums.lowest >= 0.0f) || !std::isfinite(cdf[cols])) throwBadPixel(map, row, label);
     marginal_[row + 1] = marginal_[row] + cdf[cols];
-    normaliseCdf(cdf, cols);
+    if (row > 0) finishCdf(cdf - (cols + 1), cols);
   }
+  finishCdf(&conditional_[size_t(rows - 1) * (cols + 1)], cols, true);
+  const glm::dvec3 radianceSum(sums.r, sums.g, sums.b);
   totalLuminance_ = marginal_[rows] * solidAngle;
   totalPower_ = radianceSum * solidAngle;
   normaliseCdf(marginal_.data(), rows);

@@ -6,7 +6,10 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/colour.h"
 #include "envmap/envmap_test_util.h"
 
 namespace penumbra::envmap {
@@ -146,6 +149,25 @@ TEST(EnvmapSampling, BadMapsAreRefusedWithTheirNameAndPixel) {
   } catch (const EnvmapError& e) {
     EXPECT_NE(std::string(e.what()).find("probe.exr: pixel (3, 2)"), std::string::npos) << e.what();
   }
+  // Every kind of bad sample, in the first, a middle and the last row and column (the rows are
+  // checked as a whole, then searched for the sample to name).
+  for (const float bad : {-0.5f, -1e-30f, std::nanf(""), -std::nanf(""), HUGE_VALF, -HUGE_VALF})
+    for (const auto& [col, row, c] :
+         std::array<std::array<uint32_t, 3>, 3>{{{0, 0, 0}, {3, 2, 1}, {7, 3, 2}}}) {
+      HemisphereMap one = testutil::uniformMap({1, 1, 1}, 8, 4);
+      one.radiance.pixel(col, row)[c] = bad;
+      const std::string where =
+          "probe.exr: pixel (" + std::to_string(col) + ", " + std::to_string(row) + ")";
+      try {
+        EnvmapDistribution refused(one, "probe.exr");
+        FAIL() << "radiance " << bad << " accepted at " << where;
+      } catch (const EnvmapError& e) {
+        EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+      }
+    }
+  HemisphereMap negativeZero = testutil::uniformMap({1, 1, 1}, 8, 4);
+  negativeZero.radiance.pixel(5, 1)[0] = -0.0f;
+  EXPECT_NO_THROW(EnvmapDistribution(negativeZero, "probe.exr"));
   map.radiance.pixel(3, 2)[1] = std::nanf("");
   EXPECT_THROW(EnvmapDistribution(map, "probe.exr"), EnvmapError);
   map.radiance.pixels.pop_back();
@@ -155,6 +177,105 @@ TEST(EnvmapSampling, BadMapsAreRefusedWithTheirNameAndPixel) {
   EXPECT_THROW(ok.sample(SamplePattern(4), 5), EnvmapError);
   EXPECT_THROW(ok.update(map, "probe.exr"), EnvmapError);
   EXPECT_THROW(ok.sample(SamplePattern(4), 4), EnvmapError);  // left empty, not half-built
+}
+
+// The CDFs as they were built before the build was fused into one pass per row (the division
+// of a row done while the next row is summed; the checks without a branch per sample): one
+// row at a time, checked sample by sample, normalised after it. The warp from them, written out
+// again here, must give the same bits as EnvmapDistribution's for maps with odd column counts,
+// black rows (the uniform CDF) at the top, the middle and the bottom, and −0 samples.
+struct ReferenceCdfs {
+  std::vector<double> marginal, conditional;
+  uint32_t rows = 0, cols = 0;
+
+  explicit ReferenceCdfs(const HemisphereMap& map) : rows(map.rows()), cols(map.cols()) {
+    const auto normalise = [](double* cdf, size_t bins) {
+      const double total = cdf[bins];
+      for (size_t k = 1; k < bins; ++k)
+        cdf[k] = total > 0 ? cdf[k] / total : double(k) / double(bins);
+      cdf[bins] = 1.0;
+    };
+    marginal.assign(rows + 1, 0.0);
+    conditional.assign(size_t(rows) * (cols + 1), 0.0);
+    for (uint32_t row = 0; row < rows; ++row) {
+      double* cdf = &conditional[size_t(row) * (cols + 1)];
+      for (uint32_t col = 0; col < cols; ++col) {
+        const float* p = map.radiance.pixel(col, row);
+        cdf[col + 1] = cdf[col] + core::luminance(glm::dvec3(p[0], p[1], p[2]));
+      }
+      marginal[row + 1] = marginal[row] + cdf[cols];
+      normalise(cdf, cols);
+    }
+    normalise(marginal.data(), rows);
+  }
+
+  double at(uint32_t row0, uint32_t row1, double t, uint32_t j) const {
+    return (1.0 - t) * conditional[size_t(row0) * (cols + 1) + j] +
+           t * conditional[size_t(row1) * (cols + 1) + j];
+  }
+
+  static double position(double x, double lo, double hi) {
+    return hi > lo ? std::clamp((x - lo) / (hi - lo), 0.0, 1.0) : 0.0;
+  }
+
+  DiskPolar warp(const DiskPolar& p) const {
+    uint32_t row =
+        uint32_t(std::upper_bound(marginal.begin(), marginal.end(), p.u) - marginal.begin());
+    row = std::clamp<uint32_t>(row, 1, rows) - 1;
+    while (row > 0 && !(marginal[row + 1] > marginal[row])) --row;
+    const double u = (row + position(p.u, marginal[row], marginal[row + 1])) / double(rows);
+    const double x = u * rows - 0.5;
+    uint32_t row0 = 0, row1 = 0;
+    double t = 0;
+    if (x >= double(rows - 1)) {
+      row0 = row1 = rows - 1;
+    } else if (x > 0.0) {
+      row0 = uint32_t(x);
+      row1 = row0 + 1;
+      t = x - row0;
+    }
+    uint32_t lo = 0, hi = cols;
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      (at(row0, row1, t, mid) <= p.turns ? lo : hi) = mid;
+    }
+    const double turns =
+        (lo + position(p.turns, at(row0, row1, t, lo), at(row0, row1, t, lo + 1))) / double(cols);
+    return {u, turns < 1.0 ? turns : 0.0};
+  }
+};
+
+TEST(EnvmapSampling, CdfsAreThoseOfTheRowByRowBuild) {
+  for (const auto& [cols, rows] :
+       std::array<std::pair<uint32_t, uint32_t>, 5>{{{360, 90}, {7, 5}, {1, 3}, {2, 1}, {13, 1}}}) {
+    HemisphereMap map{core::ImageF(cols, rows)};
+    for (uint32_t row = 0; row < rows; ++row)
+      for (uint32_t col = 0; col < cols; ++col) {
+        // Black rows at the top, in the middle and at the bottom (when there are 3 or more);
+        // elsewhere a hash of the position, with some −0 and 0 samples.
+        const bool black = rows >= 3 && (row == 0 || row == rows / 2 || row == rows - 1);
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t h = (col * 2654435761u) ^ (row * 40503u) ^ (uint32_t(c) * 977u);
+          float v = black ? 0.0f : float(h % 1000) * 0.37f + float(h % 7) * 1e-3f;
+          if (h % 11 == 0) v = -0.0f;
+          map.radiance.pixel(col, row)[c] = v;
+        }
+      }
+    const EnvmapDistribution distribution(map);
+    EnvmapDistribution reused(testutil::uniformMap({1, 2, 3}, cols, rows));
+    reused.update(map);
+    const ReferenceCdfs reference(map);
+    for (int i = 0; i <= 64; ++i)
+      for (int j = 0; j <= 64; ++j) {
+        const DiskPolar p{i / 64.0, j / 64.5};
+        const DiskPolar expected = reference.warp(p), got = distribution.warp(p),
+                        again = reused.warp(p);
+        ASSERT_EQ(got.u, expected.u) << cols << " x " << rows << " at " << i << ", " << j;
+        ASSERT_EQ(got.turns, expected.turns) << cols << " x " << rows << " at " << i << ", " << j;
+        ASSERT_EQ(again.u, expected.u);
+        ASSERT_EQ(again.turns, expected.turns);
+      }
+  }
 }
 
 // A black map: no power, and the lights still have directions (the uniform ones).

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -73,14 +74,20 @@ class FisheyeResampler {
   uint32_t cols_, rows_, taps_;
   std::vector<uint32_t> order_;  // map pixels in the raster order of their first image sample
   // Group g is map pixels groupPixels_[g·kLanes …] with steps [groupSteps_[g],
-  // groupSteps_[g + 1]); step s holds lane l's sample at index_/weight_[s·kLanes + l]: the first
-  // sample of its image pixel in core::ImageF's layout, and its weight.
-  std::vector<uint32_t> groupPixels_, groupSteps_{0}, index_;
+  // groupSteps_[g + 1]); step s holds lane l's sample at offset_/weight_[s·kLanes + l]: the
+  // first sample of its image pixel in core::ImageF's layout, less groupBase_[g], and its
+  // weight.
+  std::vector<uint32_t> groupPixels_, groupSteps_{0}, groupBase_;
+  std::vector<uint16_t> offset_;
   std::vector<float> weight_;
-  // The pixels left over (fewer than kLanes of a length): restPixels_[q]'s kernel is
+  // The pixels left over (fewer than kLanes of a length, or too far from the others of theirs
+  // for 16-bit offsets): restPixels_[q]'s kernel is
   // restIndex_/restWeight_[restOffsets_[q], restOffsets_[q + 1]).
   std::vector<uint32_t> restPixels_, restOffsets_{0}, restIndex_;
   std::vector<float> restWeight_;
+  // Per image row, the samples [first, end) that the kernels read (a step reads 4 floats), in
+  // core::ImageF's layout; first ≥ end for a row that none reads. Only these are prefetched.
+  std::vector<std::pair<uint32_t, uint32_t>> rowSpans_;
 };
 
 // A synthetic fisheye photograph of a lat-long environment (lat_long.h) turned by
