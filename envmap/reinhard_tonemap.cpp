@@ -100,6 +100,8 @@ core::Image8 ReinhardToneMapper::map(const core::ImageF& hdr, const std::string&
     const double ratio = ld / luminance[i];
     for (int c = 0; c < 3; ++c) {
       const double v = std::min(1.0, ratio * hdr.pixels[i * 3 + c]);
+      // v >= 0: adding 0.5 and truncating is round-half-up, exactly, without libm.
+      // NOLINTNEXTLINE(bugprone-incorrect-roundings)
       out.pixels[i * 3 + c] = srgb_[uint32_t(v * kSrgbSteps + 0.5)];
     }
   }
