@@ -225,8 +225,12 @@ EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
     s.lens.cy = lens["cy"].number(0, s.height);
     const std::vector<double> k = lens["k"].numbers(4);
     for (size_t i = 0; i < 4; ++i) {
-      if (!(std::abs(k[i]) <= 100))
-        lens["k"].fail("k" + std::to_string(i + 1) + " must be in [-100, 100]");
+      if (!(std::abs(k[i]) <= 100)) {
+        // Appended, not "k" + std::string: GCC 12 at -O3 for aarch64 warns (-Wrestrict,
+        // a false positive, GCC bug 105329) on a literal + temporary string here.
+        lens["k"].fail(
+            std::string("k").append(std::to_string(i + 1)).append(" must be in [-100, 100]"));
+      }
       s.lens.k[i] = k[i];
     }
     s.equidistant180 = false;
