@@ -269,9 +269,8 @@ void writeCalibration(const SynthView& view, const std::filesystem::path& dir) {
   const lighting::EmbreeScene rays(view.room);
   const glm::dmat4 vp = view.viewProj;
   json corners = json::array();
-  for (int k = 0; k < 8; ++k) {
-    const dvec3 p((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,
-                  (k & 4) ? bounds.max.z : bounds.min.z);
+  for (size_t k = 0; k < 8; ++k) {
+    const dvec3 p = bounds.corner(k);
     glm::dvec2 w(0.0);  // project() leaves it alone for a point at the camera's plane
     const bool front = project(vp, width, height, glm::dvec4(p, 1.0), w);
     // A corner lies on three walls; it is visible when nothing else is in the way.

@@ -110,10 +110,7 @@ void RoomDescription::refineAroundSolids(double patchSize) {
     const double lengthU = glm::length(q.edgeU), lengthV = glm::length(q.edgeV);
     for (const Aabb& box : solids) {
       std::array<glm::dvec3, 8> corners;
-      for (size_t c = 0; c < 8; ++c) {
-        corners[c] = glm::dvec3((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
-                                (c & 4) ? box.max.z : box.min.z);
-      }
+      for (size_t c = 0; c < 8; ++c) corners[c] = box.corner(c);
       double below = std::numeric_limits<double>::infinity(), height = -below;
       for (const glm::dvec3& corner : corners) {
         const double d = glm::dot(corner - q.origin, n);

@@ -33,6 +33,10 @@ struct Aabb {
   glm::dvec3 min{0.0}, max{0.0};
   glm::dvec3 centre() const { return (min + max) * 0.5; }
   glm::dvec3 size() const { return max - min; }
+  // Corner i of 8: bit 0 picks max.x over min.x, bit 1 max.y, bit 2 max.z.
+  glm::dvec3 corner(size_t i) const {
+    return {(i & 1) ? max.x : min.x, (i & 2) ? max.y : min.y, (i & 4) ? max.z : min.z};
+  }
   // Grows the box to contain `p`; an empty() box becomes the point.
   void extend(const glm::dvec3& p);
   bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }

@@ -5,6 +5,7 @@
 
 #include "core/clock.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/light_frustum.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -20,11 +21,7 @@ struct ShadowCylinder {
 
   ShadowCylinder(const glm::dvec3& c, double r, const glm::dvec3& towardsLight)
       : centre(c), d(towardsLight), radius(r) {
-    const glm::dvec3 a = glm::abs(d);
-    const glm::dvec3 axis = a.x <= a.y && a.x <= a.z ? glm::dvec3(1, 0, 0)
-                            : a.y <= a.z             ? glm::dvec3(0, 1, 0)
-                                                     : glm::dvec3(0, 0, 1);
-    u = glm::normalize(glm::cross(d, axis));
+    u = glm::normalize(glm::cross(d, leastAlignedAxis(d)));
     v = glm::cross(d, u);
   }
 

@@ -60,9 +60,7 @@ TEST(DirectionalFrustum, HoldsTheOccluderTightlyAndEveryReceiverInDepth) {
     double extreme = 0;
     EXPECT_TRUE(f->orthographic);
     for (int corner = 0; corner < 8; ++corner) {
-      const glm::dvec3 p((corner & 1) ? product.max.x : product.min.x,
-                         (corner & 2) ? product.max.y : product.min.y,
-                         (corner & 4) ? product.max.z : product.min.z);
+      const glm::dvec3 p = product.corner(size_t(corner));
       const glm::dvec4 clip = f->viewProj * glm::dvec4(p, 1.0);
       EXPECT_DOUBLE_EQ(clip.w, 1.0);
       // Inside the window with its margin (3% of the extent: 1/1.06 of the half-width).
@@ -71,9 +69,7 @@ TEST(DirectionalFrustum, HoldsTheOccluderTightlyAndEveryReceiverInDepth) {
       extreme = std::max({extreme, std::abs(clip.x), std::abs(clip.y)});
       EXPECT_GT(clip.z, -1.0);
       EXPECT_LT(clip.z, 1.0);
-      const glm::dvec3 q((corner & 1) ? room.max.x : room.min.x,
-                         (corner & 2) ? room.max.y : room.min.y,
-                         (corner & 4) ? room.max.z : room.min.z);
+      const glm::dvec3 q = room.corner(size_t(corner));
       EXPECT_LT((f->viewProj * glm::dvec4(q, 1.0)).z, 1.0) << "room corner beyond the far plane";
     }
     EXPECT_GT(extreme, 0.93) << "tight: a corner at the margin (the sphere's square: 0.4-0.8)";

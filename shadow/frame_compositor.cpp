@@ -41,10 +41,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   stats = CompositeStats{};
   FrameStages& ns = stats.stages;
   core::Stopwatch watch;
-  const PlacementChange change = placement_.place(pose);
-  if (change == PlacementChange::kNewModel) {
-    feedback_.productPlaced(placement_.mesh().positions.size());
-  }
+  const PlacementChange change = place(pose);
   ns[FrameStage::kPlacement] = watch.lapNs();
   if (change != PlacementChange::kNone || litShading_) {
     litShading_ = false;
@@ -81,6 +78,16 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   ns[FrameStage::kPassList] = watch.lapNs();
 }
 
+PlacementChange FrameCompositor::place(const ProductPose& pose) {
+  const PlacementChange change = placement_.place(pose);
+  // The feedback sized for a new model in either lighting mode, so that a frame of the other
+  // mode finds it so.
+  if (change == PlacementChange::kNewModel) {
+    feedback_.productPlaced(placement_.mesh().positions.size());
+  }
+  return change;
+}
+
 void FrameCompositor::frameContent(std::span<const uint8_t> background,
                                    raster::FrameContent& out) const {
   if (background.empty()) background = bundle_.background;
@@ -111,11 +118,7 @@ void FrameCompositor::composeLit(const ProductPose& pose,
   stats = CompositeStats{};
   FrameStages& ns = stats.stages;
   core::Stopwatch watch;
-  const PlacementChange change = placement_.place(pose);
-  if (change == PlacementChange::kNewModel) {
-    // Kept sized for the product, should a later frame use the captured sources.
-    feedback_.productPlaced(placement_.mesh().positions.size());
-  }
+  const PlacementChange change = place(pose);
   ns[FrameStage::kPlacement] = watch.lapNs();
   // The lights in world space, split for the stages; the product is shaded again whenever it
   // or the lights moved (the environment camera's frames arrive slower than the kiosk's).

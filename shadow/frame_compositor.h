@@ -152,6 +152,8 @@ class FrameCompositor {
 
  private:
   PassListOptions passListOptions() const;
+  // The product at `pose` (ProductPlacement), the occlusion feedback sized for a new model.
+  PlacementChange place(const ProductPose& pose);
   // Background, the shaded product, its proxy and the shade table into `out`.
   void frameContent(std::span<const uint8_t> background, raster::FrameContent& out) const;
 

@@ -23,6 +23,11 @@ struct LightFrustum {
   bool orthographic = false;  // a distant light's (fitDirectionalFrustum): tanHalfFovY is 0
 };
 
+// The world axis least aligned with direction `f` (ties: x, then y): an up vector for lookAt
+// that never degenerates (a ceiling light looking straight down at the object), and a
+// vector never parallel to f for building a frame around it.
+glm::dvec3 leastAlignedAxis(const glm::dvec3& f);
+
 // Closest distance to the source at which the near plane may sit (1 mm): a closer plane
 // would spend the whole depth range of the map on the first millimetres.
 inline constexpr double kMinLightNear = 1e-3;
