@@ -9,18 +9,13 @@
 #include "scene/camera.h"
 
 namespace penumbra::shadow {
-namespace {
 
-// Up for lookAt: the world axis least aligned with the view direction `f`, so lookAt never
-// degenerates (a ceiling light looking straight down at the object).
 glm::dvec3 leastAlignedAxis(const glm::dvec3& f) {
   const glm::dvec3 absF = glm::abs(f);
   if (absF.x <= absF.y && absF.x <= absF.z) return {1, 0, 0};
   if (absF.y <= absF.z) return {0, 1, 0};
   return {0, 0, 1};
 }
-
-}  // namespace
 
 std::optional<LightFrustum> fitLightFrustum(const glm::dvec3& source,
                                             const scene::Aabb& occluderBounds, double farDistance) {
@@ -76,25 +71,19 @@ std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight
   // the farthest room corner along the view, and beyond the sphere in any case.
   const double zNear = (back - radius) * 0.999;
   double zFar = back + radius + zNear;
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 p((corner & 1) ? room.max.x : room.min.x,
-                       (corner & 2) ? room.max.y : room.min.y,
-                       (corner & 4) ? room.max.z : room.min.z);
-    zFar = std::max(zFar, glm::dot(eye - p, d) + 0.01);
+  for (size_t corner = 0; corner < 8; ++corner) {
+    zFar = std::max(zFar, glm::dot(eye - room.corner(corner), d) + 0.01);
   }
   // The window: the occluder's box projected across the light, plus 3% of its extent on each
   // side (PCF's 2 × 2 taps and the float rounding of the matrix stay inside the map). Not
   // the bounding sphere's square: seen from above, the chair's box covers a fifth of it, so
-  // the map's texels are ~2.2× denser and the receivers the pass may shade ~5× fewer. A
+  // the map's texels are ~2.2× denser on a side (geometry: 0.5 m square against 1.14 m). A
   // receiver wholly outside the window is outside the map (M = 0, spec §7): it cannot be
   // shadowed, as no occluder texel lies beyond the box.
   const glm::dmat4 view = scene::lookAt(eye, centre, leastAlignedAxis(-d));
   glm::dvec2 lo(INFINITY), hi(-INFINITY);
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 p((corner & 1) ? occluderBounds.max.x : occluderBounds.min.x,
-                       (corner & 2) ? occluderBounds.max.y : occluderBounds.min.y,
-                       (corner & 4) ? occluderBounds.max.z : occluderBounds.min.z);
-    const glm::dvec4 q = view * glm::dvec4(p, 1.0);
+  for (size_t corner = 0; corner < 8; ++corner) {
+    const glm::dvec4 q = view * glm::dvec4(occluderBounds.corner(corner), 1.0);
     lo = glm::min(lo, glm::dvec2(q));
     hi = glm::max(hi, glm::dvec2(q));
   }
