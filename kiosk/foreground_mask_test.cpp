@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace penumbra::kiosk {
@@ -116,6 +119,75 @@ TEST(ForegroundMask, HysteresisHoldsBetweenReleaseAndThreshold) {
   EXPECT_EQ(mask.update(offset(50)), 396u) << "50: on";
   EXPECT_EQ(mask.update(offset(30)), 396u) << "30 again: held";
   EXPECT_EQ(mask.update(offset(20)), 0u) << "20: released";
+}
+
+// The header's algorithm written pixel by pixel, as plainly as it reads: the vectorized
+// loops of foreground_mask.cpp must give the same mask, bit for bit, frame after frame.
+class PlainForegroundMask {
+ public:
+  PlainForegroundMask(std::vector<uint8_t> empty, ForegroundOptions o)
+      : empty_(std::move(empty)), o_(o), last_(size_t{kW} * kH, 0) {}
+  std::vector<uint8_t> update(const std::vector<uint8_t>& frame, uint32_t gain256) {
+    auto at = [](const std::vector<uint8_t>& plane, int x, int y) -> int {
+      return x < 0 || y < 0 || x >= int(kW) || y >= int(kH) ? 0 : plane[size_t(y) * kW + x];
+    };
+    std::vector<uint8_t> flags(size_t{kW} * kH), filtered(flags.size()), grown(flags.size());
+    for (size_t i = 0; i < flags.size(); ++i) {
+      int d = 0;
+      for (size_t c = 0; c < 3; ++c) {
+        const int expected = std::min((empty_[4 * i + c] * int(gain256) + 128) >> 8, 255);
+        d = std::max(d, std::abs(frame[4 * i + c] - expected));
+      }
+      flags[i] = d > (last_[i] ? o_.release : o_.threshold);
+    }
+    for (int y = 0; y < int(kH); ++y) {
+      for (int x = 0; x < int(kW); ++x) {
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) n += at(flags, x + dx, y + dy);
+        }
+        filtered[size_t(y) * kW + x] = n >= 5;
+      }
+    }
+    for (int y = 0; y < int(kH); ++y) {
+      for (int x = 0; x < int(kW); ++x) {
+        int any = 0;
+        for (int dy = -o_.grow; dy <= o_.grow; ++dy) {
+          for (int dx = -o_.grow; dx <= o_.grow; ++dx) any |= at(filtered, x + dx, y + dy);
+        }
+        grown[size_t(y) * kW + x] = static_cast<uint8_t>(any);
+      }
+    }
+    last_ = filtered;
+    return grown;
+  }
+
+ private:
+  std::vector<uint8_t> empty_;
+  ForegroundOptions o_;
+  std::vector<uint8_t> last_;
+};
+
+TEST(ForegroundMask, EqualsThePlainAlgorithmBitForBit) {
+  const std::vector<uint8_t> empty = room();
+  for (const ForegroundOptions o :
+       {ForegroundOptions{}, ForegroundOptions{40, 24, 0}, ForegroundOptions{12, 4, 5}}) {
+    ForegroundMask mask(empty, kW, kH, o);
+    PlainForegroundMask plain(empty, o);
+    // A figure walking through, under drifting exposure and noise strong enough to flicker
+    // around the threshold: the hysteresis and the majority filter both decide pixels.
+    for (uint32_t f = 0; f < 12; ++f) {
+      const auto frame = filmed(empty, 900 + 20 * int(f), 5 + 6 * f, 25 + 6 * f, 8, 50, 14, f);
+      const size_t count = mask.update(frame);
+      const std::vector<uint8_t> expected = plain.update(frame, mask.gain256());
+      ASSERT_EQ(std::vector<uint8_t>(mask.mask().begin(), mask.mask().end()), expected)
+          << "options " << o.threshold << "/" << o.release << "/" << o.grow << ", frame " << f;
+      size_t ones = 0;
+      for (uint8_t m : expected) ones += m;
+      EXPECT_EQ(count, ones);
+      EXPECT_GT(ones, 0u);
+    }
+  }
 }
 
 TEST(ForegroundMask, RefusesWrongSizesAndOptions) {
