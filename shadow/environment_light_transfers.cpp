@@ -44,6 +44,7 @@ EnvironmentLightTransfers::EnvironmentLightTransfers(const SceneBundle& bundle,
       mesh_(mesh),
       hierarchy_(hierarchy),
       slots_(bundle.transfers, mesh),
+      visibility_(mesh, bundle.transfers.receiverVertices, nullptr),
       patchFrame_(mesh.patches.size(), kNoIndex) {}
 
 void EnvironmentLightTransfers::setPool(core::JobPool* pool) {
@@ -102,17 +103,24 @@ void EnvironmentLightTransfers::compute(const DistantLights& lights,
   slots_.gather(mesh_, distinct_, frame);
   const std::span<const uint32_t> vertices = slots_.frameVertices();
   receiverS_.resize(vertices.size() * count);
+  lookups_.resize(count);
+  for (size_t k = 0; k < count; ++k) {
+    lookups_[k] = StaticRoomVisibility::lookup(lights.towardsLight[k]);
+  }
   // Rows are independent (each writes its own slot's shares, summing its lights in light
   // order): chunks on the pool give the serial bytes.
   core::forEachChunk(pool_, vertices.size(), kVertexChunk, [&](size_t begin, size_t end, int w) {
     std::vector<glm::dvec3>& e = rows_[size_t(w)];
     e.resize(count);
     for (size_t slot = begin; slot < end; ++slot) {
-      const glm::dvec3& n = mesh_.normals[bundle_.transfers.receiverVertices[vertices[slot]]];
+      const uint32_t r = vertices[slot];
+      const glm::dvec3& n = mesh_.normals[bundle_.transfers.receiverVertices[r]];
+      const bool open = visibility_.seesEverything(r);
       glm::dvec3 total(0.0);
       for (size_t k = 0; k < count; ++k) {
         const double cosine = glm::dot(n, lights.towardsLight[k]);
-        e[k] = cosine > 0 ? lights.power[k] * cosine : glm::dvec3(0.0);
+        const double seen = cosine > 0 && !open ? visibility_.visibility(r, lookups_[k]) : 1;
+        e[k] = cosine > 0 ? lights.power[k] * (cosine * seen) : glm::dvec3(0.0);
         total += e[k];
       }
       lightShares(total, e, std::span<core::Rgb16>(receiverS_.data() + slot * count, count));

@@ -10,10 +10,11 @@
 //      self-shadowing; ProductShading::shadeFromLights).
 // Reflectance cancels in the shares: a receiver's pixel loses the share of its light that
 // the blocked lights carried, whatever the surface's colour. The lights are distant (Havran
-// §3): a receiver sees a light unless it is below the receiver's horizon. The environment map
-// is the room as the environment camera sees it, walls, windows and lamps included, so the
-// room's own occlusion of a light at a receiver (the desk hiding the window from the floor
-// beside it) is not modelled here (docs/live-lighting.md).
+// §3): a receiver sees a light unless it is below the receiver's horizon or the room's own
+// furniture hides it (the desk hiding the window from the floor beside it:
+// static_room_visibility.h, precomputed per receiver vertex when the stage is built), so
+// E_k = power_k x max(0, n.l_k) x V_k. A light the desk hides carries no share there, and
+// the product's shadow of it is not subtracted from floor the desk already shades.
 // Cost: per light an octree walk of O(patches reached + log); per touched vertex O(lights);
 // buffers reused between frames.
 #pragma once
@@ -32,6 +33,7 @@
 #include "shadow/receiver_vertex_slots.h"
 #include "shadow/scene_bundle.h"
 #include "shadow/shaft_hierarchy.h"
+#include "shadow/static_room_visibility.h"
 
 namespace penumbra::shadow {
 
@@ -68,6 +70,7 @@ class EnvironmentLightTransfers {
   // Wall time of the last compute(): the receivers' part (walk and shares), the product's.
   int64_t nsReceivers() const { return nsReceivers_; }
   int64_t nsProduct() const { return nsProduct_; }
+  const StaticRoomVisibility& roomVisibility() const { return visibility_; }
 
  private:
   static constexpr size_t kVertexChunk = 64;
@@ -77,14 +80,16 @@ class EnvironmentLightTransfers {
   const scene::PatchMesh& mesh_;
   const ShaftHierarchy& hierarchy_;
   ReceiverVertexSlots slots_;
+  StaticRoomVisibility visibility_;
   core::JobPool* pool_ = nullptr;
   size_t lights_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
   std::vector<uint32_t> patchFrame_;  // per patch: the frame that listed it in distinct_
   std::vector<uint32_t> lightPatches_, lightPatchStart_, distinct_, stack_;
-  std::vector<std::vector<glm::dvec3>> rows_{1};  // per worker: one vertex's E_k
-  std::vector<core::Rgb16> receiverS_;            // [slot * lights + k]
-  std::vector<core::Rgb16> productS_;             // [v * lights + k]
+  std::vector<std::vector<glm::dvec3>> rows_{1};       // per worker: one vertex's E_k
+  std::vector<StaticRoomVisibility::Lookup> lookups_;  // per light
+  std::vector<core::Rgb16> receiverS_;                 // [slot * lights + k]
+  std::vector<core::Rgb16> productS_;                  // [v * lights + k]
 };
 
 }  // namespace penumbra::shadow

@@ -125,7 +125,8 @@ TEST(EnvironmentLightTransfers, ListsEveryReceiverInTheShadowAndSharesTheLight) 
   EXPECT_GT(inside, 10u);
   EXPECT_LT(stage.distinctPatches(), b.sets.receivers.size() / 2) << "the walk culls";
 
-  // Shares: a floor vertex (normal +y) sees light k with E_k = power_k (n.l_k).
+  // Shares: a receiver vertex sees light k with E_k = power_k max(0, n.l_k) V_k, V_k the
+  // room's own visibility of the light (static_room_visibility.h).
   const VertexS s = stage.s();
   ASSERT_EQ(s.clusters, 3u);
   size_t checked = 0;
@@ -133,7 +134,9 @@ TEST(EnvironmentLightTransfers, ListsEveryReceiverInTheShadowAndSharesTheLight) 
     const glm::dvec3& n = mesh.normals[b.transfers.receiverVertices[rv]];
     glm::dvec3 e[3], total(0.0);
     for (size_t k = 0; k < 3; ++k) {
-      e[k] = power[k] * std::max(0.0, glm::dot(n, towards[k]));
+      const double seen =
+          stage.roomVisibility().visibility(rv, StaticRoomVisibility::lookup(towards[k]));
+      e[k] = power[k] * (std::max(0.0, glm::dot(n, towards[k])) * seen);
       total += e[k];
     }
     for (size_t k = 0; k < 3; ++k) {
@@ -193,6 +196,29 @@ TEST(EnvironmentLightFrame, ShadowsFollowTheLightsAndBytesDoNotDependOnThreads) 
   u8.accumulation = raster::Accumulation::kU8;
   FrameLoop graded(b, u8, {});
   EXPECT_THROW(graded.step(b.startPose, above), std::invalid_argument);
+}
+
+// The room's own occlusion in the frame: the teapot (0.25 m tall) on the floor in front of
+// the desk, a low light (14 degrees) from +z behind the desk. The floor the teapot's shadow
+// falls on is already in the desk's shadow of that light — the photograph holds it — so the
+// product takes nothing more there; two metres to the side, where the desk is not in the
+// way, the same light and product cast a shadow.
+TEST(EnvironmentLightFrame, TheDeskHidesTheLightItShadowsAlready) {
+  const SceneBundle& b = testing::showroomBundle();
+  FrameLoop loop(b, 256, {});
+  const envmap::LightSet behindTheDesk = {light(1, {0, 0.25, 1}, 0.6)};
+  const auto shadowAt = [&](float x) {
+    const ProductPose pose{2, x, 3.2f, 0, 0};
+    loop.step(pose, envmap::LightSet{});
+    const std::vector<uint8_t> productOnly = loop.rgba;
+    size_t product = 0;
+    for (size_t i = 0; i < productOnly.size(); ++i) product += productOnly[i] != b.background[i];
+    EXPECT_GT(product, 300u) << "the teapot is in view at x " << x;
+    loop.step(pose, behindTheDesk);
+    return shadowPixels(b, loop.rgba, productOnly).count;
+  };
+  EXPECT_EQ(shadowAt(5.1f), 0u) << "in front of the desk";
+  EXPECT_GT(shadowAt(3.1f), 100u) << "in the open";
 }
 
 TEST(EnvironmentLightFrame, TheProductIsLitOnTheSideFacingTheLight) {
