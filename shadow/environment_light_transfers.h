@@ -1,10 +1,11 @@
 // The frame's transfers under live lighting (Havran et al. 2005; issue 16): the environment's
 // distant lights instead of the captured source patches (cluster_transfers.h). Per frame:
 //   1. per light, the receiver patches its shadow of the product can reach: the receiver
-//      octree (ShaftHierarchy::receiverNodes) walked against the light's shadow cylinder —
-//      the product's bounding sphere swept away from the light;
+//      octree (ShaftHierarchy::receiverNodes) walked against the light's shadow prism —
+//      the product's box swept away from the light — and each leaf's patches tested on
+//      their own boxes;
 //   2. per receiver vertex those patches touch, each light's share of the vertex's direct
-//      light, E_k / sum_m E_m with E_k = power_k x max(0, n.l_k) (lightShares, units of
+//      light, E_k / sum_m E_m with E_k = power_k x max(0, n.l_k) x V_k (lightShares, units of
 //      1/65280, per channel), for linear accumulation (docs/pipeline-spec.md §8);
 //   3. the same at the product's own vertices from its per-light shading (§7.2
 //      self-shadowing; ProductShading::shadeFromLights).
@@ -84,7 +85,8 @@ class EnvironmentLightTransfers {
   core::JobPool* pool_ = nullptr;
   size_t lights_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
-  std::vector<uint32_t> patchFrame_;  // per patch: the frame that listed it in distinct_
+  std::vector<scene::Aabb> patchBounds_;  // per patch: its two triangles' box
+  std::vector<uint32_t> patchFrame_;      // per patch: the frame that listed it in distinct_
   std::vector<uint32_t> lightPatches_, lightPatchStart_, distinct_, stack_;
   std::vector<std::vector<glm::dvec3>> rows_{1};       // per worker: one vertex's E_k
   std::vector<StaticRoomVisibility::Lookup> lookups_;  // per light
