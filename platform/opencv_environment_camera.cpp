@@ -48,6 +48,7 @@ std::string bracketName(const std::vector<int64_t>& us) {
 
 std::vector<double> millisecondsOf(const std::vector<int64_t>& us) {
   std::vector<double> ms;
+  ms.reserve(us.size());
   for (const int64_t t : us) ms.push_back(double(t) / 1000);
   return ms;
 }
@@ -104,7 +105,7 @@ struct OpenCvEnvironmentCamera::Impl {
     // (exposure_time_absolute) unscaled (after rounding to an integer) unless its range
     // normalisation is on, which CAP_PROP_MODE 0 turns off in open(): the unit is the
     // control's, 100 µs. The configuration allows only multiples of 100 µs for a device.
-    return cap.set(cv::CAP_PROP_EXPOSURE, double(settings.bracketUs[j] / 100));
+    return cap.set(cv::CAP_PROP_EXPOSURE, double(settings.bracketUs[j]) / 100);
   }
 
   void say(kiosk::LogLevel level, const std::string& text) const {
