@@ -89,12 +89,22 @@ void describeEnvironment(const kiosk::KioskConfig& c, std::ostream& out) {
 #endif
   out << "environment camera: " << where << module << " -> the bundle's captured light; " << e.width
       << "x" << e.height << ", " << lens.str() << ", response ";
-  if (e.gamma == 0) {
+  if (e.response) {
+    out << "calibrated " << e.responseFile;
+  } else if (e.gamma == 0) {
     out << "sRGB";
   } else {
     out << "gamma " << e.gamma;
   }
-  out << ", exposure scale " << e.exposureScale << "\n";
+  out << ", exposure scale " << e.exposureScale;
+  if (!e.bracketUs.empty()) {
+    out << (e.bracketUs.size() >= 2 ? ", HDR from the exposure bracket " : ", exposure ");
+    for (size_t i = 0; i < e.bracketUs.size(); ++i) out << (i ? "/" : "") << e.bracketUs[i];
+    out << " us";
+    if (e.device.rfind("/dev/", 0) == 0)
+      out << " (" << e.settleFrames << " frames dropped after each change)";
+  }
+  out << "\n";
   const envmap::LiveLightsOptions& l = c.loop.liveLights;
   // The yaw back from the rotation: the image's +x goes to (cos, 0, sin).
   const double yaw = std::atan2(l.toWorld[0][2], l.toWorld[0][0]) * 180 / std::numbers::pi;

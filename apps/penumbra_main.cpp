@@ -9,6 +9,8 @@
 //   capture             photographs + probe -> scene bundle (apps/capture_command.h)
 //   bench-envmap        live lighting's stages timed (apps/envmap_command.h)
 //   envmap-sequence     a light probe animated into fisheye EXR frames (apps/envmap_command.h)
+//   camera-response     an 8-bit bracket -> the environment camera's response file
+//                       (apps/camera_response_command.h; with OpenCV)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -23,6 +25,7 @@
 
 #include "apps/accuracy_command.h"
 #include "apps/calibrate_command.h"
+#include "apps/camera_response_command.h"
 #include "apps/capture_command.h"
 #include "apps/compare_command.h"
 #include "apps/envmap_command.h"
@@ -172,6 +175,7 @@ int main(int argc, char** argv) {
   const std::vector<apps::Command> captureCommands = apps::addCaptureCommands(app);
   const std::vector<apps::Command> referenceCommands = apps::addReferenceCommands(app);
   const std::vector<apps::Command> envmapCommands = apps::addEnvmapCommands(app);
+  const std::vector<apps::Command> responseCommands = apps::addCameraResponseCommands(app);
 
   return cli::run("penumbra", app, argc, argv, [&] {
     for (const apps::Command& c : sceneCommands) {
@@ -193,6 +197,9 @@ int main(int argc, char** argv) {
       if (c.app->parsed()) return c.run();
     }
     for (const apps::Command& c : envmapCommands) {
+      if (c.app->parsed()) return c.run();
+    }
+    for (const apps::Command& c : responseCommands) {
       if (c.app->parsed()) return c.run();
     }
     if (replayCmd->parsed()) {

@@ -197,10 +197,45 @@ void readLiveLightOptions(const JsonValue& e, KioskOptions& o) {
       e.integerOr("stale_after_ms", o.environmentStaleAfterNs / 1'000'000, 1, 60'000) * 1'000'000;
 }
 
+namespace {
+
+// "bracket_us" and "settle_frames" (docs/kiosk.md, "Environment camera").
+void readBracket(const JsonValue& e, EnvironmentCameraSettings& s) {
+  const bool device = s.device.rfind("/dev/", 0) == 0;
+  if (const auto b = e.find("bracket_us")) {
+    for (const JsonValue& t : b->array(1, kMostBracketExposures)) {
+      const int64_t us = t.integer(1, kLongestBracketExposureUs);
+      if (!s.bracketUs.empty() && us <= s.bracketUs.back()) {
+        t.fail("must be longer than the exposure before it (" + std::to_string(s.bracketUs.back()) +
+               " us): the bracket is listed shortest first, each time once");
+      }
+      // OpenCV's V4L2 backend passes CAP_PROP_EXPOSURE unscaled to exposure_time_absolute,
+      // whose unit is 100 µs: another time would be rounded, and the merge would divide by
+      // a time the sensor did not use.
+      if (device && us % 100 != 0) {
+        t.fail(
+            "a V4L2 device's exposure is set in steps of 100 us (exposure_time_absolute), "
+            "got " +
+            std::to_string(us));
+      }
+      s.bracketUs.push_back(us);
+    }
+  }
+  if (const auto settle = e.find("settle_frames")) {
+    if (s.bracketUs.empty()) settle->fail("only with bracket_us");
+    if (!device) {
+      settle->fail("only for a device: frame i of a recording was shot with bracket_us[i % n]");
+    }
+    s.settleFrames = static_cast<uint32_t>(settle->integer(0, kMostSettleFrames));
+  }
+}
+
+}  // namespace
+
 EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
                                                 const std::filesystem::path& dir, KioskOptions& o) {
-  e.object({"device", "width", "height", "lens", "response", "exposure_scale", "samples", "lights",
-            "yaw_deg", "radiance_scale", "stale_after_ms"});
+  e.object({"device", "width", "height", "lens", "response", "exposure_scale", "bracket_us",
+            "settle_frames", "samples", "lights", "yaw_deg", "radiance_scale", "stale_after_ms"});
   EnvironmentCameraSettings s;
   s.device = e["device"].nonEmptyString();
   // A device node stays as given; a recording is a path like the configuration's others.
@@ -237,16 +272,29 @@ EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
   }
   if (const auto r = e.find("response")) {
     if (!r->json().is_string() && !r->json().is_number()) {
-      r->fail(R"(expected "srgb" or a gamma (a number in [1, 4]))");
+      r->fail(R"(expected "srgb", a gamma (a number in [1, 4]) or a response file)");
     }
     if (r->json().is_string()) {
-      r->oneOf({"srgb"});
-      s.gamma = 0;
+      const std::string name = r->nonEmptyString();
+      if (name != "srgb") {  // a file written by `penumbra camera-response`
+        s.responseFile = (dir / name).string();
+        if (!std::filesystem::exists(s.responseFile)) {
+          r->fail("\"" + name + "\": no such response file (" + s.responseFile +
+                  "); expected \"srgb\", a gamma (a number in [1, 4]) or a file written by "
+                  "`penumbra camera-response`");
+        }
+        try {
+          s.response = readCameraResponse(s.responseFile, core::throwAs<ConfigError>);
+        } catch (const core::Error& error) {
+          r->fail(error.what());
+        }
+      }
     } else {
       s.gamma = r->number(1.0, 4.0);
     }
   }
   s.exposureScale = e.numberOr("exposure_scale", 1.0, 1e-6, 1e6);
+  readBracket(e, s);
   readLiveLightOptions(e, o);
   return s;
 }

@@ -77,11 +77,20 @@ KioskOptions readLoopOptions(const core::JsonValue& parent, std::string_view key
 // allow (`e.object(...)` before this call).
 void readLiveLightOptions(const core::JsonValue& e, KioskOptions& o);
 
+// The environment camera's exposure bracket: at most this many times, each at most 1 s; a
+// device drops at most kMostSettleFrames frames after each change.
+inline constexpr size_t kMostBracketExposures = 8;
+inline constexpr int64_t kLongestBracketExposureUs = 1'000'000;
+inline constexpr int64_t kMostSettleFrames = 30;
+
 // The configuration's "environment" object (docs/kiosk.md, "Environment camera"): "device"
 // (a /dev/videoN, or a video file or image sequence relative to `dir`), "width", "height"
 // (2..4096), "lens" ("equidistant180", or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]}),
-// "response" ("srgb" or a gamma, 1..4; default "srgb"), "exposure_scale" (> 0, default 1),
-// and the light options of readLiveLightOptions into `o`. Strict, like the rest.
+// "response" ("srgb", a gamma, 1..4, or a response file relative to `dir` written by
+// `penumbra camera-response`, read and checked here; default "srgb"), "exposure_scale" (> 0,
+// default 1), "bracket_us" (1..8 exposure times in µs, increasing, each ≤ 1 s; a device's in
+// steps of 100 µs), "settle_frames" (a device with a bracket only; 0..30, default 2), and
+// the light options of readLiveLightOptions into `o`. Strict, like the rest.
 EnvironmentCameraSettings readEnvironmentCamera(const core::JsonValue& e,
                                                 const std::filesystem::path& dir, KioskOptions& o);
 

@@ -121,6 +121,47 @@ TEST(KioskConfig, ReadsTheEnvironmentCamera) {
   EXPECT_EQ(d.environment->gamma, 2.2);
   EXPECT_EQ(d.environment->exposureScale, 1.0);
   EXPECT_EQ(d.loop.liveLights.samples, envmap::LiveLightsOptions{}.samples);
+  EXPECT_TRUE(d.environment->bracketUs.empty());
+  EXPECT_FALSE(d.environment->response.has_value());
+
+  // A calibrated response file beside the configuration and an exposure bracket: a device's
+  // in steps of 100 µs with its settle frames, a recording's in any microseconds.
+  CameraResponseCurves curves;
+  for (size_t ch = 0; ch < 3; ++ch)
+    for (size_t z = 0; z < 256; ++z)
+      curves.logExposure[ch][z] = (double(z) - 128) / (40.0 + double(ch));
+  writeCameraResponse(path.parent_path() / "response.json", curves);
+  const KioskConfig b = loadKioskConfig(write(R"({"bundle": "b", "environment": {
+      "device": "/dev/video2", "width": 480, "height": 480, "lens": "equidistant180",
+      "response": "response.json", "bracket_us": [200, 1600, 12800], "settle_frames": 3}})"));
+  ASSERT_TRUE(b.environment.has_value() && b.environment->response.has_value());
+  EXPECT_EQ(b.environment->responseFile, (path.parent_path() / "response.json").string());
+  EXPECT_EQ(b.environment->response->logExposure, curves.logExposure);
+  EXPECT_EQ(b.environment->bracketUs, (std::vector<int64_t>{200, 1600, 12800}));
+  EXPECT_EQ(b.environment->settleFrames, 3u);
+  const KioskConfig r = loadKioskConfig(write(R"({"bundle": "b", "environment": {
+      "device": "day_%03d.png", "width": 480, "height": 480, "lens": "equidistant180",
+      "bracket_us": [250, 2000]}})"));
+  EXPECT_EQ(r.environment->bracketUs, (std::vector<int64_t>{250, 2000}));
+  EXPECT_EQ(r.environment->settleFrames, 2u);  // the default, unused by a recording
+}
+
+// A response file that cannot be used is refused naming the configuration, the key and the
+// response file (kiosk/camera_response_file.h's own checks: camera_response_file_test.cpp).
+TEST(KioskConfig, BadResponseFileNamesBothFiles) {
+  const auto path = write(R"({"bundle": "b", "environment": {"device": "/dev/video2",
+      "width": 480, "height": 480, "lens": "equidistant180", "response": "camera.json"}})");
+  std::ofstream(path.parent_path() / "camera.json") << R"({"format": "penumbra-camera-response",
+      "version": 1, "log_exposure": {"r": [0, 1], "g": [0, 1], "b": [0, 1]}})";
+  try {
+    loadKioskConfig(path);
+    ADD_FAILURE() << "accepted a response of 2 codes";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path.string() +
+                  ": environment.response: " + (path.parent_path() / "camera.json").string() +
+                  ": log_exposure.r: expected an array of 256 numbers, got an array of 2");
+  }
 }
 
 TEST(KioskConfig, BadValuesNameTheFileAndKey) {
@@ -203,16 +244,52 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
        "environment.lens.k5: unknown field"},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "response": "linear"}})",
-       "environment.response: expected one of \"srgb\", got \"linear\""},
+       "environment.response: \"linear\": no such response file ("},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "response": 0.45}})",
        "environment.response: 0.45 is not in [1, 4]"},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "response": true}})",
-       "environment.response: expected \"srgb\" or a gamma"},
+       "environment.response: expected \"srgb\", a gamma (a number in [1, 4]) or a response "
+       "file"},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "exposure_scale": 0}})",
        "environment.exposure_scale: 0 is not in"},
+      // The exposure bracket (docs/kiosk.md, "Environment camera").
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [2000, 200, 16000]}})",
+       "environment.bracket_us[1]: must be longer than the exposure before it (2000 us)"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [200, 200]}})",
+       "environment.bracket_us[1]: must be longer than the exposure before it (200 us)"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [0, 2000]}})",
+       "environment.bracket_us[0]: 0 is not in [1, 1000000]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [-100]}})",
+       "environment.bracket_us[0]: -100 is not in [1, 1000000]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": []}})",
+       "environment.bracket_us: expected an array of 1 to 8 elements, got 0"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [100, 200, 300, 400, 500, 600, 700, 800, 900]}})",
+       "environment.bracket_us: expected an array of 1 to 8 elements, got 9"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [250, 2000]}})",
+       "environment.bracket_us[0]: a V4L2 device's exposure is set in steps of 100 us"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [200, 2000], "settle_frames": 31}})",
+       "environment.settle_frames: 31 is not in [0, 30]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [200, 2000], "settle_frames": -1}})",
+       "environment.settle_frames: -1 is not in [0, 30]"},
+      {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
+          "lens": "equidistant180", "settle_frames": 2}})",
+       "environment.settle_frames: only with bracket_us"},
+      {R"({"bundle": "b", "environment": {"device": "day_%03d.png", "width": 480, "height": 480,
+          "lens": "equidistant180", "bracket_us": [250, 2000], "settle_frames": 2}})",
+       "environment.settle_frames: only for a device: frame i of a recording was shot with "
+       "bracket_us[i % n]"},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "equidistant180", "samples": 8, "lights": 9}})",
        "environment.lights: must not exceed samples"},

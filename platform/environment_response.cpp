@@ -16,22 +16,42 @@ double power(double x, double p) {
 
 }  // namespace
 
-std::array<float, 256> inverseResponse(double gamma, double exposureScale) {
+ChannelResponse curveResponse(double gamma) {
   if (!(gamma >= 0) || !std::isfinite(gamma))
     throw std::invalid_argument("environment response: gamma must be 0 (sRGB) or positive");
-  if (!(exposureScale > 0) || !std::isfinite(exposureScale))
-    throw std::invalid_argument("environment response: exposure_scale must be positive");
-  std::array<float, 256> table{};
+  std::array<double, 256> curve{};  // curve[0] = 0
   for (int v = 1; v < 256; ++v) {
     const double c = v / 255.0;
-    double linear = 0;
     if (gamma == 0)
-      linear = c <= 0.04045 ? c / 12.92 : power((c + 0.055) / 1.055, 2.4);
+      curve[size_t(v)] = c <= 0.04045 ? c / 12.92 : power((c + 0.055) / 1.055, 2.4);
     else
-      linear = power(c, gamma);
-    table[size_t(v)] = float(linear / exposureScale);
+      curve[size_t(v)] = power(c, gamma);
   }
-  return table;  // table[0] = 0
+  return {curve, curve, curve};
+}
+
+ChannelResponse calibratedResponse(const kiosk::CameraResponseCurves& curves) {
+  ChannelResponse out{};
+  for (size_t c = 0; c < 3; ++c)
+    for (size_t z = 0; z < 256; ++z) out[c][z] = envmap::portableExp(curves.logExposure[c][z]);
+  return out;
+}
+
+ChannelTables radianceTables(const ChannelResponse& response, double exposureMs,
+                             double exposureScale) {
+  if (!(exposureMs > 0) || !std::isfinite(exposureMs))
+    throw std::invalid_argument("environment response: the exposure time must be positive");
+  if (!(exposureScale > 0) || !std::isfinite(exposureScale))
+    throw std::invalid_argument("environment response: exposure_scale must be positive");
+  ChannelTables tables{};
+  for (size_t c = 0; c < 3; ++c)
+    for (size_t z = 0; z < 256; ++z)
+      tables[c][z] = float(response[c][z] / exposureMs / exposureScale);
+  return tables;
+}
+
+std::array<float, 256> inverseResponse(double gamma, double exposureScale) {
+  return radianceTables(curveResponse(gamma), 1, exposureScale)[0];
 }
 
 uint8_t encodeSrgb8(double linear) {
@@ -41,16 +61,16 @@ uint8_t encodeSrgb8(double linear) {
 }
 
 size_t linearise(const uint8_t* bgr, size_t stride, uint32_t width, uint32_t height,
-                 const std::array<float, 256>& table, core::ImageF& out) {
+                 const ChannelTables& tables, core::ImageF& out) {
   if (out.width != width || out.height != height) out = core::ImageF(width, height);
   size_t saturated = 0;
   float* o = out.pixels.data();
   for (uint32_t y = 0; y < height; ++y) {
     const uint8_t* p = bgr + stride * y;
     for (uint32_t x = 0; x < width; ++x, p += 3, o += 3) {
-      o[0] = table[p[2]];
-      o[1] = table[p[1]];
-      o[2] = table[p[0]];
+      o[0] = tables[0][p[2]];
+      o[1] = tables[1][p[1]];
+      o[2] = tables[2][p[0]];
       // Branch-free: one comparison per channel, summed.
       saturated +=
           size_t((p[0] >= kSaturatedValue) | (p[1] >= kSaturatedValue) | (p[2] >= kSaturatedValue));

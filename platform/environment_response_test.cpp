@@ -54,11 +54,12 @@ TEST(EnvironmentResponse, GammaAndExposureScale) {
 
 TEST(EnvironmentResponse, LinearisesBgrAndCountsSaturatedPixels) {
   const auto table = inverseResponse(0, 1);
+  const ChannelTables tables{table, table, table};
   // 3 × 2 pixels, rows 12 bytes apart (3 padding bytes): BGR order.
   const std::vector<uint8_t> frame{10,  20,  30,  250, 0,  0,   1, 2, 3, 99, 99, 99,
                                    255, 255, 255, 40,  50, 249, 0, 0, 0, 99, 99, 99};
   core::ImageF image;
-  EXPECT_EQ(linearise(frame.data(), 12, 3, 2, table, image), 2u);
+  EXPECT_EQ(linearise(frame.data(), 12, 3, 2, tables, image), 2u);
   ASSERT_EQ(image.width, 3u);
   ASSERT_EQ(image.height, 2u);
   EXPECT_EQ(image.pixel(0, 0)[0], table[30]);  // red from the third byte

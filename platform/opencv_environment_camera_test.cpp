@@ -291,7 +291,7 @@ TEST(OpenCvEnvironmentCamera, FramesOfAnotherSizeAreRefused) {
 TEST(OpenCvEnvironmentCamera, CostOfLineariseAndResampleAt480) {
   const envmap::FisheyeLens lens = envmap::FisheyeLens::equidistant180(480);
   const cv::Mat bgr = encode(envmap::renderFisheye(room(0.9f), lens));
-  const auto table = inverseResponse(0, 1);
+  const ChannelTables table = radianceTables(curveResponse(0), 1, 1);
   const envmap::FisheyeResampler resampler(lens);
   core::ImageF image;
   envmap::HemisphereMap map;

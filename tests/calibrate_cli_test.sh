@@ -80,4 +80,25 @@ expect_error "no mode" "exactly one of"
 echo '{"corners": [{"world": [0, 0, 0], "image": [1, 2]}]}' >"$tmp/corners.json"
 expect_error "too few corners" "corners.json: 1 corner mark(s), need at least 4" \
   --vanishing "$data/calibration/vanishing-marks.json" --corners "$tmp/corners.json"
+
+# `penumbra camera-response` (also built with OpenCV; its result is checked end to end by
+# EnvironmentHdr.* in the kiosk tests): help, and every refusal exits non-zero naming the
+# shot or the file, with no response file written.
+"${run[@]}" camera-response --help >"$tmp/help" 2>&1
+check "help: penumbra camera-response --help" $?
+response_error() {  # response_error WHAT EXIT PATTERN ARGS...
+  local what="$1" want="$2" pattern="$3"
+  shift 3
+  rm -f "$tmp/response.json"
+  "${run[@]}" camera-response "$@" -o "$tmp/response.json" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc == "$want" && ! -e "$tmp/response.json" ]] && grep -q -- "$pattern" "$tmp/err"
+  local status=$?  # before the message's $(...) resets $?
+  check "camera-response: $what (exit $rc): $(head -c 150 "$tmp/err")" $status
+}
+response_error "no exposure" 2 "a.png: expected IMAGE:EXPOSURE_US" a.png b.png:100
+response_error "exposure not a number" 2 "a.png:1e3: the exposure must be a whole number" a.png:1e3 b.png:100
+response_error "exposure 0" 2 "the exposure must be a whole number of microseconds" a.png:0 b.png:100
+response_error "one shot" 2 "need at least two IMAGE:EXPOSURE_US" a.png:100
+response_error "missing image" 1 "$tmp/nothere.png" "$tmp/nothere.png:100" "$tmp/nothere2.png:200"
 finish

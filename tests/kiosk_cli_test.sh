@@ -81,6 +81,18 @@ for line in "environment camera: /dev/video-penumbra-absent (not present)" "-> t
             "live lighting: 64 samples, at most 8 lights, yaw 30 deg, radiance scale 1, stale after 400 ms"; do
   grep -qF -- "$line" "$tmp/check_env" || fail "--check does not say '$line': $(cat "$tmp/check_env")"
 done
+# With a calibrated response file and an exposure bracket (docs/kiosk.md, "HDR").
+python3 - "$tmp/response.json" <<'PY'
+import json, sys
+g = [(z - 128) / 40 for z in range(256)]
+json.dump({"format": "penumbra-camera-response", "version": 1,
+           "log_exposure": {"r": g, "g": g, "b": g}}, open(sys.argv[1], "w"))
+PY
+sed 's|"response": 2.2|"response": "response.json", "bracket_us": [200, 1600, 12800], "settle_frames": 3|' \
+  "$tmp/env.json" >"$tmp/env_hdr.json"
+"$kiosk" --check "$tmp/env_hdr.json" >"$tmp/check_hdr" 2>"$tmp/check_hdr_err" || fail "--check refused an HDR environment camera: $(cat "$tmp/check_hdr_err")"
+grep -qF -- "response calibrated $tmp/response.json, exposure scale 0.25, HDR from the exposure bracket 200/1600/12800 us (3 frames dropped after each change)" "$tmp/check_hdr" ||
+  fail "--check does not describe the HDR environment camera: $(cat "$tmp/check_hdr")"
 "$kiosk" "$tmp/env.json" --frames 3 --threads 2 >"$tmp/out7" 2>"$tmp/err7" || fail "kiosk with an absent environment camera failed: $(cat "$tmp/err7")"
 grep -q "3 frames" "$tmp/out7" || fail "did not run 3 frames without the environment camera"
 grep -qF "environment camera: cannot open /dev/video-penumbra-absent: no such device; live lighting off, the bundle's captured light" "$tmp/err7" ||
