@@ -100,6 +100,23 @@ TEST_F(TraceFiles, ObjectReceiversAreValidated) {
   raster::FrameTrace bad = trace_;
   bad.frame.passes[0].objectTriangles[0] = 12;  // the box has 12 triangles: 0..11
   EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  // Both ways the validation takes: increasing lists (one comparison each), any other order
+  // (a bitmap). The last of an increasing list out of range; a valid list reversed.
+  bad = trace_;
+  bad.frame.passes[0].objectTriangles.back() = 12;
+  EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
+  raster::FrameTrace reversed = trace_;
+  auto& list = reversed.frame.passes[0].objectTriangles;
+  ASSERT_GE(list.size(), 2u);
+  ASSERT_TRUE(std::is_sorted(list.begin(), list.end()));
+  std::reverse(list.begin(), list.end());
+  auto& sList = reversed.frame.passes[0].objectS;
+  for (size_t i = 0, j = list.size() - 1; i < j; ++i, --j) {
+    std::swap_ranges(sList.begin() + std::ptrdiff_t(3 * i),
+                     sList.begin() + std::ptrdiff_t(3 * i + 3),
+                     sList.begin() + std::ptrdiff_t(3 * j));
+  }
+  EXPECT_NO_THROW(raster::validateTrace(reversed, "x"));
   bad = trace_;
   bad.frame.passes[1].objectS.pop_back();
   EXPECT_THROW(raster::validateTrace(bad, "x"), raster::TraceError);
