@@ -14,9 +14,10 @@ constexpr int kCells = StaticRoomVisibility::kGrid * StaticRoomVisibility::kGrid
 // The cell centres' directions, once.
 std::array<glm::dvec3, kCells> cellDirections() {
   std::array<glm::dvec3, kCells> d{};
+  size_t cell = 0;  // j * kGrid + i
   for (int j = 0; j < StaticRoomVisibility::kGrid; ++j) {
     for (int i = 0; i < StaticRoomVisibility::kGrid; ++i) {
-      d[size_t(j * StaticRoomVisibility::kGrid + i)] = StaticRoomVisibility::cellDirection(i, j);
+      d[cell++] = StaticRoomVisibility::cellDirection(i, j);
     }
   }
   return d;
