@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -285,35 +284,6 @@ TEST(OpenCvEnvironmentCamera, FramesOfAnotherSizeAreRefused) {
         << e.what();
   }
   std::filesystem::remove_all(rec.dir);
-}
-
-// Per environment frame on the board: linearise (table) and resample, 480 × 480, one core.
-TEST(OpenCvEnvironmentCamera, CostOfLineariseAndResampleAt480) {
-  const envmap::FisheyeLens lens = envmap::FisheyeLens::equidistant180(480);
-  const cv::Mat bgr = encode(envmap::renderFisheye(room(0.9f), lens));
-  const ChannelTables table = radianceTables(curveResponse(0), 1, 1);
-  const envmap::FisheyeResampler resampler(lens);
-  core::ImageF image;
-  envmap::HemisphereMap map;
-  // Medians of 31 frames: linearisation alone, resampling alone, both.
-  std::vector<double> lin, res, ms;
-  for (int i = 0; i < 31; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    linearise(bgr.ptr<uint8_t>(0), bgr.step[0], 480, 480, table, image);
-    const auto t1 = std::chrono::steady_clock::now();
-    resampler.resample(image, map);
-    const auto t2 = std::chrono::steady_clock::now();
-    lin.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    res.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-    ms.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
-  }
-  for (auto* v : {&lin, &res, &ms}) std::sort(v->begin(), v->end());
-  RecordProperty("median_ms", std::to_string(ms[ms.size() / 2]));
-  std::printf(
-      "linearise + resample 480x480: median %.3f ms of %zu (min %.3f); linearise %.3f, "
-      "resample %.3f\n",
-      ms[ms.size() / 2], ms.size(), ms.front(), lin[lin.size() / 2], res[res.size() / 2]);
-  EXPECT_LT(ms[ms.size() / 2], 50.0);  // a sanity bound, not the budget
 }
 
 }  // namespace

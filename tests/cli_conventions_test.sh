@@ -55,7 +55,8 @@ for program in "$@"; do
     penumbra-synth-trace) runtime=("$program" --out "$tmp/empty.json/traces") ;;
     # Google Benchmark programs: no input file of their own (the kernels' traces are the
     # repository's), so no unreadable input to give them.
-    penumbra_bench | penumbra_shadow_bench | penumbra_shading_bench) continue ;;
+    penumbra_bench | penumbra_shadow_bench | penumbra_shading_bench | \
+      penumbra_environment_camera_bench) continue ;;
     *) echo "no runtime-error case for $name"; runtime=(false) ;;
   esac
   expect "$name: unreadable input" 1 "^$name: error: .*empty.json" "${runtime[@]}"
