@@ -38,10 +38,8 @@ std::vector<uint8_t> noiseFrame(uint32_t exposure) {
 void BM_BracketMerge3x480(benchmark::State& state) {
   const std::vector<double> ms{0.05, 1.6, 51.2};
   const platform::BracketMerge merge(platform::curveResponse(0), ms, 1);
-  std::vector<std::vector<uint8_t>> frames;
-  std::vector<const uint8_t*> data;
-  for (uint32_t j = 0; j < 3; ++j) frames.push_back(noiseFrame(j));
-  for (const auto& f : frames) data.push_back(f.data());
+  const std::vector<std::vector<uint8_t>> frames{noiseFrame(0), noiseFrame(1), noiseFrame(2)};
+  const std::vector<const uint8_t*> data{frames[0].data(), frames[1].data(), frames[2].data()};
   const std::vector<size_t> strides(3, size_t(kSize) * 3);
   core::ImageF out;
   for (auto _ : state) {
