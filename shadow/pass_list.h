@@ -98,8 +98,8 @@ class PassList {
   std::vector<uint32_t> passCluster_;
   std::vector<glm::dmat4> passViewProj_;  // per used pass: the light's frustum (culling)
   core::JobPool* pool_ = nullptr;
-  // Per product vertex and triangle: the clusters with S there, as bits.
-  std::vector<uint64_t> vertexClusters_, triangleClusters_;
+  // Per product vertex: the clusters with S there, as bits; per cluster: its triangles, as bits.
+  std::vector<uint64_t> vertexClusters_, clusterTriangles_;
 };
 
 }  // namespace penumbra::shadow
