@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   std::string sceneName = "all";
   std::filesystem::path outDir = "data/traces";
   app.add_option("--scene", sceneName, "Which trace to write")
-      ->check(CLI::IsMember({"showroom", "tiny", "edges", "pcf", "all"}))
+      ->check(CLI::IsMember(
+          {"showroom", "tiny", "edges", "pcf", "showroom-720p", "showroom-1080p", "all"}))
       ->capture_default_str();
   app.add_option("-o,--out", outDir, "Output directory (created if missing)")
       ->capture_default_str();

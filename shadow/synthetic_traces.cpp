@@ -424,13 +424,15 @@ scene::Region regionMetres(const scene::Quad& q, const std::string& name, double
   return scene::Region{name, u0 / lu, u1 / lu, v0 / lv, v1 / lv, m, patchSize};
 }
 
-// 640x480 showroom: 6 x 3 x 5 m room, a desk, a window and four ceiling panels, a chair
-// in the middle, 50 sources (30 ceiling, 20 window).
-LitScene showroomScene() {
+// The showroom: 6 x 3 x 5 m room, a desk, a window and four ceiling panels, a chair in the
+// middle, 50 sources (30 ceiling, 20 window). The benchmark frame is 640x480; the same room
+// and passes at 1280x720 and 1920x1080 (the camera's vertical field of view kept, so the
+// wider frames see more of the room's sides) measure how the rasterizer scales with pixels.
+LitScene showroomScene(uint32_t width, uint32_t height, const std::string& name) {
   LitScene s;
-  s.name = "showroom-50";
-  s.width = 640;
-  s.height = 480;
+  s.name = name;
+  s.width = width;
+  s.height = height;
   s.patchSize = 0.45;
   const uint32_t floor =
       s.room.addRoomShell(scene::Aabb{dvec3(0, 0, 0), dvec3(6, 3, 5)}, diffuse(0.45, 0.38, 0.30),
@@ -455,7 +457,7 @@ LitScene showroomScene() {
   s.camera.eye = dvec3(0.35, 1.6, 0.35);
   s.camera.target = dvec3(3.2, 0.7, 2.8);
   s.camera.fovYDegrees = 60;
-  s.camera.aspect = 640.0 / 480.0;
+  s.camera.aspect = double(width) / double(height);
   s.camera.zNear = 0.05;
   s.camera.zFar = 15;
 
@@ -738,7 +740,7 @@ raster::FrameTrace buildEdgesTrace(size_t& receiverTriangles) {
 }  // namespace
 
 std::vector<std::string> syntheticTraceKeys() {
-  return {"tiny", "pcf", "showroom", "edges"};
+  return {"tiny", "pcf", "showroom", "edges", "showroom-720p", "showroom-1080p"};
 }
 
 SyntheticTrace synthesizeTrace(const std::string& key) {
@@ -754,7 +756,11 @@ SyntheticTrace synthesizeTrace(const std::string& key) {
   } else if (key == "pcf") {
     s = pcfScene();
   } else if (key == "showroom") {
-    s = showroomScene();
+    s = showroomScene(640, 480, "showroom-50");
+  } else if (key == "showroom-720p") {
+    s = showroomScene(1280, 720, "showroom-50-720p");
+  } else if (key == "showroom-1080p") {
+    s = showroomScene(1920, 1080, "showroom-50-1080p");
   } else {
     throw std::invalid_argument("no synthetic trace \"" + key + "\"");
   }

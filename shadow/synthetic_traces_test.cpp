@@ -39,7 +39,8 @@ TEST(SyntheticTraces, QuickTracesEqualTheCommittedData) {
 }
 
 TEST(SyntheticTraces, KeysAndUnknownKey) {
-  EXPECT_EQ(syntheticTraceKeys(), (std::vector<std::string>{"tiny", "pcf", "showroom", "edges"}));
+  EXPECT_EQ(syntheticTraceKeys(), (std::vector<std::string>{"tiny", "pcf", "showroom", "edges",
+                                                            "showroom-720p", "showroom-1080p"}));
   EXPECT_THROW(synthesizeTrace("nonesuch"), std::invalid_argument);
 }
 
