@@ -200,15 +200,30 @@ FrameTrace adversarialTrace(uint64_t seed) {
   };
   frame.objects.push_back(shaded(box(lo, hi)));
   if (r.chance(0.4)) {
-    const D3 nearCentre = sub(eye, scale(back, cameraNear));
-    frame.objects.push_back(
-        shaded(box(sub(nearCentre, {0.2, 0.2, 0.2}), add(nearCentre, {0.2, 0.2, 0.2}))));
+    // Off the axis, so that it hides a corner of the view rather than all of it.
+    const D3 right = normalise(cross(back, {0, 1, 0}));
+    const D3 nearCentre =
+        add(sub(eye, scale(back, cameraNear)), add(scale(right, r.range(-0.3, 0.3) * cameraNear),
+                                                   {0, r.range(-0.3, 0.3) * cameraNear, 0}));
+    const double s = 0.1 * cameraNear;
+    frame.objects.push_back(shaded(box(sub(nearCentre, {s, s, s}), add(nearCentre, {s, s, s}))));
   }
 
   // Occluders: the product's proxy, and the proxy with long triangles that cross the lights'
   // near and far planes.
-  frame.occluders.push_back(box(lo, hi));
-  core::Mesh wide = box(lo, hi);
+  // A canopy over the floor beside the product (never drawn in the frame: occluders only
+  // cast) gives every light a shadow the camera sees, wherever the light stands.
+  const D3 canopy = {centre[0] + r.range(-1.5, 1.5), r.range(1.2, 1.8),
+                     centre[2] + r.range(-1.0, 1.0)};
+  const double canopyHalf = r.range(0.6, 1.2);
+  core::Mesh proxy = box(lo, hi);
+  const core::Mesh roof =
+      box(sub(canopy, {canopyHalf, 0.05, canopyHalf}), add(canopy, {canopyHalf, 0.05, canopyHalf}));
+  for (const uint32_t i : roof.indices)
+    proxy.indices.push_back(i + static_cast<uint32_t>(proxy.positions.size()));
+  proxy.positions.insert(proxy.positions.end(), roof.positions.begin(), roof.positions.end());
+  frame.occluders.push_back(proxy);
+  core::Mesh wide = proxy;
   const int wideCount = r.integer(2, 5);
   for (int k = 0; k < wideCount; ++k) {
     addTriangle(wide, randomPoint(r, {-6, 0.1, -6}, {6, 6, 6}),
@@ -219,16 +234,18 @@ FrameTrace adversarialTrace(uint64_t seed) {
   const int passCount = r.integer(2, 6);
   for (int p = 0; p < passCount; ++p) {
     ShadowPass pass;
-    const D3 target = add(centre, randomPoint(r, {-0.5, 0, -0.5}, {0.5, 0.8, 0.5}));
+    // Aimed between the product and the floor under the canopy: both shadows in the map.
+    const D3 between = {0.5 * (centre[0] + canopy[0]), 0, 0.5 * (centre[2] + canopy[2])};
+    const D3 target = add(between, randomPoint(r, {-0.5, 0, -0.5}, {0.5, 0.8, 0.5}));
     D3 light = {r.range(-4, 4), r.range(2, 5), r.range(-4, 4)};
     if (std::fabs(light[0] - target[0]) < 0.7 && std::fabs(light[2] - target[2]) < 0.7) {
       light[0] = target[0] + 1.5;  // keep the look direction away from the up vector
     }
     const double distance = std::sqrt(dot(sub(target, light), sub(target, light)));
     const double lightNear = r.range(0.1, 1.0);
-    // Half the lights end just past the product: the floor behind it lies beyond the far
-    // plane (d > 1 against texels the occluder never wrote).
-    double lightFar = r.chance(0.5) ? distance * r.range(0.8, 1.3) : r.range(15, 30);
+    // Half the lights end a little past their target: the floor farther away lies beyond
+    // the far plane (d > 1 against texels the occluder never wrote).
+    double lightFar = r.chance(0.5) ? distance * r.range(1.0, 1.4) : r.range(15, 30);
     lightFar = std::max(lightFar, lightNear + 0.5);
     pass.lightViewProj = viewProj(light, target, r.range(0.5, 2.5), 1.0, lightNear, lightFar);
     pass.shadowMapSize = 16 * static_cast<uint32_t>(r.integer(1, 16));

@@ -13,7 +13,8 @@
 //   * coplanar duplicate receivers: triangles appended to the static mesh a second time with
 //     the same vertex indices, listed in the same pass as the original (spec §6: only the
 //     triangle whose id won the depth test subtracts),
-//   * occluders crossing the light's near and far planes, binary and 2x2 PCF passes.
+//   * occluders crossing the light's near and far planes, binary and 2x2 PCF passes,
+//   * a shadow in view in most passes (a canopy over the floor among the occluders).
 //
 // A separate library (penumbra_adversarial_trace) in the layer that owns the trace format:
 // the product does not link it. Cost: microseconds to milliseconds per trace.
