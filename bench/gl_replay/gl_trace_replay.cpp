@@ -19,56 +19,83 @@ namespace {
 using raster::AttributePlane;
 using raster::SetupTriangle;
 using Vertex = GlTraceReplay::Vertex;
+using MapVertex = GlTraceReplay::MapVertex;
 
 // Every geometry draw: the snapped vertex as given (w = 1: nothing left for GL to clip in
-// its guard-band-free viewport, gl_coverage.cpp), the triangle's constants passed flat.
-const char* const kGeometryVertex = R"(#version 320 es
+// its guard-band-free viewport, gl_coverage.cpp), the triangle's constants passed flat. Each
+// program declares only the constants it reads (WITH_ID, WITH_LEVELS): llvmpipe sets up
+// every varying of every triangle, and shadow-map triangles are many and small.
+const char* const kGeometryVertex = R"(
 layout(location = 0) in vec2 position;
 layout(location = 1) in vec3 depthPlane;
 layout(location = 2) in ivec2 origin;
+flat out vec3 vDepthPlane;
+flat out ivec2 vOrigin;
+#ifdef WITH_ID
 layout(location = 3) in uint id;
+flat out uint vId;
+#endif
+#ifdef WITH_LEVELS
 layout(location = 4) in uvec3 planeC;
 layout(location = 5) in uvec3 planeGx;
 layout(location = 6) in uvec3 planeGy;
-flat out vec3 vDepthPlane;
-flat out ivec2 vOrigin;
-flat out uint vId;
 flat out uvec3 vC, vGx, vGy;
+#endif
 void main() {
   gl_Position = vec4(position, 0.0, 1.0);
   vDepthPlane = depthPlane;
   vOrigin = origin;
+#ifdef WITH_ID
   vId = id;
+#endif
+#ifdef WITH_LEVELS
   vC = planeC;
   vGx = planeGx;
   vGy = planeGy;
+#endif
 }
 )";
 
 // Spec §5, shared by every fragment shader: the depth plane in binary32, left to right,
 // without contraction (`precise`), and the 8.16 planes in wrapping uint arithmetic rounded
 // to whole levels with an arithmetic shift of the int32 value.
-#define PENUMBRA_PLANES                                                            \
-  "flat in vec3 vDepthPlane;\n"                                                    \
-  "flat in ivec2 vOrigin;\n"                                                       \
-  "flat in uint vId;\n"                                                            \
-  "flat in uvec3 vC, vGx, vGy;\n"                                                  \
-  "float planeDepth(ivec2 p) {\n"                                                  \
-  "  precise float z = (vDepthPlane.x + vDepthPlane.y * float(p.x - vOrigin.x))\n" \
-  "                    + vDepthPlane.z * float(p.y - vOrigin.y);\n"                \
-  "  return z;\n"                                                                  \
-  "}\n"                                                                            \
-  "uvec3 planeLevels(ivec2 p) {\n"                                                 \
-  "  uint fx = uint(p.x - vOrigin.x), fy = uint(p.y - vOrigin.y);\n"               \
-  "  uvec3 v = vC + vGx * fx + vGy * fy;\n"                                        \
-  "  return uvec3(clamp(ivec3(v + 0x8000u) >> 16, 0, 255));\n"                     \
-  "}\n"
+const char* const kPlanes = R"(
+precision highp float;
+precision highp int;
+flat in vec3 vDepthPlane;
+flat in ivec2 vOrigin;
+float planeDepth(ivec2 p) {
+  precise float z = (vDepthPlane.x + vDepthPlane.y * float(p.x - vOrigin.x)) +
+                    vDepthPlane.z * float(p.y - vOrigin.y);
+  return z;
+}
+#ifdef WITH_ID
+flat in uint vId;
+#endif
+#ifdef WITH_LEVELS
+flat in uvec3 vC, vGx, vGy;
+uvec3 planeLevels(ivec2 p) {
+  uint fx = uint(p.x - vOrigin.x), fy = uint(p.y - vOrigin.y);
+  uvec3 v = vC + vGx * fx + vGy * fy;
+  return uvec3(clamp(ivec3(v + 0x8000u) >> 16, 0, 255));
+}
+#endif
+)";
 
-// Room, objects and shadow maps: depth z / 2 (1.0, the clear value, is +inf); the frame's
-// targets also take the id and, for objects, the colour (spec §6 steps 1–3).
-const char* const kFrameFragment =
-    "#version 320 es\n"
-    "precision highp float;\nprecision highp int;\n" PENUMBRA_PLANES
+// Shadow maps, room and objects: depth z / 2 (1.0, the clear value, is +inf), and in the
+// frame the id and for objects the colour (spec §6 steps 1–3). One program each, so that
+// none computes what its target drops.
+const char* const kMapFragment =
+    "void main() { gl_FragDepth = planeDepth(ivec2(gl_FragCoord.xy)) * 0.5; }\n";
+
+const char* const kRoomFragment =
+    "layout(location = 1) out uint idOut;\n"
+    "void main() {\n"
+    "  gl_FragDepth = planeDepth(ivec2(gl_FragCoord.xy)) * 0.5;\n"
+    "  idOut = vId;\n"
+    "}\n";
+
+const char* const kObjectFragment =
     "layout(location = 0) out vec4 colour;\n"
     "layout(location = 1) out uint idOut;\n"
     "void main() {\n"
@@ -81,8 +108,7 @@ const char* const kFrameFragment =
 // Spec §6 step 4 and §7 at one receiver pixel: the id test, S, the mask from the texel
 // values, round(S M / 255) exactly, written for the reverse-subtract blend.
 const char* const kPassFragment =
-    "#version 320 es\n"
-    "precision highp float;\nprecision highp int;\n" PENUMBRA_PLANES R"(
+    R"(
 uniform highp usampler2D ids;
 uniform highp sampler2D shadowMap;  // z / 2 per texel, 1.0 where nothing was drawn (+inf)
 uniform vec4 p0, p1, p2, p3;        // rows of spec §7's P
@@ -100,6 +126,9 @@ bool occludes(int i, int j, float d) {
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   if (texelFetch(ids, p, 0).r != vId) discard;
+  // S = 0 subtracts nothing whatever the mask: no lookup (the showroom's many zero corners).
+  uvec3 s = planeLevels(p);
+  if (s == uvec3(0u)) discard;
   float z = planeDepth(p);
   float sx = float(p.x) + 0.5, sy = float(p.y) + 0.5;
   precise float q0 = ((p0.x * sx + p0.y * sy) + p0.z * z) + p0.w;
@@ -133,7 +162,7 @@ void main() {
     }
   }
   uint m = (255u * uint(w) + 32768u) >> 16;
-  uvec3 amount = (planeLevels(p) * m * 257u + 0x8080u) >> 16;
+  uvec3 amount = (s * m * 257u + 0x8080u) >> 16;
   colour = vec4(vec3(amount) / 255.0, 0.0);
 }
 )";
@@ -169,6 +198,26 @@ void bindVertexLayout() {
   glVertexAttribIPointer(5, 3, GL_UNSIGNED_INT, stride, at(offsetof(Vertex, gx)));
   glVertexAttribIPointer(6, 3, GL_UNSIGNED_INT, stride, at(offsetof(Vertex, gy)));
   for (GLuint i = 0; i < 7; ++i) glEnableVertexAttribArray(i);
+}
+
+// The geometry vertex shader and `fragment` with the constants WITH_ID / WITH_LEVELS.
+GLuint geometryProgram(const char* fragment, bool withId, bool withLevels,
+                       const std::string& name) {
+  std::string head = "#version 320 es\n";
+  if (withId) head += "#define WITH_ID 1\n";
+  if (withLevels) head += "#define WITH_LEVELS 1\n";
+  const std::string vertex = head + kGeometryVertex;
+  const std::string fragmentSource = head + kPlanes + fragment;
+  return detail::buildProgram(vertex.c_str(), fragmentSource.c_str(), name);
+}
+
+void bindMapLayout() {
+  const auto stride = static_cast<GLsizei>(sizeof(MapVertex));
+  auto at = [](size_t offset) { return reinterpret_cast<const void*>(offset); };
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(MapVertex, x)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(MapVertex, z00)));
+  glVertexAttribIPointer(2, 2, GL_INT, stride, at(offsetof(MapVertex, ox)));
+  for (GLuint i = 0; i < 3; ++i) glEnableVertexAttribArray(i);
 }
 
 void setViewport(uint32_t side, int32_t origin) {
@@ -237,8 +286,10 @@ void GlTraceReplay::emit(const SetupTriangle& t, const Target& target, uint32_t 
 }
 
 GlTraceReplay::GlTraceReplay(const raster::StaticView& view) : view_(view) {
-  frameProgram_ = detail::buildProgram(kGeometryVertex, kFrameFragment, "room, objects, maps");
-  passProgram_ = detail::buildProgram(kGeometryVertex, kPassFragment, "mask and subtract");
+  mapProgram_ = geometryProgram(kMapFragment, false, false, "shadow maps");
+  roomProgram_ = geometryProgram(kRoomFragment, true, false, "room");
+  objectProgram_ = geometryProgram(kObjectFragment, true, true, "objects");
+  passProgram_ = geometryProgram(kPassFragment, true, true, "mask and subtract");
   backgroundProgram_ = detail::buildProgram(kBackgroundVertex, kBackgroundFragment, "background");
   frameTarget_ = targetFor(view_.width, view_.height);
 
@@ -304,6 +355,11 @@ GlTraceReplay::GlTraceReplay(const raster::StaticView& view) : view_(view) {
   glGenBuffers(1, &streamBuffer_);
   glBindBuffer(GL_ARRAY_BUFFER, streamBuffer_);
   bindVertexLayout();
+  glGenVertexArrays(1, &mapVao_);
+  glBindVertexArray(mapVao_);
+  glGenBuffers(1, &mapBuffer_);
+  glBindBuffer(GL_ARRAY_BUFFER, mapBuffer_);
+  bindMapLayout();
   glGenVertexArrays(1, &emptyVao_);
   glBindVertexArray(0);
   GlContext::check("GlTraceReplay setup");
@@ -314,16 +370,17 @@ GlTraceReplay::~GlTraceReplay() {
     glDeleteFramebuffers(1, &t.fbo);
     glDeleteTextures(1, &t.texture);
   }
-  const GLuint buffers[] = {staticBuffer_, streamBuffer_};
-  glDeleteBuffers(2, buffers);
-  const GLuint vaos[] = {staticVao_, streamVao_, emptyVao_};
-  glDeleteVertexArrays(3, vaos);
+  const GLuint buffers[] = {staticBuffer_, streamBuffer_, mapBuffer_};
+  glDeleteBuffers(3, buffers);
+  const GLuint vaos[] = {staticVao_, streamVao_, mapVao_, emptyVao_};
+  glDeleteVertexArrays(4, vaos);
   const GLuint fbos[] = {frameFbo_, passFbo_};
   glDeleteFramebuffers(2, fbos);
   glDeleteRenderbuffers(1, &frameDepth_);
   const GLuint textures[] = {frameColour_, frameIds_, backgroundTexture_};
   glDeleteTextures(3, textures);
-  for (GLuint p : {frameProgram_, passProgram_, backgroundProgram_}) glDeleteProgram(p);
+  for (GLuint p : {mapProgram_, roomProgram_, objectProgram_, passProgram_, backgroundProgram_})
+    glDeleteProgram(p);
 }
 
 void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t> rgbaOut) {
@@ -339,6 +396,7 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   // CPU set-up of this frame's triangles (spec §3–5) into one stream: objects, then per pass
   // its occluder in the light's map, its room receivers and its object receivers.
   stream_.clear();
+  mapStream_.clear();
   auto setupMesh = [&](const core::Mesh& mesh, const core::Mat4& m, uint32_t w, uint32_t h,
                        auto&& each) {
     clip_.resize(mesh.positions.size());
@@ -393,12 +451,16 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
     ShadowTarget& target = shadowTargets_[p];
     if (target.size != pass.shadowMapSize)
       target.viewport = targetFor(pass.shadowMapSize, pass.shadowMapSize);
-    r.mapFirst = static_cast<int>(stream_.size());
+    r.mapFirst = static_cast<int>(mapStream_.size());
     setupMesh(frame.occluders[pass.occluder], pass.lightViewProj, pass.shadowMapSize,
               pass.shadowMapSize, [&](size_t /*t*/, const SetupTriangle& st) {
-                emit(st, target.viewport, 0, nullptr, stream_);
+                scratch_.clear();
+                emit(st, target.viewport, 0, nullptr, scratch_);
+                for (const Vertex& v : scratch_) {
+                  mapStream_.push_back({v.x, v.y, v.z00, v.dzdx, v.dzdy, v.ox, v.oy});
+                }
               });
-    r.mapCount = static_cast<int>(stream_.size()) - r.mapFirst;
+    r.mapCount = static_cast<int>(mapStream_.size()) - r.mapFirst;
     r.roomFirst = static_cast<int>(stream_.size());
     AttributePlane planes[3];
     for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
@@ -423,6 +485,9 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   glBindBuffer(GL_ARRAY_BUFFER, streamBuffer_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(stream_.size() * sizeof(Vertex)),
                stream_.data(), GL_STREAM_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, mapBuffer_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mapStream_.size() * sizeof(MapVertex)),
+               mapStream_.data(), GL_STREAM_DRAW);
 
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);  // both windings are drawn (spec §4)
@@ -431,8 +496,8 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   glClearDepthf(1.0f);  // z / 2 <= 0.5 for every drawn z: 1.0 is the spec's +inf
 
   // Spec §6 step 1: every pass's map, z < depth in triangle order (GL_LESS on z / 2).
-  glUseProgram(frameProgram_);
-  glBindVertexArray(streamVao_);
+  glUseProgram(mapProgram_);
+  glBindVertexArray(mapVao_);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   for (size_t p = 0; p < frame.passes.size(); ++p) {
@@ -491,10 +556,11 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   setViewport(frameTarget_.side, frameTarget_.origin);
-  glUseProgram(frameProgram_);
+  glUseProgram(roomProgram_);
   glDrawBuffers(2, idOnly);
   glBindVertexArray(staticVao_);
   glDrawArrays(GL_TRIANGLES, 0, staticVertices_);
+  glUseProgram(objectProgram_);
   glDrawBuffers(2, both);
   glBindVertexArray(streamVao_);
   glDrawArrays(GL_TRIANGLES, 0, objectVertices);

@@ -66,6 +66,11 @@ class GlTraceReplay {
     uint32_t id = 0;                    // triangle id of spec §6 (flat)
     uint32_t c[3] = {}, gx[3] = {}, gy[3] = {};  // 8.16 planes per channel (flat)
   };
+  // Shadow-map triangles need the depth plane alone: 7 words a vertex.
+  struct MapVertex {
+    float x = 0, y = 0, z00 = 0, dzdx = 0, dzdy = 0;
+    int32_t ox = 0, oy = 0;
+  };
 
  private:
   struct Target {
@@ -83,8 +88,10 @@ class GlTraceReplay {
 
   raster::StaticView view_;
   Target frameTarget_;
-  unsigned frameProgram_ = 0, mapProgram_ = 0, passProgram_ = 0, backgroundProgram_ = 0;
+  unsigned mapProgram_ = 0, roomProgram_ = 0, objectProgram_ = 0, passProgram_ = 0;
+  unsigned backgroundProgram_ = 0;
   unsigned staticVao_ = 0, staticBuffer_ = 0, streamVao_ = 0, streamBuffer_ = 0, emptyVao_ = 0;
+  unsigned mapVao_ = 0, mapBuffer_ = 0;
   unsigned frameFbo_ = 0, passFbo_ = 0, frameColour_ = 0, frameIds_ = 0, frameDepth_ = 0;
   unsigned backgroundTexture_ = 0;
   int staticVertices_ = 0;
@@ -93,7 +100,9 @@ class GlTraceReplay {
   // staticSubs_[staticFirst_[t], staticFirst_[t + 1]).
   std::vector<raster::SetupTriangle> staticSubs_;
   std::vector<uint32_t> staticFirst_;
-  std::vector<Vertex> stream_;  // per-frame vertices
+  std::vector<Vertex> stream_;        // per-frame vertices: objects, receivers
+  std::vector<MapVertex> mapStream_;  // per-frame vertices: every pass's occluder
+  std::vector<Vertex> scratch_;
   std::vector<raster::ClipVertex> clip_;
   std::vector<std::array<raster::SnappedVertex, 3>> fan_;
 };
