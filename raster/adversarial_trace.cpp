@@ -265,6 +265,19 @@ FrameTrace adversarialTrace(uint64_t seed) {
             core::Rgb16::fromLevels({r.level(10, 255), r.level(10, 255), r.level(10, 255)}));
       }
     }
+    // Self-shadowing (Gibson 2003 §7.2): half the passes shade the product's own faces too,
+    // with their own bias, negative in half of those.
+    if (r.chance(0.5)) {
+      for (uint32_t g = 0; g < frame.objects[0].mesh.triangleCount(); ++g) {
+        pass.objectTriangles.push_back(g);
+        for (int k = 0; k < 3; ++k) {
+          pass.objectS.push_back(
+              core::Rgb16::fromLevels({r.level(10, 255), r.level(10, 255), r.level(10, 255)}));
+        }
+      }
+      pass.objectDepthBias =
+          static_cast<float>(r.chance(0.5) ? r.range(-0.02, -0.0005) : r.range(0, 0.02));
+    }
     frame.passes.push_back(std::move(pass));
   }
   frame.accumulation = Accumulation::kU8;
@@ -278,6 +291,7 @@ AdversarialFeatures adversarialFeatures(const FrameTrace& trace) {
   for (const ShadowPass& pass : trace.frame.passes) {
     if (pass.depthBias < 0.0f) ++f.negativeBiasPasses;
     if (pass.pcf2x2) ++f.pcfPasses;
+    if (!pass.objectTriangles.empty()) ++f.objectReceiverPasses;
     std::map<std::array<uint32_t, 3>, size_t> seen;
     for (const uint32_t t : pass.receiverTriangles) {
       bool behind = false, beyond = false, outside = false;

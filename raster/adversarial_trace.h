@@ -14,7 +14,8 @@
 //     the same vertex indices, listed in the same pass as the original (spec §6: only the
 //     triangle whose id won the depth test subtracts),
 //   * occluders crossing the light's near and far planes, binary and 2x2 PCF passes,
-//   * a shadow in view in most passes (a canopy over the floor among the occluders).
+//   * a shadow in view in most passes (a canopy over the floor among the occluders),
+//   * object receivers (self-shadowing) in half the passes, with negative bias in some.
 //
 // A separate library (penumbra_adversarial_trace) in the layer that owns the trace format:
 // the product does not link it. Cost: microseconds to milliseconds per trace.
@@ -41,6 +42,7 @@ struct AdversarialFeatures {
   size_t negativeBiasPasses = 0;
   size_t duplicatePairs = 0;  // pairs of listed triangles with the same three vertices
   size_t pcfPasses = 0;
+  size_t objectReceiverPasses = 0;  // passes listing object triangles
 };
 AdversarialFeatures adversarialFeatures(const FrameTrace& trace);
 

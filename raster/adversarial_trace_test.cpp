@@ -56,10 +56,12 @@ TEST(AdversarialTrace, EverySeedShowsTheFeatures) {
     all.beyondLightFar += f.beyondLightFar;
     all.negativeBiasPasses += f.negativeBiasPasses;
     all.pcfPasses += f.pcfPasses;
+    all.objectReceiverPasses += f.objectReceiverPasses;
   }
   EXPECT_GT(all.beyondLightFar, 12u);
   EXPECT_GT(all.negativeBiasPasses, 6u);
   EXPECT_GT(all.pcfPasses, 6u);
+  EXPECT_GT(all.objectReceiverPasses, 6u);
 }
 
 }  // namespace
