@@ -187,9 +187,15 @@ uint32_t pow2Side(uint32_t n) {
   return p;
 }
 
+// A byte offset into the bound GL_ARRAY_BUFFER, which glVertexAttrib*Pointer takes as a
+// pointer (the GL API's convention, not an address).
+const void* bufferOffset(size_t offset) {
+  return reinterpret_cast<const void*>(offset);  // NOLINT(performance-no-int-to-ptr)
+}
+
 void bindVertexLayout() {
   const auto stride = static_cast<GLsizei>(sizeof(Vertex));
-  auto at = [](size_t offset) { return reinterpret_cast<const void*>(offset); };
+  auto at = bufferOffset;
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(Vertex, x)));
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(Vertex, z00)));
   glVertexAttribIPointer(2, 2, GL_INT, stride, at(offsetof(Vertex, ox)));
@@ -213,7 +219,7 @@ GLuint geometryProgram(const char* fragment, bool withId, bool withLevels,
 
 void bindMapLayout() {
   const auto stride = static_cast<GLsizei>(sizeof(MapVertex));
-  auto at = [](size_t offset) { return reinterpret_cast<const void*>(offset); };
+  auto at = bufferOffset;
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, at(offsetof(MapVertex, x)));
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, at(offsetof(MapVertex, z00)));
   glVertexAttribIPointer(2, 2, GL_INT, stride, at(offsetof(MapVertex, ox)));
