@@ -1,10 +1,12 @@
-// penumbra-gl-replay: replays a frame trace through OpenGL ES 3 on Mesa (llvmpipe), times
-// it, and optionally compares bytes and speed with penumbra's own Renderer.
+// penumbra-gl-replay: replays a frame trace through OpenGL ES 3.2 on Mesa (llvmpipe) as a
+// second implementation of docs/pipeline-spec.md (gl_trace_replay.h), times it, and
+// optionally compares bytes and speed with penumbra's own Renderer.
 //
 // Fairness: llvmpipe is told to use as many raster threads as the Renderer
 // (LP_NUM_THREADS, set before the context is created; default 2 for a 2-core machine).
-// GL times include glFinish() and the glReadPixels() read-back, and the per-frame upload
-// of the background and the frame's geometry; Renderer times include its whole render().
+// GL times include the CPU set-up of the frame's triangles (clip, snap, planes), their
+// upload with the background, glFinish() and the glReadPixels() read-back; Renderer times
+// include its whole render().
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -89,8 +91,9 @@ void writeImage(const std::filesystem::path& path, const std::vector<uint8_t>& r
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Replays a Penumbra frame trace through OpenGL ES 3 on Mesa (llvmpipe) and times it.\n"
-      "Times per frame include the upload of the frame content, glFinish() and the RGBA8\n"
+      "Replays a Penumbra frame trace through OpenGL ES 3.2 on Mesa (llvmpipe), following\n"
+      "docs/pipeline-spec.md, and times it. Times per frame include the CPU set-up and upload\n"
+      "of the frame content, glFinish() and the RGBA8\n"
       "read-back. --compare also renders with Penumbra's Renderer and prints one JSON\n"
       "object with the byte agreement and both speeds."};
   std::filesystem::path tracePath, outPath;
@@ -133,7 +136,7 @@ int main(int argc, char** argv) {
          << context.displayKind() << "), LP_NUM_THREADS=" << threads << "\n";
     text << "GL replay " << width << "x" << height << ", " << frames << " frames: median "
          << glTime.median << " ms/frame, min " << glTime.min
-         << " ms/frame (upload + draw + glFinish + read-back)\n";
+         << " ms/frame (set-up + upload + draw + glFinish + read-back)\n";
     if (!compare) return 0;
 
     penumbra::raster::RenderOptions options;

@@ -14,6 +14,7 @@
 #include "bench/gl_replay/gl_test_context.h"
 #include "bench/gl_replay/gl_trace_replay.h"
 #include "bench/gl_replay/image_compare.h"
+#include "raster/adversarial_trace.h"
 #include "raster/frame_trace.h"
 #include "raster/renderer.h"
 #include "simd/targets.h"
@@ -196,13 +197,13 @@ void report(const std::string& name, const ImageDiff& d) {
             << "\n";
 }
 
-// Thresholds: coverage is exact (gl_coverage_test), but GL's 1/w, float attribute
-// interpolation, float depth planes and bilinear compare weights round differently from
-// spec §5/§7, so a few edge pixels and +-1 steps remain. A difference that a one-pixel
-// shift does not explain must stay small.
+// Thresholds: the replay follows spec §2–7 (gl_trace_replay.h) and is byte-identical on
+// every trace we have; what is left to llvmpipe (docs/performance.md, "Where the GL replay
+// cannot follow the spec") could move single pixels on another driver, so a share is
+// required, not identity. Before the replay followed the spec these traces reached 0.997.
 void expectAgreement(const ImageDiff& d) {
-  EXPECT_GE(d.identicalByteShare, 0.99);
-  EXPECT_LE(d.meanAbsDiff, 0.5);
+  EXPECT_GE(d.identicalByteShare, 0.999);
+  EXPECT_LE(d.meanAbsDiff, 0.05);
   EXPECT_LE(d.maxAbsDiffShiftTolerant, 16);
 }
 
@@ -270,6 +271,30 @@ TEST(GlReplay, CompositeAgreesOnRecordedTraces) {
     report(path.filename().string(), a.diff);
     expectAgreement(a.diff);
   }
+}
+
+// Issue 13 item 4: the replay as a faithful second implementation on the traces built to
+// part the two (raster/adversarial_trace.h: clipping behind the eye, receivers beyond a
+// light's far plane and outside its map, negative bias, coplanar duplicate receivers).
+// Before the replay followed the spec this median was 0.75 (docs/performance.md).
+TEST(GlReplay, CompositeAgreesOnAdversarialTraces) {
+  PENUMBRA_REQUIRE_GL();
+  std::vector<double> shares;
+  for (uint64_t seed = 1; seed <= 12; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const FrameTrace trace = raster::adversarialTrace(seed);
+    const Agreement a = compareOnce(trace);
+    report("adversarial seed " + std::to_string(seed), a.diff);
+    // The passes must change the frame, or agreeing would say nothing about them.
+    FrameTrace unshadowed = trace;
+    unshadowed.frame.passes.clear();
+    const Agreement base = compareOnce(unshadowed);
+    EXPECT_NE(base.ours, a.ours);
+    EXPECT_GE(a.diff.identicalByteShare, 0.999);
+    shares.push_back(a.diff.identicalByteShare);
+  }
+  std::sort(shares.begin(), shares.end());
+  EXPECT_GE(0.5 * (shares[5] + shares[6]), 0.9999);
 }
 
 }  // namespace
