@@ -54,6 +54,7 @@ FisheyeCalibration calibrateFisheye(const std::vector<std::filesystem::path>& ph
   for (const std::vector<glm::dvec2>& view : views.corners) {
     objects.push_back(cv::Mat(boardPoints, true).reshape(3, 1));
     std::vector<cv::Point2d> pts;
+    pts.reserve(view.size());
     for (const glm::dvec2& p : view) pts.emplace_back(p.x, p.y);
     corners.push_back(cv::Mat(pts, true).reshape(2, 1));
   }

@@ -185,9 +185,12 @@ ChessboardCalibration calibrateFromChessboards(const std::vector<std::filesystem
                            skippedList(out));
   }
   std::vector<std::vector<cv::Point2f>> found;
+  found.reserve(views.corners.size());
   for (const std::vector<glm::dvec2>& view : views.corners) {
-    std::vector<cv::Point2f>& pts = found.emplace_back();
+    std::vector<cv::Point2f> pts;
+    pts.reserve(view.size());
     for (const glm::dvec2& p : view) pts.emplace_back(float(p.x), float(p.y));  // the same floats
+    found.push_back(std::move(pts));
   }
   calibrate(found, board, cv::Size(views.width, views.height), squareSize, out);
   return out;
