@@ -31,17 +31,39 @@ FisheyeCalibration calibrateFisheye(const std::vector<std::filesystem::path>& ph
   if (!(square > 0) || !std::isfinite(square)) {
     throw scene::CalibrationError("chessboard square size must be positive");
   }
+  return fitFisheyeLens(
+      scene::findChessboards(photos, board, {scene::CornerSearch::Detector::kSectorBased}), board,
+      square, minViews);
+}
+
+FisheyeCalibration fitFisheyeLens(scene::ChessboardViews views, scene::ChessboardSize board,
+                                  double square, int minViews) {
+  if (!(square > 0) || !std::isfinite(square)) {
+    throw scene::CalibrationError("chessboard square size must be positive");
+  }
   // Zhang's initialisation, which cv::fisheye::calibrate's extrinsics start from, needs three
   // views of a plane.
   minViews = std::max(minViews, 3);
-  scene::ChessboardViews views =
-      scene::findChessboards(photos, board, {scene::CornerSearch::Detector::kSectorBased});
   FisheyeCalibration out;
   out.images = std::move(views.images);
   const int found = int(views.corners.size());
+  // The per-photo bookkeeping below walks the used photos and the views together.
+  const auto used = std::count_if(out.images.begin(), out.images.end(),
+                                  [](const scene::ChessboardImage& im) { return im.used; });
+  if (used != found) {
+    throw scene::CalibrationError("fisheye calibration: " + std::to_string(used) +
+                                  " photos marked used for " + std::to_string(found) + " views");
+  }
+  for (const std::vector<glm::dvec2>& view : views.corners) {
+    if (view.size() != size_t(board.cols) * size_t(board.rows)) {
+      throw scene::CalibrationError(
+          "fisheye calibration: a view of " + std::to_string(view.size()) + " corners for a " +
+          std::to_string(board.cols) + "x" + std::to_string(board.rows) + " board");
+    }
+  }
   if (found < minViews) {
     throw FisheyeError("fisheye calibration", "",
-                       std::to_string(found) + " of " + std::to_string(photos.size()) +
+                       std::to_string(found) + " of " + std::to_string(out.images.size()) +
                            " photos show the whole " + std::to_string(board.cols) + "x" +
                            std::to_string(board.rows) + " board, need at least " +
                            std::to_string(minViews) + skipped(out.images));

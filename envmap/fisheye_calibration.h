@@ -34,4 +34,10 @@ struct FisheyeCalibration {
 FisheyeCalibration calibrateFisheye(const std::vector<std::filesystem::path>& photos,
                                     scene::ChessboardSize board, double square, int minViews = 3);
 
+// The fit alone, from corners already found (scene::findChessboards; `views.images` names the
+// photos, `views.corners` holds one entry per used photo, in order): what calibrateFisheye
+// does after its corner search, with the same refusals.
+FisheyeCalibration fitFisheyeLens(scene::ChessboardViews views, scene::ChessboardSize board,
+                                  double square, int minViews = 3);
+
 }  // namespace penumbra::envmap

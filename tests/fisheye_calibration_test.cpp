@@ -319,5 +319,34 @@ TEST_F(FisheyeCalibrationTest, AFitOfTwoLensesIsRefused) {
       << text("err.txt");
 }
 
+TEST_F(FisheyeCalibrationTest, AFitOverFivePixelsIsRefused) {
+  // The corners of the f = 146 views as found, then each moved 6 px along x and y, one way on
+  // the board's white-diagonal corners and the other way on the rest: detections that no lens
+  // and pose explain (a mislabelled or smeared set), which Levenberg–Marquardt still fits to
+  // finite, positive focal lengths.
+  const std::vector<fs::path> views = writeViews(dir_, [](size_t) { return kLens146; });
+  const scene::ChessboardViews found =
+      scene::findChessboards(views, {9, 6}, {scene::CornerSearch::Detector::kSectorBased});
+  EXPECT_LT(envmap::fitFisheyeLens(found, {9, 6}, 0.025).lens.rmsPx, 0.3);  // as found: 0.18
+  scene::ChessboardViews moved = found;
+  for (std::vector<glm::dvec2>& view : moved.corners) {
+    for (size_t i = 0; i < view.size(); ++i) {
+      const double s = (i % 9 + i / 9) % 2 ? 6.0 : -6.0;
+      view[i] += glm::dvec2(s, s);
+    }
+  }
+  try {
+    const envmap::FisheyeCalibration c = envmap::fitFisheyeLens(moved, {9, 6}, 0.025);
+    ADD_FAILURE() << "accepted corners 6 px off, rms " << c.lens.rmsPx;
+  } catch (const envmap::FisheyeError& e) {
+    std::printf("moved corners: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("px, more than 5 px: not a calibration of this lens"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("the worst photo is fisheye_left"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace penumbra
