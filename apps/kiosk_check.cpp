@@ -77,11 +77,14 @@ void describeEnvironment(const kiosk::KioskConfig& c, std::ostream& out) {
     where = e.device + (std::filesystem::exists(e.device) ? " (recording)" : " (not present)");
   }
   std::ostringstream lens;
+  if (!e.lensFile.empty()) lens << "lens file " << e.lensFile << ": ";
   lens << (e.equidistant180 ? "equidistant 180" : "fisheye") << " lens f " << e.lens.fx << " "
        << e.lens.fy << " centre " << e.lens.cx << " " << e.lens.cy;
   if (!e.equidistant180) {
     lens << " k " << e.lens.k[0] << " " << e.lens.k[1] << " " << e.lens.k[2] << " " << e.lens.k[3];
   }
+  // How much of the hemisphere it sees (kiosk_config.cpp refuses less than 90°).
+  lens << " reach " << std::round(e.lensReach * 180 / std::numbers::pi * 100) / 100 << " deg";
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
   const char* module = " (OpenCV module)";
 #else

@@ -359,4 +359,23 @@ std::string JsonValue::stringOr(std::string_view key, std::string fallback) cons
   return v ? v->string() : std::move(fallback);
 }
 
+int64_t requireFileFormat(const JsonValue& root, std::string_view format, int64_t maxVersion) {
+  const JsonValue f = root["format"];
+  if (!f.json().is_string() || f.json().get<std::string>() != format) {
+    f.fail("expected " + inQuotes(format) + ", got " +
+           (f.json().is_string() ? inQuotes(f.json().get<std::string>()) : describe(f.json())));
+  }
+  const JsonValue v = root["version"];
+  if (v.json().is_number_integer() && v.json().get<int64_t>() > maxVersion) {
+    std::string problem = std::to_string(v.json().get<int64_t>());
+    problem.append(": written by a newer Penumbra (this one reads ")
+        .append(format)
+        .append(" version 1 to ")
+        .append(std::to_string(maxVersion))
+        .append(")");
+    v.fail(problem);
+  }
+  return v.integer(1, maxVersion);
+}
+
 }  // namespace penumbra::core

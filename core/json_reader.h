@@ -138,6 +138,12 @@ class JsonDocument {
 std::string readTextFile(const std::filesystem::path& path, ErrorThrower raise,
                          uintmax_t maxBytes = kMaxJsonFileBytes);
 
+// The "format" and "version" every Penumbra file starts with: throws `file: format: expected
+// "penumbra-fisheye-lens", got "x"` when the format is another, `file: version: ...` when the
+// version is not an integer in [1, maxVersion] (a newer file says so: "written by a newer
+// Penumbra"). Returns the version. The caller lists both keys in its object(...) check.
+int64_t requireFileFormat(const JsonValue& root, std::string_view format, int64_t maxVersion);
+
 // A number as the messages print it: the shortest text that reads back the same double.
 std::string formatNumber(double v);
 

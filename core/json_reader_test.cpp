@@ -132,5 +132,23 @@ TEST(JsonReader, FilesAreBoundedAndRegular) {
   EXPECT_EQ(messageOf(big, 100), "no error");
 }
 
+TEST(JsonReader, FileFormatAndVersion) {
+  const auto check = [](const JsonValue& j) { requireFileFormat(j, "penumbra-x", 2); };
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-x", "version": 2})", check), "no error");
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-y", "version": 1})", check),
+            R"(scene.json: format: expected "penumbra-x", got "penumbra-y")");
+  EXPECT_EQ(errorOf(R"({"format": 3, "version": 1})", check),
+            R"(scene.json: format: expected "penumbra-x", got 3)");
+  EXPECT_EQ(errorOf(R"({"version": 1})", check), "scene.json: format: missing");
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-x"})", check), "scene.json: version: missing");
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-x", "version": 3})", check),
+            "scene.json: version: 3: written by a newer Penumbra (this one reads penumbra-x "
+            "version 1 to 2)");
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-x", "version": 0})", check),
+            "scene.json: version: 0 is not in [1, 2]");
+  EXPECT_EQ(errorOf(R"({"format": "penumbra-x", "version": 1.5})", check),
+            "scene.json: version: expected an integer, got 1.5");
+}
+
 }  // namespace
 }  // namespace penumbra::core

@@ -32,6 +32,8 @@ struct EnvironmentCameraSettings {
   uint32_t width = 0, height = 0;  // the frames' size (asked of a device; the lens's)
   envmap::FisheyeLens lens;        // cv::fisheye intrinsics for width × height frames
   bool equidistant180 = true;      // the lens was given as "equidistant180" (for --check)
+  std::string lensFile;            // the lens file it was read from (`penumbra calibrate-fisheye`)
+  double lensReach = 0;            // envmap::nearestEdgeReach(lens), radians (≥ π/2)
   // The frames' response: 0 for sRGB (IEC 61966-2-1), otherwise a gamma, value^gamma —
   // unless `response` holds the camera's calibrated curves (read from `responseFile`).
   double gamma = 0;

@@ -6,8 +6,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <numbers>
 
 #include "core/json_reader.h"
+#include "envmap/fisheye_lens_file.h"
 
 namespace penumbra::kiosk {
 
@@ -244,12 +247,33 @@ EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
   s.height = static_cast<uint32_t>(e["height"].integer(2, 4096));
   const JsonValue lens = e["lens"];
   if (!lens.json().is_string() && !lens.json().is_object()) {
-    lens.fail(R"(expected "equidistant180" or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]})");
+    lens.fail(
+        R"(expected "equidistant180", a lens file or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]})");
   }
   if (lens.json().is_string()) {
-    lens.oneOf({"equidistant180"});
-    s.lens = envmap::FisheyeLens::equidistant180(s.width, s.height);
-    s.equidistant180 = true;
+    const std::string name = lens.nonEmptyString();
+    if (name == "equidistant180") {
+      s.lens = envmap::FisheyeLens::equidistant180(s.width, s.height);
+      s.equidistant180 = true;
+    } else {  // a file written by `penumbra calibrate-fisheye`
+      s.lensFile = (dir / name).string();
+      if (!std::filesystem::exists(s.lensFile)) {
+        lens.fail("\"" + name + "\": no such lens file (" + s.lensFile +
+                  R"(); expected "equidistant180", a file written by `penumbra calibrate-fisheye` )"
+                  R"(or {"fx", "fy", "cx", "cy", "k": [k1, k2, k3, k4]})");
+      }
+      try {
+        s.lens = envmap::readFisheyeLensFile(s.lensFile, core::throwAs<ConfigError>).lens;
+      } catch (const core::Error& error) {
+        lens.fail(error.what());
+      }
+      if (s.lens.width != s.width || s.lens.height != s.height) {
+        lens.fail(s.lensFile + ": calibrated for " + std::to_string(s.lens.width) + "x" +
+                  std::to_string(s.lens.height) + " images, the environment camera's are " +
+                  std::to_string(s.width) + "x" + std::to_string(s.height));
+      }
+      s.equidistant180 = false;
+    }
   } else {
     lens.object({"fx", "fy", "cx", "cy", "k"});
     s.lens.width = s.width;
@@ -269,6 +293,17 @@ EnvironmentCameraSettings readEnvironmentCamera(const JsonValue& e,
       s.lens.k[i] = k[i];
     }
     s.equidistant180 = false;
+  }
+  // The hemisphere map needs every direction up to 90° from the axis (Havran et al. 2005
+  // §5.1); a lens that sees less would leave the map's rim unseen (the resampler refuses it
+  // at start, with a sample index): refused here, by its reach, where the site edits it.
+  s.lensReach = envmap::nearestEdgeReach(s.lens);
+  if (!envmap::reachesHemisphere(s.lensReach)) {
+    char reach[32];
+    std::snprintf(reach, sizeof reach, "%.2f", s.lensReach * 180 / std::numbers::pi);
+    lens.fail((s.lensFile.empty() ? std::string("the lens") : s.lensFile) + " sees " + reach +
+              " deg from its axis towards the nearest image edge: the hemisphere map needs 90 "
+              "deg (a wider lens, or the lens centred in the image)");
   }
   if (const auto r = e.find("response")) {
     if (!r->json().is_string() && !r->json().is_number()) {

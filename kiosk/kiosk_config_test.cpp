@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <numbers>
 
+#include "envmap/fisheye_lens_file.h"
 #include "tests/scratch_dir.h"
 
 namespace penumbra::kiosk {
@@ -109,12 +111,12 @@ TEST(KioskConfig, ReadsTheEnvironmentCamera) {
   // A recording relative to the configuration, a calibrated lens, a gamma; the defaults.
   const auto path2 = write(R"({"bundle": "b", "environment": {"device": "footage/day.avi",
       "width": 480, "height": 480, "response": 2.2,
-      "lens": {"fx": 150.5, "fy": 151, "cx": 239.5, "cy": 241, "k": [0.01, -0.002, 0, 0.0001]}}})");
+      "lens": {"fx": 148.5, "fy": 148, "cx": 239.5, "cy": 241, "k": [0.01, -0.002, 0, 0.0001]}}})");
   const KioskConfig d = loadKioskConfig(path2);
   ASSERT_TRUE(d.environment.has_value());
   EXPECT_EQ(d.environment->device, (path2.parent_path() / "footage" / "day.avi").string());
   EXPECT_FALSE(d.environment->equidistant180);
-  EXPECT_EQ(d.environment->lens.fx, 150.5);
+  EXPECT_EQ(d.environment->lens.fx, 148.5);
   EXPECT_EQ(d.environment->lens.cy, 241.0);
   EXPECT_EQ(d.environment->lens.k[1], -0.002);
   EXPECT_EQ(d.environment->lens.width, 480u);
@@ -161,6 +163,67 @@ TEST(KioskConfig, BadResponseFileNamesBothFiles) {
               path.string() +
                   ": environment.response: " + (path.parent_path() / "camera.json").string() +
                   ": log_exposure.r: expected an array of 256 numbers, got an array of 2");
+  }
+}
+
+// environment.lens as a lens file of `penumbra calibrate-fisheye` (envmap/fisheye_lens_file.h),
+// relative to the configuration; its size must be the camera's and it must see the hemisphere.
+TEST(KioskConfig, ReadsALensFileAndRefusesANarrowLens) {
+  const auto path = write(R"({"bundle": "b", "environment": {"device": "/dev/video2",
+      "width": 480, "height": 480, "lens": "lenses/env.json"}})");
+  std::filesystem::create_directories(path.parent_path() / "lenses");
+  const std::filesystem::path lensPath = path.parent_path() / "lenses" / "env.json";
+  envmap::FisheyeLensFile f;
+  f.lens = {480, 480, 146.2, 145.9, 240.3, 239.6, {0.02, -0.005, 0.001, -0.0002}};
+  f.rmsPx = 0.05;
+  f.views = 13;
+  envmap::writeFisheyeLensFile(lensPath, f);
+  const KioskConfig c = loadKioskConfig(path);
+  ASSERT_TRUE(c.environment.has_value());
+  EXPECT_EQ(c.environment->lensFile, lensPath.string());
+  EXPECT_FALSE(c.environment->equidistant180);
+  EXPECT_EQ(c.environment->lens.fy, 145.9);
+  EXPECT_EQ(c.environment->lens.k[3], -0.0002);
+  EXPECT_EQ(c.environment->lensReach, envmap::nearestEdgeReach(f.lens));
+  EXPECT_GT(c.environment->lensReach * 180 / std::numbers::pi, 90.0);
+
+  const auto refusal = [&] {
+    try {
+      loadKioskConfig(path);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Another size than the camera's.
+  f.lens.width = 640;
+  envmap::writeFisheyeLensFile(lensPath, f);
+  EXPECT_EQ(refusal(), path.string() + ": environment.lens: " + lensPath.string() +
+                           ": calibrated for 640x480 images, the environment camera's are 480x480");
+  // A lens of f = 165 on 480 pixels: 240 / 165 rad = 83.34° to the nearest edge.
+  f.lens = {480, 480, 165, 165, 240, 240, {}};
+  envmap::writeFisheyeLensFile(lensPath, f);
+  EXPECT_EQ(refusal(), path.string() + ": environment.lens: " + lensPath.string() +
+                           " sees 83.34 deg from its axis towards the nearest image edge: the "
+                           "hemisphere map needs 90 deg (a wider lens, or the lens centred in "
+                           "the image)");
+  // A bad field names both files.
+  std::ofstream(lensPath) << R"({"format": "penumbra-fisheye-lens", "version": 1,
+      "image_size": [480, 480], "fx": 146, "fy": 146, "cx": 240, "cy": 500,
+      "k": [0, 0, 0, 0], "rms_px": 0.1, "views": 5})";
+  EXPECT_EQ(refusal(), path.string() + ": environment.lens: " + lensPath.string() +
+                           ": cy: 500 is outside the image (0 < cy < 480)");
+  // The same reach rule for intrinsics written inline.
+  const auto inline165 = write(R"({"bundle": "b", "environment": {"device": "/dev/video2",
+      "width": 480, "height": 480, "lens": {"fx": 165, "fy": 165, "cx": 240, "cy": 240,
+      "k": [0, 0, 0, 0]}}})");
+  try {
+    loadKioskConfig(inline165);
+    ADD_FAILURE() << "accepted a lens of 83 degrees";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("environment.lens: the lens sees 83.34 deg"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -223,10 +286,10 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
        "environment.lens: missing"},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": "pinhole"}})",
-       "environment.lens: expected one of \"equidistant180\", got \"pinhole\""},
+       "environment.lens: \"pinhole\": no such lens file ("},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": 180}})",
-       "environment.lens: expected \"equidistant180\" or {\"fx\""},
+       "environment.lens: expected \"equidistant180\", a lens file or {\"fx\""},
       {R"({"bundle": "b", "environment": {"device": "/dev/video2", "width": 480, "height": 480,
           "lens": {"fx": 150, "fy": 150, "cx": 240, "cy": 240}}})",
        "environment.lens.k: missing"},

@@ -1,7 +1,8 @@
 #include "scene/calibration_report.h"
 
-#include <fstream>
 #include <stdexcept>
+
+#include "core/replace_file.h"
 
 namespace penumbra::scene {
 
@@ -25,15 +26,7 @@ json toJson(const Pose& p) {
 }
 
 void writeJsonFile(const std::filesystem::path& path, const json& doc) {
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path.string() + ": cannot write");
-    out << doc.dump(2) << "\n";
-    if (!out) throw std::runtime_error(path.string() + ": write failed");
-  }
-  std::filesystem::rename(tmp, path);
+  core::writeFileReplacing(path, doc.dump(2) + "\n");
 }
 
 CalibrationReport calibrateCamera(const CalibrationRequest& a) {

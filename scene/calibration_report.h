@@ -49,8 +49,8 @@ nlohmann::json toJson(const Intrinsics& k);
 // {"rotation_world_to_camera" (row-major 3x3), "translation", "camera_position"}.
 nlohmann::json toJson(const Pose& p);
 
-// Writes `doc` through a temporary file beside `path`, so that an interrupted run leaves
-// no half-written result.
+// Writes `doc` (indented by 2, a final newline) with core::writeFileReplacing: an interrupted
+// or failed run leaves no half-written result; errors are core::Error naming `path`.
 void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& doc);
 
 }  // namespace penumbra::scene

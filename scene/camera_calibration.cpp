@@ -107,16 +107,14 @@ ChessboardSize parseChessboardSize(const std::string& text) {
   return b;
 }
 
-ChessboardCalibration calibrateFromChessboards(const std::vector<std::filesystem::path>& photos,
-                                               ChessboardSize board, double squareSize,
-                                               int minImages) {
+ChessboardViews findChessboards(const std::vector<std::filesystem::path>& photos,
+                                ChessboardSize board, const CornerSearch& search) {
   checkBoard(board);
-  if (minImages < 3) minImages = 3;  // Zhang's method needs three views of a plane
-  if (!(squareSize > 0) || !std::isfinite(squareSize)) {
-    throw CalibrationError("chessboard square size must be positive");
+  if (search.refineHalfWindow < 1) {
+    throw CalibrationError("corner refinement window must be at least 1");
   }
-  ChessboardCalibration out;
-  std::vector<std::vector<cv::Point2f>> found;
+  const bool classic = search.detector == CornerSearch::Detector::kClassic;
+  ChessboardViews out;
   cv::Size size;
   for (const std::filesystem::path& path : photos) {
     ChessboardImage im;
@@ -130,35 +128,71 @@ ChessboardCalibration calibrateFromChessboards(const std::vector<std::filesystem
     if (grey.empty()) {
       im.problem =
           name + (std::filesystem::exists(path, ec) ? ": cannot read the image" : ": no such file");
-    } else if (!found.empty() && grey.size() != size) {
+    } else if (!out.corners.empty() && grey.size() != size) {
       im.problem = name + ": size " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                    " differs from the first photo's " + std::to_string(size.width) + "x" +
                    std::to_string(size.height);
     } else {
       std::vector<cv::Point2f> corners;
-      const bool ok =
-          cv::findChessboardCorners(grey, cv::Size(board.cols, board.rows), corners,
-                                    cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+      const cv::Size pattern(board.cols, board.rows);
+      const bool ok = classic ? cv::findChessboardCorners(
+                                    grey, pattern, corners,
+                                    cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)
+                              : cv::findChessboardCornersSB(grey, pattern, corners,
+                                                            cv::CALIB_CB_NORMALIZE_IMAGE |
+                                                                cv::CALIB_CB_EXHAUSTIVE |
+                                                                cv::CALIB_CB_ACCURACY);
       if (!ok) {
         im.problem = name + ": no " + boardName(board) + " chessboard found";
       } else {
-        // Refine to sub-pixel accuracy: the corner detector is pixel-accurate only.
-        cv::cornerSubPix(
-            grey, corners, cv::Size(11, 11), cv::Size(-1, -1),
-            cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
-        if (found.empty()) size = grey.size();
-        found.push_back(std::move(corners));
+        // Refine to sub-pixel accuracy: the classic detector is pixel-accurate only.
+        if (classic) {
+          cv::cornerSubPix(
+              grey, corners, cv::Size(search.refineHalfWindow, search.refineHalfWindow),
+              cv::Size(-1, -1),
+              cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
+        }
+        if (out.corners.empty()) size = grey.size();
+        std::vector<glm::dvec2> view;
+        view.reserve(corners.size());
+        for (const cv::Point2f& p : corners) view.emplace_back(p.x, p.y);  // exact: float -> double
+        out.corners.push_back(std::move(view));
         im.used = true;
       }
     }
     out.images.push_back(std::move(im));
   }
-  if (int(found.size()) < minImages) {
-    throw CalibrationError("chessboard calibration: " + std::to_string(found.size()) + " of " +
-                           std::to_string(photos.size()) + " photos usable, need at least " +
-                           std::to_string(minImages) + skippedList(out));
+  out.width = size.width;
+  out.height = size.height;
+  return out;
+}
+
+ChessboardCalibration calibrateFromChessboards(const std::vector<std::filesystem::path>& photos,
+                                               ChessboardSize board, double squareSize,
+                                               int minImages) {
+  checkBoard(board);
+  if (minImages < 3) minImages = 3;  // Zhang's method needs three views of a plane
+  if (!(squareSize > 0) || !std::isfinite(squareSize)) {
+    throw CalibrationError("chessboard square size must be positive");
   }
-  calibrate(found, board, size, squareSize, out);
+  ChessboardViews views = findChessboards(photos, board);
+  ChessboardCalibration out;
+  out.images = std::move(views.images);
+  if (int(views.corners.size()) < minImages) {
+    throw CalibrationError("chessboard calibration: " + std::to_string(views.corners.size()) +
+                           " of " + std::to_string(photos.size()) +
+                           " photos usable, need at least " + std::to_string(minImages) +
+                           skippedList(out));
+  }
+  std::vector<std::vector<cv::Point2f>> found;
+  found.reserve(views.corners.size());
+  for (const std::vector<glm::dvec2>& view : views.corners) {
+    std::vector<cv::Point2f> pts;
+    pts.reserve(view.size());
+    for (const glm::dvec2& p : view) pts.emplace_back(float(p.x), float(p.y));  // the same floats
+    found.push_back(std::move(pts));
+  }
+  calibrate(found, board, cv::Size(views.width, views.height), squareSize, out);
   return out;
 }
 

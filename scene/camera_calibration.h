@@ -42,6 +42,33 @@ struct ChessboardCalibration {
   int usedCount() const;
 };
 
+// How corners are searched for. kClassic: OpenCV's findChessboardCorners (adaptive
+// threshold, normalised image: quads found by contour), then cornerSubPix with a search window
+// of (2 * refineHalfWindow + 1) pixels square — the room camera's calibration, whose results
+// stay as they were (11: a 23-pixel window, OpenCV's sample value, for photos whose squares
+// are ~40 pixels). kSectorBased: findChessboardCornersSB (Duda & Frese 2018, OpenCV's
+// recommended detector; sub-pixel by itself, no cornerSubPix) with CALIB_CB_EXHAUSTIVE and
+// CALIB_CB_ACCURACY — the fisheye calibration's: on boards squeezed to 6-12-pixel squares by a
+// fisheye lens the classic detector found 4 of 13 views in the tests, this one 13 of 13.
+struct CornerSearch {
+  enum class Detector { kClassic, kSectorBased };
+  Detector detector = Detector::kClassic;
+  int refineHalfWindow = 11;  // kClassic only
+};
+
+// The chessboard corners of each photo, as both calibrations find them (the pinhole one
+// here, the environment camera's fisheye one in envmap/fisheye_calibration.h).
+struct ChessboardViews {
+  int width = 0, height = 0;                     // of the first usable photo
+  std::vector<ChessboardImage> images;           // one per photo, in input order
+  std::vector<std::vector<glm::dvec2>> corners;  // per used photo, row-major over the board
+};
+// Photos that cannot be read, have another size than the first usable one, or show no
+// complete board are not used, and named in `images[i].problem`. Throws CalibrationError for
+// a board of fewer than 2x2 inner corners; never for a photo.
+ChessboardViews findChessboards(const std::vector<std::filesystem::path>& photos,
+                                ChessboardSize board, const CornerSearch& search = {});
+
 // Calibrates from photos. Photos that cannot be read, have another size than the first
 // readable one, or show no complete board are skipped and named in `images[i].problem`.
 // Throws CalibrationError, naming every skipped photo and why, when fewer than

@@ -101,4 +101,37 @@ response_error "exposure not a number" 2 "a.png:1e3: the exposure must be a whol
 response_error "exposure 0" 2 "the exposure must be a whole number of microseconds" a.png:0 b.png:100
 response_error "one shot" 2 "need at least two IMAGE:EXPOSURE_US" a.png:100
 response_error "missing image" 1 "$tmp/nothere.png" "$tmp/nothere.png:100" "$tmp/nothere2.png:200"
+
+# `penumbra calibrate-fisheye` (OpenCV's fisheye module): its refusals exit non-zero naming the
+# photo or the flag, and write no lens file. A good calibration, through a known lens, and the
+# kiosk's verdict on it are FisheyeCalibrationTest.* in the kiosk tests.
+"${run[@]}" calibrate-fisheye --help >"$tmp/help" 2>&1
+check "help: penumbra calibrate-fisheye --help" $?
+fisheye_error() {  # fisheye_error WHAT EXIT PATTERN ARGS...
+  local what="$1" want="$2" pattern="$3"
+  shift 3
+  rm -f "$tmp/lens.json"
+  "${run[@]}" calibrate-fisheye "$@" -o "$tmp/lens.json" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [[ $rc == "$want" && ! -e "$tmp/lens.json" ]] && grep -q -- "$pattern" "$tmp/err"
+  local status=$?
+  check "calibrate-fisheye: $what (exit $rc): $(head -c 150 "$tmp/err")" $status
+}
+fisheye_error "no --board" 2 "board is required" "$tmp/a.png" --square 0.025
+fisheye_error "no --square" 2 "square is required" "$tmp/a.png" --board 9x6
+fisheye_error "bad --board" 2 "--board: chessboard size '9by6'" "$tmp/a.png" --board 9by6 --square 1
+fisheye_error "board too small" 2 "--board: chessboard 1x6: needs at least 2x2" "$tmp/a.png" --board 1x6 --square 1
+fisheye_error "square 0" 2 "--square: expects a number from 1e-06 to 1e+06, got '0'" "$tmp/a.png" --board 9x6 --square 0
+fisheye_error "missing photo" 1 "$tmp/nothere.png: no such file" "$tmp/nothere.png" --board 9x6 --square 1
+"${run[@]}" calibrate-fisheye "$data/calibration/vanishing-marks.json" --board 9x6 --square 1 \
+  -o "$tmp/no/lens.json" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+[[ $rc == 1 && ! -e "$tmp/no" ]] && grep -q -- "$tmp/no/lens.json: no such folder" "$tmp/err"
+check "calibrate-fisheye: output folder missing (exit $rc): $(head -c 150 "$tmp/err")" $?
+if [[ -e "$photos/left01.jpg" ]]; then
+  fisheye_error "two photos" 1 "2 of 2 photos show the whole 9x6 board, need at least 3" \
+    "$photos/left01.jpg" "$photos/left02.jpg" --board 9x6 --square 1
+  fisheye_error "wrong board" 1 "left03.jpg: no 7x7 chessboard found" \
+    "$photos/left01.jpg" "$photos/left02.jpg" "$photos/left03.jpg" --board 7x7 --square 1
+fi
 finish

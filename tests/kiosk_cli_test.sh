@@ -77,7 +77,7 @@ cat >"$tmp/env.json" <<JSON
 JSON
 "$kiosk" --check "$tmp/env.json" >"$tmp/check_env" 2>"$tmp/check_env_err" || fail "--check refused an environment camera: $(cat "$tmp/check_env_err")"
 for line in "environment camera: /dev/video-penumbra-absent (not present)" "-> the bundle's captured light; 480x480" \
-            "equidistant 180 lens f 152.789 152.789 centre 240 240, response gamma 2.2, exposure scale 0.25" \
+            "equidistant 180 lens f 152.789 152.789 centre 240 240 reach 90 deg, response gamma 2.2, exposure scale 0.25" \
             "live lighting: 64 samples, at most 8 lights, yaw 30 deg, radiance scale 1, stale after 400 ms"; do
   grep -qF -- "$line" "$tmp/check_env" || fail "--check does not say '$line': $(cat "$tmp/check_env")"
 done
@@ -135,8 +135,25 @@ JSON
 fi
 sed 's|"equidistant180"|"fisheye"|' "$tmp/env.json" >"$tmp/env_bad.json"
 if "$kiosk" --check "$tmp/env_bad.json" 2>"$tmp/env_bad_err"; then fail "--check passed a bad lens"; fi
-grep -qF "env_bad.json: environment.lens: expected one of \"equidistant180\", got \"fisheye\"" "$tmp/env_bad_err" ||
+grep -qF "env_bad.json: environment.lens: \"fisheye\": no such lens file ($tmp/fisheye)" "$tmp/env_bad_err" ||
   fail "unclear lens error: $(cat "$tmp/env_bad_err")"
+# A lens file of `penumbra calibrate-fisheye` (docs/calibration.md), relative to the
+# configuration: --check names it with the lens's reach; one that does not see 90 degrees
+# (f = 165 on 480 pixels: 240 / 165 rad = 83.34 deg) is refused naming the file and the reach.
+mkdir -p "$tmp/lenses"
+for f in 146 165; do
+  cat >"$tmp/lenses/lens$f.json" <<JSON
+{"format": "penumbra-fisheye-lens", "version": 1, "image_size": [480, 480], "fx": $f, "fy": $f,
+ "cx": 240, "cy": 240, "k": [0, 0, 0, 0], "rms_px": 0.05, "views": 13}
+JSON
+  sed "s|\"equidistant180\"|\"lenses/lens$f.json\"|" "$tmp/env.json" >"$tmp/env_lens$f.json"
+done
+"$kiosk" --check "$tmp/env_lens146.json" >"$tmp/check_lens" 2>"$tmp/check_lens_err" || fail "--check refused a lens file: $(cat "$tmp/check_lens_err")"
+grep -qF -- "480x480, lens file $tmp/lenses/lens146.json: fisheye lens f 146 146 centre 240 240 k 0 0 0 0 reach 94.18 deg, response" "$tmp/check_lens" ||
+  fail "--check does not name the lens file and its reach: $(cat "$tmp/check_lens")"
+if "$kiosk" --check "$tmp/env_lens165.json" 2>"$tmp/lens165_err"; then fail "--check passed a lens of 83 degrees"; fi
+grep -qF "env_lens165.json: environment.lens: $tmp/lenses/lens165.json sees 83.34 deg from its axis towards the nearest image edge: the hemisphere map needs 90 deg" "$tmp/lens165_err" ||
+  fail "narrow lens not refused by its reach: $(cat "$tmp/lens165_err")"
 echo '{"bundle": "x.bundle", "gpio_lines": {"next": 6}}' >"$tmp/dup.json"
 if "$kiosk" --check "$tmp/dup.json" 2>"$tmp/dup_err"; then fail "--check passed two buttons on one line"; fi
 grep -q "dup.json: gpio_lines: next and previous are both on line 6" "$tmp/dup_err" || fail "unclear: $(cat "$tmp/dup_err")"
