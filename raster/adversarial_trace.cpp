@@ -56,44 +56,6 @@ core::Vec3 toVec(const D3& a) {
   return {static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
 }
 
-// GL-convention perspective * look-at, row-major (clip = M (x, y, z, 1)). `focal` is
-// 1 / tan(fovy / 2), drawn directly so that no libm trigonometry enters the trace.
-core::Mat4 viewProj(const D3& eye, const D3& at, double focal, double aspect, double zNear,
-                    double zFar) {
-  const D3 f = normalise(sub(at, eye));
-  const D3 s = normalise(cross(f, {0, 1, 0}));
-  const D3 u = cross(s, f);
-  const double view[16] = {s[0],  s[1],  s[2],  -dot(s, eye),  //
-                           u[0],  u[1],  u[2],  -dot(u, eye),  //
-                           -f[0], -f[1], -f[2], dot(f, eye),   //
-                           0,     0,     0,     1};
-  const double proj[16] = {focal / aspect,
-                           0,
-                           0,
-                           0,
-                           0,
-                           focal,
-                           0,
-                           0,
-                           0,
-                           0,
-                           (zFar + zNear) / (zNear - zFar),
-                           2 * zFar * zNear / (zNear - zFar),
-                           0,
-                           0,
-                           -1,
-                           0};
-  core::Mat4 m;
-  for (size_t r = 0; r < 4; ++r) {
-    for (size_t c = 0; c < 4; ++c) {
-      double sum = 0;
-      for (size_t k = 0; k < 4; ++k) sum += proj[4 * r + k] * view[4 * k + c];
-      m.m[4 * r + c] = static_cast<float>(sum);
-    }
-  }
-  return m;
-}
-
 // A grid of n x m quads spanning corner + i du + j dv, two triangles each.
 void addGrid(core::Mesh& mesh, const D3& corner, const D3& du, const D3& dv, int n, int m) {
   const auto base = static_cast<uint32_t>(mesh.positions.size());
@@ -133,6 +95,42 @@ D3 randomPoint(Draws& r, const D3& lo, const D3& hi) {
 
 }  // namespace
 
+core::Mat4 lookAtPerspective(const std::array<double, 3>& eye, const std::array<double, 3>& at,
+                             double focal, double aspect, double zNear, double zFar) {
+  const D3 f = normalise(sub(at, eye));
+  const D3 s = normalise(cross(f, {0, 1, 0}));
+  const D3 u = cross(s, f);
+  const double view[16] = {s[0],  s[1],  s[2],  -dot(s, eye),  //
+                           u[0],  u[1],  u[2],  -dot(u, eye),  //
+                           -f[0], -f[1], -f[2], dot(f, eye),   //
+                           0,     0,     0,     1};
+  const double proj[16] = {focal / aspect,
+                           0,
+                           0,
+                           0,
+                           0,
+                           focal,
+                           0,
+                           0,
+                           0,
+                           0,
+                           (zFar + zNear) / (zNear - zFar),
+                           2 * zFar * zNear / (zNear - zFar),
+                           0,
+                           0,
+                           -1,
+                           0};
+  core::Mat4 m;
+  for (size_t r = 0; r < 4; ++r) {
+    for (size_t c = 0; c < 4; ++c) {
+      double sum = 0;
+      for (size_t k = 0; k < 4; ++k) sum += proj[4 * r + k] * view[4 * k + c];
+      m.m[4 * r + c] = static_cast<float>(sum);
+    }
+  }
+  return m;
+}
+
 FrameTrace adversarialTrace(uint64_t seed) {
   Draws r(seed);
   FrameTrace trace;
@@ -145,8 +143,8 @@ FrameTrace adversarialTrace(uint64_t seed) {
   const D3 at = {r.range(-0.5, 0.5), r.range(0.0, 1.0), r.range(-1.0, 0.5)};
   const double cameraNear = r.range(0.2, 0.8);
   view.cameraViewProj =
-      viewProj(eye, at, r.range(0.9, 1.8), static_cast<double>(view.width) / view.height,
-               cameraNear, r.range(8.0, 30.0));
+      lookAtPerspective(eye, at, r.range(0.9, 1.8), static_cast<double>(view.width) / view.height,
+                        cameraNear, r.range(8.0, 30.0));
 
   // The room: a floor reaching behind the eye (its triangles there cross w = 0 and the near
   // plane: spec §3), a back wall, and loose triangles, some with a vertex behind the eye.
@@ -247,7 +245,8 @@ FrameTrace adversarialTrace(uint64_t seed) {
     // the far plane (d > 1 against texels the occluder never wrote).
     double lightFar = r.chance(0.5) ? distance * r.range(1.0, 1.4) : r.range(15, 30);
     lightFar = std::max(lightFar, lightNear + 0.5);
-    pass.lightViewProj = viewProj(light, target, r.range(0.5, 2.5), 1.0, lightNear, lightFar);
+    pass.lightViewProj =
+        lookAtPerspective(light, target, r.range(0.5, 2.5), 1.0, lightNear, lightFar);
     pass.shadowMapSize = 16 * static_cast<uint32_t>(r.integer(1, 16));
     pass.depthBias = static_cast<float>(r.chance(0.5) ? r.range(-0.03, -0.0005) : r.range(0, 0.01));
     pass.pcf2x2 = r.chance(0.5);

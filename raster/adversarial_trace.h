@@ -21,6 +21,7 @@
 // the product does not link it. Cost: microseconds to milliseconds per trace.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -32,6 +33,12 @@ namespace penumbra::raster {
 // saveTrace) on every machine — only IEEE basic operations and sqrt, no libm trigonometry.
 // The result passes validateTrace.
 FrameTrace adversarialTrace(uint64_t seed);
+
+// GL-convention perspective * look-at, row-major (clip = M (x, y, z, 1)), summed in binary64
+// and rounded once to binary32; `focal` = 1 / tan(fovy / 2), given directly so that the
+// adversarial traces draw it without libm trigonometry. The GL tests' traces use it too.
+core::Mat4 lookAtPerspective(const std::array<double, 3>& eye, const std::array<double, 3>& at,
+                             double focal, double aspect, double zNear, double zFar);
 
 // How many listed receiver triangles (over all passes) show each adversarial feature,
 // counted from the trace itself with the spec's transforms (spec §2–3, §7).

@@ -29,56 +29,11 @@ using core::Vec3;
 using raster::FrameTrace;
 using D3 = std::array<double, 3>;
 
-D3 sub(const D3& a, const D3& b) {
-  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-double dot(const D3& a, const D3& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-D3 cross(const D3& a, const D3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-D3 normalise(const D3& a) {
-  const double l = std::sqrt(dot(a, a));
-  return {a[0] / l, a[1] / l, a[2] / l};
-}
-
-// GL-convention perspective * look-at, row-major (clip = M (x, y, z, 1)).
+// The camera and lights of the built-in traces: a field of view in degrees.
 core::Mat4 viewProj(const D3& eye, const D3& at, double fovyDeg, double aspect, double zNear,
                     double zFar) {
-  const D3 f = normalise(sub(at, eye));
-  const D3 s = normalise(cross(f, {0, 1, 0}));
-  const D3 u = cross(s, f);
-  const double view[16] = {s[0],  s[1],  s[2],  -dot(s, eye),  //
-                           u[0],  u[1],  u[2],  -dot(u, eye),  //
-                           -f[0], -f[1], -f[2], dot(f, eye),   //
-                           0,     0,     0,     1};
-  const double g = 1.0 / std::tan(fovyDeg * 3.14159265358979323846 / 360.0);
-  const double proj[16] = {g / aspect,
-                           0,
-                           0,
-                           0,  //
-                           0,
-                           g,
-                           0,
-                           0,  //
-                           0,
-                           0,
-                           (zFar + zNear) / (zNear - zFar),
-                           2 * zFar * zNear / (zNear - zFar),  //
-                           0,
-                           0,
-                           -1,
-                           0};
-  core::Mat4 m;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) {
-      double sum = 0;
-      for (int k = 0; k < 4; ++k) sum += proj[4 * r + k] * view[4 * k + c];
-      m.m[static_cast<size_t>(4 * r + c)] = static_cast<float>(sum);
-    }
-  }
-  return m;
+  const double focal = 1.0 / std::tan(fovyDeg * 3.14159265358979323846 / 360.0);
+  return raster::lookAtPerspective(eye, at, focal, aspect, zNear, zFar);
 }
 
 // A grid of n x m quads spanning corner + i*du + j*dv, two triangles each.
