@@ -166,11 +166,13 @@ struct ProfileCommand {
   SceneFlags scene;
   std::vector<int> passes{1, 5, 10, 20, 50, 100, 200};
   int frames = 20;
+  int shadowMapSize = 256;
   std::string csv, plot;
 
   int run() const {
     Session session(scene);
     shadow::FrameLoop& loop = session.loop;
+    loop.compositor.setShadowMapSize(static_cast<uint32_t>(shadowMapSize));
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     // ms_total: the median frame; ms_mean: the mean frame, which the stages' means (the
@@ -184,7 +186,9 @@ struct ProfileCommand {
       std::replace(name.begin(), name.end(), ' ', '_');
       out << ",stage_" << name;
     }
-    out << '\n';
+    // The product's vertices: with the passes and pixels, what the board's cost model charges
+    // (shadow/frame_cost_model.h); the product slides, so it is shaded in every frame.
+    out << ",product_vertices,shadow_map_size\n";
     // The console: the median frame, then the stages' means grouped (traversal with clusters;
     // room and product transfers; raster: objects, passes, finish; rest: every other stage).
     std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "median",
@@ -199,7 +203,7 @@ struct ProfileCommand {
         if (!shadow::onBoard(static_cast<FrameStage>(i))) continue;
         out << ',' << s.meanMs(static_cast<FrameStage>(i));
       }
-      out << '\n';
+      out << ',' << loop.stats.productVertices << ',' << shadowMapSize << '\n';
       const auto sum = [&](std::initializer_list<FrameStage> stages) {
         double ms = 0;
         for (FrameStage stage : stages) ms += s.meanMs(stage);
@@ -307,6 +311,11 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
       ->check(cli::NumberRange::list(1, 257));
   p->add_option("--frames", profile->frames, "timed frames per pass count")
       ->check(cli::NumberRange(1, 10000))
+      ->capture_default_str();
+  p->add_option("--shadow-map-size", profile->shadowMapSize,
+                "shadow-map side in texels (a multiple of 16; the controller's ladder: 256, 128, "
+                "64)")
+      ->check(CLI::Range(16, 4096))  // and a multiple of 16: FrameCompositor::setShadowMapSize
       ->capture_default_str();
   p->add_option("--csv", profile->csv, "CSV output")->required();
   p->add_option("--plot", profile->plot, "PNG chart (matplotlib)");

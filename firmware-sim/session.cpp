@@ -21,6 +21,9 @@ void readBoard(const JsonValue& b, Session& s) {
   s.cost.perPassNs = b.integerOr("per_pass_us", 500, 0, 10'000'000) * 1000;
   s.cost.perTexelPs = b.integerOr("per_texel_ps", 0, 0, 1'000'000);
   s.cost.perPixelPs = b.integerOr("per_pixel_ps", 0, 0, 1'000'000'000);
+  s.cost.perPassVertexPs = b.integerOr("per_pass_vertex_ps", 0, 0, 1'000'000'000);
+  s.cost.perProductVertexPs = b.integerOr("per_product_vertex_ps", 0, 0, 1'000'000'000);
+  s.cost.perShadedVertexPs = b.integerOr("per_shaded_vertex_ps", 0, 0, 1'000'000'000);
   for (const JsonValue& e : b.optionalArray("load_steps")) {
     e.object({"at_ms", "permille"});
     const int64_t at = e["at_ms"].integer(0, kHour) * kNsPerMs;
@@ -163,7 +166,8 @@ Session loadSession(const std::filesystem::path& path) {
 
   s.kiosk = kiosk::readLoopOptions(root, "kiosk", kiosk::HudMode::kOn);
   readBoard(root.optionalObject("board", {"fixed_us", "per_pass_us", "per_texel_ps", "per_pixel_ps",
-                                          "load_steps", "overruns"}),
+                                          "per_pass_vertex_ps", "per_product_vertex_ps",
+                                          "per_shaded_vertex_ps", "load_steps", "overruns"}),
             s);
   readCamera(root.optionalObject("camera", {"present", "source", "fps", "transport_us", "drift",
                                             "person", "faults"}),

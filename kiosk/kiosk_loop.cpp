@@ -565,7 +565,8 @@ FrameReport KioskLoop::step() {
   r.frame = s.loop.frameNumber;
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
-  io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start});
+  io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start,
+                    s.loop.stats.productVertices, s.loop.stats.shadedVertices});
   noteBudget(start, d.overBudget);
 
   r.warnings = warnings(start, camera, d.overBudget);

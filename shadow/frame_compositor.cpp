@@ -46,7 +46,9 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
   if (change != PlacementChange::kNone || litShading_) {
     litShading_ = false;
     shading_.shade(placement_.mesh(), placement_.normals(), placement_.bounds(), pose.product);
+    stats.shadedVertices = static_cast<uint32_t>(placement_.mesh().positions.size());
   }
+  stats.productVertices = static_cast<uint32_t>(placement_.mesh().positions.size());
   ns[FrameStage::kShading] = watch.lapNs();
 
   blocked_.find(hierarchy_, placement_.bounds(), frame, passes);
@@ -142,7 +144,9 @@ void FrameCompositor::composeLit(const ProductPose& pose,
     shading_.shadeFromLights(placement_.mesh(), placement_.normals(), pose.product,
                              lightDirections_, lightPowers_, fineDirections_, finePowers_);
     litShading_ = true;
+    stats.shadedVertices = static_cast<uint32_t>(placement_.mesh().positions.size());
   }
+  stats.productVertices = static_cast<uint32_t>(placement_.mesh().positions.size());
   ns[FrameStage::kShading] = watch.lapNs();
   const DistantLights distant{lightDirections_, lightPowers_};
   const std::span<const core::Vec3> positions =

@@ -27,7 +27,8 @@ int64_t addSat(int64_t a, int64_t b) {
 CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
     : params_(params), loadSteps_(std::move(loadSteps)) {
   if (params_.fixedNs < 0 || params_.perPassNs < 0 || params_.perTexelPs < 0 ||
-      params_.perPixelPs < 0) {
+      params_.perPixelPs < 0 || params_.perPassVertexPs < 0 || params_.perProductVertexPs < 0 ||
+      params_.perShadedVertexPs < 0) {
     throw std::invalid_argument("CostModel: costs must be >= 0");
   }
   for (size_t i = 0; i < loadSteps_.size(); ++i) {
@@ -50,17 +51,20 @@ uint32_t CostModel::loadPermilleAt(int64_t nowNs) const {
   return permille;
 }
 
-int64_t CostModel::frameNs(int64_t nowNs, uint32_t passes, uint64_t shadowedPixels,
-                           uint32_t shadowMapSize) const {
-  const int64_t texels = mulSat(shadowMapSize, shadowMapSize);
+int64_t CostModel::frameNs(int64_t nowNs, const Workload& work) const {
+  const int64_t texels = mulSat(work.shadowMapSize, work.shadowMapSize);
   // Picoseconds are summed before the single division by 1000, so the rounding happens once
   // and does not depend on how the work is split between terms.
   const int64_t perPassPs =
-      addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels));
-  const int64_t pixels = shadowedPixels > static_cast<uint64_t>(kInt64Max)
+      addSat(addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels)),
+             mulSat(params_.perPassVertexPs, work.productVertices));
+  const int64_t pixels = work.shadowedPixels > static_cast<uint64_t>(kInt64Max)
                              ? kInt64Max
-                             : static_cast<int64_t>(shadowedPixels);
-  const int64_t variablePs = addSat(mulSat(perPassPs, passes), mulSat(params_.perPixelPs, pixels));
+                             : static_cast<int64_t>(work.shadowedPixels);
+  const int64_t productPs = addSat(mulSat(params_.perProductVertexPs, work.productVertices),
+                                   mulSat(params_.perShadedVertexPs, work.shadedVertices));
+  const int64_t variablePs =
+      addSat(addSat(mulSat(perPassPs, work.passes), mulSat(params_.perPixelPs, pixels)), productPs);
   const int64_t variableNs = mulSat(variablePs / 1000, loadPermilleAt(nowNs)) / 1000;
   return addSat(params_.fixedNs, variableNs);
 }
