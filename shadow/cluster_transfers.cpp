@@ -30,6 +30,7 @@ void ClusterTransfers::setPool(core::JobPool* pool) {
   pool_ = pool;
   const size_t threads = pool ? size_t(pool->threads()) : 1;
   sharesScratch_.resize(threads);
+  sumScratch_.resize(threads);
   wholeScratch_.resize(threads);
   gradedByWorker_.assign(threads, 0);
 }
@@ -128,33 +129,60 @@ void ClusterTransfers::computeReceivers(const ClusterSelection& selection, uint3
 // The same for the product's own vertices (self-shadowing, §7.2).
 void ClusterTransfers::computeProduct(const ClusterSelection& selection,
                                       const ProductLight& product, OcclusionFeedback& feedback) {
+  static_assert(sizeof(glm::dvec3) == 3 * sizeof(double), "dvec3 rows are read as doubles");
   const size_t clusters = clusters_;
   const size_t frameVertices = slots_.frameVertices().size();
   productVertices_ = options_.selfShadowing ? product.positions.size() : 0;
-  productTransfers_.assign(productVertices_ * clusters, glm::dvec3(0.0));
+  // Every entry is written below: no clearing of the ~2 MB the bunny's rows take.
+  productTransfers_.resize(productVertices_ * clusters);
   productS_.resize(productVertices_ * clusters);
-  feedback.beginShares(productVertices_ * clusters);
-  // Entry (v, k) sums its cluster's sources in selection order whichever chunk holds v, so
-  // chunks of vertices on different threads give the serial sums bit for bit.
-  core::forEachChunk(pool_, productVertices_, kVertexChunk, [&](size_t begin, size_t end, int) {
-    for (size_t k = 0; k < clusters; ++k) {
-      const SourceCluster& cl = selection.clusters[k];
-      for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
-        const uint32_t source = selection.sources[i];
-        const glm::dvec3* row = product.sourceTransfers.data() + size_t(source) * productVertices_;
-        for (size_t v = begin; v < end; ++v) {
-          productTransfers_[v * clusters + k] += row[v];
-          feedback.addProductSource(v, source, row[v], v * clusters + k);
+  // Only the graded transfers read the seen shares (clusterShares); light shares need none.
+  const bool lightShares = options_.kind == TransferKind::kLightShares;
+  const bool seenShares = !lightShares && options_.gradedTransfers;
+  if (seenShares) feedback.beginShares(productVertices_ * clusters);
+  // Per chunk and cluster, the chunk's sums as one run of doubles (x, y, z by vertex): each
+  // source adds its row's run element by element, so entry (v, k) still sums its cluster's
+  // sources in selection order from 0 whichever chunk holds v (the serial sums bit for bit),
+  // and the adds run over contiguous doubles. With light shares, S is taken from the run
+  // at once (the product's rows are not read back).
+  core::forEachChunk(
+      pool_, productVertices_, kVertexChunk, [&](size_t begin, size_t end, int worker) {
+        std::vector<double>& sum = sumScratch_[size_t(worker)];
+        const size_t n = 3 * (end - begin);
+        sum.resize(n);
+        const double* whole = &product.radiance[begin].x;
+        for (size_t k = 0; k < clusters; ++k) {
+          const SourceCluster& cl = selection.clusters[k];
+          std::fill(sum.begin(), sum.end(), 0.0);
+          for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+            const uint32_t source = selection.sources[i];
+            const glm::dvec3* row =
+                product.sourceTransfers.data() + size_t(source) * productVertices_;
+            const double* part = &row[begin].x;
+            for (size_t j = 0; j < n; ++j) sum[j] += part[j];
+            if (!seenShares) continue;
+            for (size_t v = begin; v < end; ++v) {
+              feedback.addProductSource(v, source, row[v], v * clusters + k);
+            }
+          }
+          for (size_t v = begin, j = 0; v < end; ++v, j += 3) {
+            productTransfers_[v * clusters + k] = glm::dvec3(sum[j], sum[j + 1], sum[j + 2]);
+            if (lightShares) {
+              productS_[v * clusters + k] = {lightShare(sum[j], whole[j]),
+                                             lightShare(sum[j + 1], whole[j + 1]),
+                                             lightShare(sum[j + 2], whole[j + 2])};
+            }
+          }
         }
-      }
-    }
-  });
-  intensityRows(
-      productVertices_,
-      [&](size_t v) {
-        return std::pair{product.radiance[v], feedback.productShare(v)};
-      },
-      productTransfers_, productS_, feedback);
+      });
+  if (!lightShares) {
+    intensityRows(
+        productVertices_,
+        [&](size_t v) {
+          return std::pair{product.radiance[v], feedback.productShare(v)};
+        },
+        productTransfers_, productS_, feedback);
+  }
   // Probes: the receiver vertices, then the product's own vertices.
   probes_.resize(frameVertices + productVertices_);
   std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),

@@ -112,6 +112,7 @@ class ClusterTransfers {
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
   core::JobPool* pool_ = nullptr;
   std::vector<std::vector<double>> sharesScratch_{1};     // per worker: a vertex's shares
+  std::vector<std::vector<double>> sumScratch_{1};        // per worker: a chunk's sums
   std::vector<std::vector<core::Rgb8>> wholeScratch_{1};  // per worker: whole-level S
   std::vector<uint32_t> gradedByWorker_{0};
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
