@@ -5,13 +5,18 @@
 #include "core/clock.h"
 
 #include "shadow/intensity_transfer.h"
+#include "shadow/light_share_kernels.h"
 #include "shadow/shaft_hierarchy.h"
 
 namespace penumbra::shadow {
 
 ClusterTransfers::ClusterTransfers(const SceneBundle& bundle, const scene::PatchMesh& mesh,
                                    const ClusterTransferOptions& options)
-    : bundle_(bundle), mesh_(mesh), options_(options), slots_(bundle.transfers, mesh) {}
+    : bundle_(bundle),
+      mesh_(mesh),
+      options_(options),
+      kernels_(lightShareKernelsFor(simd::bestIsa())),
+      slots_(bundle.transfers, mesh) {}
 
 void ClusterTransfers::compute(std::span<const uint32_t> receiverPatches,
                                const ClusterSelection& selection, uint32_t frame,
@@ -30,7 +35,7 @@ void ClusterTransfers::setPool(core::JobPool* pool) {
   pool_ = pool;
   const size_t threads = pool ? size_t(pool->threads()) : 1;
   sharesScratch_.resize(threads);
-  sumScratch_.resize(threads);
+  productScratch_.resize(threads);
   wholeScratch_.resize(threads);
   gradedByWorker_.assign(threads, 0);
 }
@@ -140,38 +145,38 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   const bool lightShares = options_.kind == TransferKind::kLightShares;
   const bool seenShares = !lightShares && options_.gradedTransfers;
   if (seenShares) feedback.beginShares(productVertices_ * clusters);
-  // Per chunk and cluster, the chunk's sums as one run of doubles (x, y, z by vertex): each
-  // source adds its row's run element by element, so entry (v, k) still sums its cluster's
-  // sources in selection order from 0 whichever chunk holds v (the serial sums bit for bit),
-  // and the adds run over contiguous doubles. With light shares, S is taken from the run
-  // at once (the product's rows are not read back).
+  // Per chunk and cluster, the chunk's sums as one run of doubles (x, y, z by vertex): the
+  // cluster's source rows are added element by element (light_share_kernels.h), so entry
+  // (v, k) still sums its cluster's sources in selection order from 0 whichever chunk holds
+  // v (the serial sums bit for bit), in vector lanes over contiguous doubles. With light
+  // shares, S is taken from the run at once (the product's rows are not read back).
   core::forEachChunk(
       pool_, productVertices_, kVertexChunk, [&](size_t begin, size_t end, int worker) {
-        std::vector<double>& sum = sumScratch_[size_t(worker)];
+        ProductScratch& scratch = productScratch_[size_t(worker)];
         const size_t n = 3 * (end - begin);
-        sum.resize(n);
+        scratch.sum.resize(n);
+        scratch.shares.resize(lightShares ? n : 0);
         const double* whole = &product.radiance[begin].x;
         for (size_t k = 0; k < clusters; ++k) {
           const SourceCluster& cl = selection.clusters[k];
-          std::fill(sum.begin(), sum.end(), 0.0);
+          scratch.rows.clear();
           for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
             const uint32_t source = selection.sources[i];
             const glm::dvec3* row =
                 product.sourceTransfers.data() + size_t(source) * productVertices_;
-            const double* part = &row[begin].x;
-            for (size_t j = 0; j < n; ++j) sum[j] += part[j];
+            scratch.rows.push_back(&row[begin].x);
             if (!seenShares) continue;
             for (size_t v = begin; v < end; ++v) {
               feedback.addProductSource(v, source, row[v], v * clusters + k);
             }
           }
+          kernels_.sumRows(scratch.rows.data(), scratch.rows.size(), n, scratch.sum.data());
+          const double* sum = scratch.sum.data();
+          if (lightShares) kernels_.shares(sum, whole, n, scratch.shares.data());
+          const uint16_t* share = scratch.shares.data();
           for (size_t v = begin, j = 0; v < end; ++v, j += 3) {
             productTransfers_[v * clusters + k] = glm::dvec3(sum[j], sum[j + 1], sum[j + 2]);
-            if (lightShares) {
-              productS_[v * clusters + k] = {lightShare(sum[j], whole[j]),
-                                             lightShare(sum[j + 1], whole[j + 1]),
-                                             lightShare(sum[j + 2], whole[j + 2])};
-            }
+            if (lightShares) productS_[v * clusters + k] = {share[j], share[j + 1], share[j + 2]};
           }
         }
       });

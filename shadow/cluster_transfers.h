@@ -21,6 +21,7 @@
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/light_share_kernels.h"
 #include "shadow/occlusion_feedback.h"
 #include "shadow/receiver_vertex_slots.h"
 #include "shadow/scene_bundle.h"
@@ -106,13 +107,21 @@ class ClusterTransfers {
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
   ClusterTransferOptions options_;
+  const LightShareKernels& kernels_;  // the best SIMD target's: all give the same bits
   ReceiverVertexSlots slots_;
   size_t clusters_ = 0, productVertices_ = 0;
   uint32_t gradedVertices_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
   core::JobPool* pool_ = nullptr;
-  std::vector<std::vector<double>> sharesScratch_{1};     // per worker: a vertex's shares
-  std::vector<std::vector<double>> sumScratch_{1};        // per worker: a chunk's sums
+  std::vector<std::vector<double>> sharesScratch_{1};  // per worker: a vertex's shares
+  // Per worker: a cluster's source rows from the chunk's first vertex, their sums and the
+  // shares of those sums (computeProduct).
+  struct ProductScratch {
+    std::vector<const double*> rows;
+    std::vector<double> sum;
+    std::vector<uint16_t> shares;
+  };
+  std::vector<ProductScratch> productScratch_{1};
   std::vector<std::vector<core::Rgb8>> wholeScratch_{1};  // per worker: whole-level S
   std::vector<uint32_t> gradedByWorker_{0};
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
