@@ -138,11 +138,13 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   const size_t clusters = clusters_;
   const size_t frameVertices = slots_.frameVertices().size();
   productVertices_ = options_.selfShadowing ? product.positions.size() : 0;
-  // Every entry is written below: no clearing of the ~2 MB the bunny's rows take.
-  productTransfers_.resize(productVertices_ * clusters);
-  productS_.resize(productVertices_ * clusters);
-  // Only the graded transfers read the seen shares (clusterShares); light shares need none.
+  // Only the graded transfers read the seen shares (clusterShares), and only S of the
+  // transfers; light shares need neither, so with them the transfers are not kept (at 50
+  // clusters the bunny's take 2.2 MB, written a vertex's row apart). Every entry kept is
+  // written below: no clearing.
   const bool lightShares = options_.kind == TransferKind::kLightShares;
+  productTransfers_.resize(lightShares ? 0 : productVertices_ * clusters);
+  productS_.resize(productVertices_ * clusters);
   const bool seenShares = !lightShares && options_.gradedTransfers;
   if (seenShares) feedback.beginShares(productVertices_ * clusters);
   // Per chunk and cluster, the chunk's sums as one run of doubles (x, y, z by vertex): the
@@ -172,11 +174,16 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
           }
           kernels_.sumRows(scratch.rows.data(), scratch.rows.size(), n, scratch.sum.data());
           const double* sum = scratch.sum.data();
-          if (lightShares) kernels_.shares(sum, whole, n, scratch.shares.data());
-          const uint16_t* share = scratch.shares.data();
-          for (size_t v = begin, j = 0; v < end; ++v, j += 3) {
-            productTransfers_[v * clusters + k] = glm::dvec3(sum[j], sum[j + 1], sum[j + 2]);
-            if (lightShares) productS_[v * clusters + k] = {share[j], share[j + 1], share[j + 2]};
+          if (lightShares) {
+            kernels_.shares(sum, whole, n, scratch.shares.data());
+            const uint16_t* share = scratch.shares.data();
+            for (size_t v = begin, j = 0; v < end; ++v, j += 3) {
+              productS_[v * clusters + k] = {share[j], share[j + 1], share[j + 2]};
+            }
+          } else {
+            for (size_t v = begin, j = 0; v < end; ++v, j += 3) {
+              productTransfers_[v * clusters + k] = glm::dvec3(sum[j], sum[j + 1], sum[j + 2]);
+            }
           }
         }
       });

@@ -76,7 +76,8 @@ class ClusterTransfers {
     return receiverTransfers_;
   }
   // The product's vertices that receive passes (0 without self-shadowing), and their
-  // transfers ([v * clusters + k]).
+  // transfers ([v * clusters + k]; empty with light shares, which are all that is kept of
+  // them: nothing measures occlusion under linear accumulation).
   size_t productVertices() const { return productVertices_; }
   std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
   VertexS s() const {

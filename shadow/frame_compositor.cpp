@@ -168,6 +168,9 @@ void FrameCompositor::composeLit(const ProductPose& pose,
 }
 
 void FrameCompositor::observe(std::span<const uint8_t> masks) {
+  // Light shares do not depend on occlusion, and the product's transfers that observing
+  // would weigh by are not kept under them (ClusterTransfers::productTransfers).
+  if (options_.accumulation == raster::Accumulation::kLinear) return;
   feedback_.observe(masks, {passList_.passCluster(), &blocked_.selection,
                             transfers_.frameVertices(), transfers_.receiverTransfers(),
                             transfers_.productTransfers(), transfers_.productVertices()});
