@@ -145,6 +145,18 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   const bool lightShares = options_.kind == TransferKind::kLightShares;
   productTransfers_.resize(lightShares ? 0 : productVertices_ * clusters);
   productS_.resize(productVertices_ * clusters);
+  // Light shares are a function of the product's light and the clusters' sources alone: a
+  // product that did not move under the same clusters keeps its S (the kiosk's product
+  // stands still most of the time).
+  const bool sameSources = sameClusterSources(selection);
+  const bool unchanged = lightShares && sameSources && product.generation != 0 &&
+                         product.generation == productGeneration_;
+  productGeneration_ = product.generation;
+  // Probes: the receiver vertices, then the product's own vertices.
+  probes_.resize(frameVertices + productVertices_);
+  std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),
+            probes_.begin() + std::ptrdiff_t(frameVertices));
+  if (unchanged) return;
   const bool seenShares = !lightShares && options_.gradedTransfers;
   if (seenShares) feedback.beginShares(productVertices_ * clusters);
   // Per chunk and cluster, the chunk's sums as one run of doubles (x, y, z by vertex): the
@@ -195,10 +207,28 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
         },
         productTransfers_, productS_, feedback);
   }
-  // Probes: the receiver vertices, then the product's own vertices.
-  probes_.resize(frameVertices + productVertices_);
-  std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),
-            probes_.begin() + std::ptrdiff_t(frameVertices));
+}
+
+bool ClusterTransfers::sameClusterSources(const ClusterSelection& selection) {
+  bool same = selection.clusters.size() == lastSourceCounts_.size();
+  size_t at = 0;
+  for (size_t k = 0; same && k < selection.clusters.size(); ++k) {
+    const SourceCluster& cl = selection.clusters[k];
+    same = cl.sourceCount == lastSourceCounts_[k] &&
+           std::equal(selection.sources.begin() + cl.firstSource,
+                      selection.sources.begin() + cl.firstSource + cl.sourceCount,
+                      lastSources_.begin() + std::ptrdiff_t(at));
+    at += cl.sourceCount;
+  }
+  if (same) return true;
+  lastSourceCounts_.clear();
+  lastSources_.clear();
+  for (const SourceCluster& cl : selection.clusters) {
+    lastSourceCounts_.push_back(cl.sourceCount);
+    lastSources_.insert(lastSources_.end(), selection.sources.begin() + cl.firstSource,
+                        selection.sources.begin() + cl.firstSource + cl.sourceCount);
+  }
+  return false;
 }
 
 }  // namespace penumbra::shadow

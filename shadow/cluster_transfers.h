@@ -45,6 +45,9 @@ struct ProductLight {
   std::span<const core::Vec3> positions;
   std::span<const glm::dvec3> radiance;         // per vertex
   std::span<const glm::dvec3> sourceTransfers;  // [source * vertices + v]
+  // ProductShading::generation() of the three, or 0 (unknown): with light shares, a call
+  // with the last call's generation and cluster sources keeps the last S.
+  uint64_t generation = 0;
 };
 
 // The frame's S per vertex and cluster, as the pass list reads them.
@@ -104,6 +107,9 @@ class ClusterTransfers {
                         OcclusionFeedback& feedback);
   void computeProduct(const ClusterSelection& selection, const ProductLight& product,
                       OcclusionFeedback& feedback);
+  // Whether `selection`'s clusters have the same sources in the same order as at the last
+  // call; records them for the next.
+  bool sameClusterSources(const ClusterSelection& selection);
 
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
@@ -130,6 +136,9 @@ class ClusterTransfers {
   std::vector<core::Rgb16> receiverS_;         // [slot * clusters + k]
   std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
   std::vector<core::Rgb16> productS_;          // [v * clusters + k]
+  uint64_t productGeneration_ = 0;             // of the product light productS_ is from
+  std::vector<uint32_t> lastSourceCounts_;     // per cluster, at the last call
+  std::vector<uint32_t> lastSources_;          // the clusters' sources back to back
   std::vector<core::Vec3> probes_;
 };
 

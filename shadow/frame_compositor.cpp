@@ -60,7 +60,8 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
 
   watch.lapNs();
   transfers_.compute(traversal.receivers, blocked_.selection, frame,
-                     {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers()},
+                     {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers(),
+                      shading_.generation()},
                      feedback_);
   stats.receiverVertices = static_cast<uint32_t>(transfers_.frameVertices().size());
   stats.gradedVertices = transfers_.gradedVertices();
