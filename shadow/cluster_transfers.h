@@ -21,6 +21,7 @@
 #include "raster/frame_trace.h"
 #include "scene/patch_mesh.h"
 #include "shadow/intensity_transfer.h"
+#include "shadow/light_share_kernels.h"
 #include "shadow/occlusion_feedback.h"
 #include "shadow/receiver_vertex_slots.h"
 #include "shadow/scene_bundle.h"
@@ -44,6 +45,9 @@ struct ProductLight {
   std::span<const core::Vec3> positions;
   std::span<const glm::dvec3> radiance;         // per vertex
   std::span<const glm::dvec3> sourceTransfers;  // [source * vertices + v]
+  // ProductShading::generation() of the three, or 0 (unknown): with light shares, a call
+  // with the last call's generation and cluster sources keeps the last S.
+  uint64_t generation = 0;
 };
 
 // The frame's S per vertex and cluster, as the pass list reads them.
@@ -75,7 +79,8 @@ class ClusterTransfers {
     return receiverTransfers_;
   }
   // The product's vertices that receive passes (0 without self-shadowing), and their
-  // transfers ([v * clusters + k]).
+  // transfers ([v * clusters + k]; empty with light shares, which are all that is kept of
+  // them: nothing measures occlusion under linear accumulation).
   size_t productVertices() const { return productVertices_; }
   std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
   VertexS s() const {
@@ -102,16 +107,28 @@ class ClusterTransfers {
                         OcclusionFeedback& feedback);
   void computeProduct(const ClusterSelection& selection, const ProductLight& product,
                       OcclusionFeedback& feedback);
+  // Whether `selection`'s clusters have the same sources in the same order as at the last
+  // call; records them for the next.
+  bool sameClusterSources(const ClusterSelection& selection);
 
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
   ClusterTransferOptions options_;
+  const LightShareKernels& kernels_;  // the best SIMD target's: all give the same bits
   ReceiverVertexSlots slots_;
   size_t clusters_ = 0, productVertices_ = 0;
   uint32_t gradedVertices_ = 0;
   int64_t nsReceivers_ = 0, nsProduct_ = 0;
   core::JobPool* pool_ = nullptr;
-  std::vector<std::vector<double>> sharesScratch_{1};     // per worker: a vertex's shares
+  std::vector<std::vector<double>> sharesScratch_{1};  // per worker: a vertex's shares
+  // Per worker: a cluster's source rows from the chunk's first vertex, their sums and the
+  // shares of those sums (computeProduct).
+  struct ProductScratch {
+    std::vector<const double*> rows;
+    std::vector<double> sum;
+    std::vector<uint16_t> shares;
+  };
+  std::vector<ProductScratch> productScratch_{1};
   std::vector<std::vector<core::Rgb8>> wholeScratch_{1};  // per worker: whole-level S
   std::vector<uint32_t> gradedByWorker_{0};
   std::vector<uint8_t> sets_;                  // per cluster: Fig. 4's set
@@ -119,6 +136,9 @@ class ClusterTransfers {
   std::vector<core::Rgb16> receiverS_;         // [slot * clusters + k]
   std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
   std::vector<core::Rgb16> productS_;          // [v * clusters + k]
+  uint64_t productGeneration_ = 0;             // of the product light productS_ is from
+  std::vector<uint32_t> lastSourceCounts_;     // per cluster, at the last call
+  std::vector<uint32_t> lastSources_;          // the clusters' sources back to back
   std::vector<core::Vec3> probes_;
 };
 

@@ -193,5 +193,67 @@ TEST(ClusterTransfers, LightSharesAndWholeLevels) {
   }
 }
 
+// The product's light shares: each cluster's sources summed in selection order, then
+// lightShares; kept while the product's light (its generation) and the clusters' sources
+// stay, taken again when either changes.
+TEST(ClusterTransfers, ProductLightSharesAreKeptOnlyWhileLightAndSourcesStay) {
+  const Strip s;
+  ClusterTransfers shares(s.bundle, s.mesh, {});
+  OcclusionFeedback feedback(5, 3, true);
+  feedback.productPlaced(2);
+  const std::vector<uint32_t> receivers{1, 0};
+  const auto expect = [&](const std::vector<glm::dvec3>& radiance,
+                          const std::vector<glm::dvec3>& rows, const ClusterSelection& selection,
+                          const char* what) {
+    const size_t clusters = selection.clusters.size();
+    ASSERT_EQ(shares.s().productS.size(), 2 * clusters) << what;
+    EXPECT_TRUE(shares.productTransfers().empty()) << "light shares keep no transfers";
+    for (size_t v = 0; v < 2; ++v) {
+      std::vector<glm::dvec3> sums(clusters, glm::dvec3(0.0));
+      for (size_t k = 0; k < clusters; ++k) {
+        const SourceCluster& cl = selection.clusters[k];
+        for (uint32_t i = cl.firstSource; i < cl.firstSource + cl.sourceCount; ++i) {
+          sums[k] += rows[selection.sources[i] * 2 + v];
+        }
+      }
+      std::vector<core::Rgb16> want(clusters);
+      lightShares(radiance[v], sums, want);
+      for (size_t k = 0; k < clusters; ++k) {
+        EXPECT_EQ(shares.s().productS[v * clusters + k], want[k]) << what << ", v " << v;
+      }
+    }
+  };
+  ProductLight light = s.product();
+  light.generation = 1;
+  shares.compute(receivers, s.selection, 1, light, feedback);
+  expect(s.productRadiance, s.productSourceTransfers, s.selection, "first frame");
+
+  // Same generation and sources: the S stay the first frame's, even though (against the
+  // contract, to show it) the rows changed.
+  std::vector<glm::dvec3> rows = s.productSourceTransfers;
+  rows[0] = glm::dvec3(1.0);
+  light.sourceTransfers = rows;
+  shares.compute(receivers, s.selection, 2, light, feedback);
+  expect(s.productRadiance, s.productSourceTransfers, s.selection, "kept");
+
+  light.generation = 2;  // shaded again
+  shares.compute(receivers, s.selection, 3, light, feedback);
+  expect(s.productRadiance, rows, s.selection, "new generation");
+
+  // The same sources split otherwise, under the same generation: k0 = {0}, k1 = {2, 1}.
+  ClusterSelection swapped = s.selection;
+  swapped.clusters[0].sourceCount = 1;
+  swapped.clusters[1].firstSource = 1;
+  swapped.clusters[1].sourceCount = 2;
+  swapped.sources = {0, 2, 1};
+  shares.compute(receivers, swapped, 4, light, feedback);
+  expect(s.productRadiance, rows, swapped, "other clusters");
+
+  light.generation = 0;  // unknown: always taken again
+  light.sourceTransfers = s.productSourceTransfers;
+  shares.compute(receivers, swapped, 5, light, feedback);
+  expect(s.productRadiance, s.productSourceTransfers, swapped, "generation 0");
+}
+
 }  // namespace
 }  // namespace penumbra::shadow

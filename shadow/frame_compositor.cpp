@@ -62,7 +62,8 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
 
   watch.lapNs();
   transfers_.compute(traversal.receivers, blocked_.selection, frame,
-                     {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers()},
+                     {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers(),
+                      shading_.generation()},
                      feedback_);
   stats.receiverVertices = static_cast<uint32_t>(transfers_.frameVertices().size());
   stats.gradedVertices = transfers_.gradedVertices();
@@ -172,6 +173,9 @@ void FrameCompositor::composeLit(const ProductPose& pose,
 }
 
 void FrameCompositor::observe(std::span<const uint8_t> masks) {
+  // Light shares do not depend on occlusion, and the product's transfers that observing
+  // would weigh by are not kept under them (ClusterTransfers::productTransfers).
+  if (options_.accumulation == raster::Accumulation::kLinear) return;
   feedback_.observe(masks, {passList_.passCluster(), &blocked_.selection,
                             transfers_.frameVertices(), transfers_.receiverTransfers(),
                             transfers_.productTransfers(), transfers_.productVertices()});

@@ -132,7 +132,8 @@ class FrameCompositor {
   }
   // Records, per receiver vertex of the last composed frame, the share of its blocked
   // transfer that the rendered passes really occluded, and which sources they occluded
-  // there (masks as Renderer::render fills them).
+  // there (masks as Renderer::render fills them). Nothing under linear accumulation (see
+  // measuresOcclusion).
   void observe(std::span<const uint8_t> masks);
 
   // Threads for the per-vertex stages (the renderer's pool, FrameLoop); null: the calling

@@ -29,14 +29,10 @@ void lightShares(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> tr
   if (transfers.size() != out.size()) {
     throw std::invalid_argument("lightShares: transfers and out differ in length");
   }
-  const auto share = [](double part, double whole) {
-    if (!(whole > 0.0) || !(part > 0.0)) return uint16_t{0};
-    const double scaled = std::floor(std::min(part / whole, 1.0) * core::kMaxFineLevel + 0.5);
-    return static_cast<uint16_t>(scaled);
-  };
   for (size_t j = 0; j < transfers.size(); ++j) {
-    out[j] = {share(transfers[j].x, totalRadiance.x), share(transfers[j].y, totalRadiance.y),
-              share(transfers[j].z, totalRadiance.z)};
+    out[j] = {lightShare(transfers[j].x, totalRadiance.x),
+              lightShare(transfers[j].y, totalRadiance.y),
+              lightShare(transfers[j].z, totalRadiance.z)};
   }
 }
 

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/colour.h"
 #include "raster/frame_trace.h"
 #include "shadow/tone_curve.h"
 
@@ -43,6 +44,17 @@ TransferKind transferKindFor(raster::Accumulation accumulation);
 // they are the occluded share of the light at any pixel, exactly as the shade table needs.
 void lightShares(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> transfers,
                  std::span<core::Rgb16> out);
+
+// One channel of lightShares: `part` of `whole` in units of 1/65280, rounded half up.
+// min(part / whole, 1) * 65280 + 0.5 lies in [0.5, 65280.5], so truncating it is the floor.
+// 0 for a NaN quotient (infinite part and whole; bundles hold none), rather than converting
+// NaN, which C++ leaves undefined (x86 gave 0 too).
+inline uint16_t lightShare(double part, double whole) {
+  if (!(whole > 0.0) || !(part > 0.0)) return 0;
+  const double q = part / whole;
+  if (q != q) return 0;
+  return static_cast<uint16_t>((1.0 < q ? 1.0 : q) * core::kMaxFineLevel + 0.5);
+}
 
 // Each function below writes S in one of two precisions, chosen by the element of `out`:
 // core::Rgb8, whole levels, the differences of T's codes (the paper's 8-bit S, which u8

@@ -60,6 +60,7 @@ std::span<const glm::vec3> ProductShading::reflectancesOf(const ProductModel& mo
 
 void ProductShading::shade(const core::Mesh& placed, std::span<const glm::vec3> normals,
                            const scene::Aabb& bounds, uint32_t product) {
+  ++generation_;
   const core::Mesh& m = placed;
   const size_t vertices = m.positions.size();
   const ProductModel& model = bundle_.products.at(product);
@@ -125,6 +126,7 @@ void ProductShading::shadeFromLights(const core::Mesh& placed, std::span<const g
                                      std::span<const glm::dvec3> power,
                                      std::span<const glm::dvec3> fineTowardsLight,
                                      std::span<const glm::dvec3> finePower) {
+  ++generation_;
   const size_t vertices = placed.positions.size(), lights = towardsLight.size();
   const ProductModel& model = bundle_.products.at(product);
   const std::span<const glm::vec3> reflectances = reflectancesOf(model, vertices, normals.size());

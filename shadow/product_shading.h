@@ -73,6 +73,9 @@ class ProductShading {
   // [source * vertices + v]: the form-factor transfer from source `source` (index into
   // SourceReceiverSets::sources) to vertex v, unshadowed.
   std::span<const glm::dvec3> sourceTransfers() const { return sourceTransfers_; }
+  // Changes with every shade or shadeFromLights call (never 0), so that a later stage can
+  // tell the radiance and transfers it last read from new ones without comparing them.
+  uint64_t generation() const { return generation_; }
 
  private:
   // The model's per-vertex reflectances, or its one reflectance; checks the sizes.
@@ -94,6 +97,7 @@ class ProductShading {
   std::vector<glm::dvec3> radiance_;
   std::vector<glm::vec3> volumeRadiance_;  // per vertex, from the irradiance volume
   std::vector<glm::dvec3> sourceTransfers_;
+  uint64_t generation_ = 0;
   core::JobPool* pool_ = nullptr;
   static constexpr size_t kVertexChunk = 64;
 };
