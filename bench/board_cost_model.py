@@ -187,20 +187,24 @@ def main():
         parallel = sum(c.get(key, 0.0) for s, c in fits.items() if STAGES.get(s, ([], False))[1])
         return serial, parallel
 
-    def gather_shaded():
-        return 0.0, fits["product_shading"]["V"]
+    # The product's shading and transfers are paid only in the frames that work them out again
+    # (the product moved, or the clusters changed; in the profile, every frame): their vertex
+    # terms are charged per shaded or transferred vertex, the rest per product vertex.
+    own = {"product_shading", "product_transfers"}
 
-    def gather_vertex():  # per product vertex and frame, shading aside
-        return 0.0, sum(c.get("V", 0.0) for s, c in fits.items() if s != "product_shading")
+    def gather_product(key):
+        return 0.0, sum(c.get(key, 0.0) for s, c in fits.items() if s not in own)
 
     terms = {
         "fixed": gather("1"),
         "pass": gather("P"),
         "texel": gather("PT"),
         "pixel": gather("X"),
-        "pass_vertex": gather("PV"),
-        "product_vertex": gather_vertex(),
-        "shaded_vertex": gather_shaded(),
+        "pass_vertex": gather_product("PV"),
+        "product_vertex": gather_product("V"),
+        "shaded_vertex": (0.0, fits["product_shading"].get("V", 0.0)),
+        "transferred_vertex": (0.0, fits["product_transfers"].get("V", 0.0)),
+        "pass_transferred_vertex": (0.0, fits["product_transfers"].get("PV", 0.0)),
     }
 
     boards = {}
@@ -218,6 +222,8 @@ def main():
                 "per_pass_vertex_ps": round(cost["pass_vertex"] * 1000),
                 "per_product_vertex_ps": round(cost["product_vertex"] * 1000),
                 "per_shaded_vertex_ps": round(cost["shaded_vertex"] * 1000),
+                "per_transferred_vertex_ps": round(cost["transferred_vertex"] * 1000),
+                "per_pass_transferred_vertex_ps": round(cost["pass_transferred_vertex"] * 1000),
                 "ns_per_instruction": ns,
                 "speedup": s,
             }
@@ -256,9 +262,11 @@ def main():
             n = []
             for rname in RANGE_NAMES:
                 b = boards[key][rname]
-                fixed = b["fixed_us"] * 1e3 + (b["per_product_vertex_ps"] + b["per_shaded_vertex_ps"]) * v / 1e3
-                per_pass = (b["per_pass_us"] * 1e3 + (b["per_texel_ps"] * 256**2 + b["per_pass_vertex_ps"] * v
-                            + b["per_pixel_ps"] * px) / 1e3)
+                fixed = b["fixed_us"] * 1e3 + (b["per_product_vertex_ps"] + b["per_shaded_vertex_ps"]
+                                               + b["per_transferred_vertex_ps"]) * v / 1e3
+                per_pass = b["per_pass_us"] * 1e3 + (
+                    b["per_texel_ps"] * 256**2 + b["per_pixel_ps"] * px
+                    + (b["per_pass_vertex_ps"] + b["per_pass_transferred_vertex_ps"]) * v) / 1e3
                 n.append(max(0, int((budget_ns - fixed) // per_pass)))
             cells.append(f"{n[1]} ({n[2]}-{n[0]})")
         fit_lines.append(f"| {v} | {px:,.0f} | " + " | ".join(cells) + " |")

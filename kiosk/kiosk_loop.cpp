@@ -566,7 +566,8 @@ FrameReport KioskLoop::step() {
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
   io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start,
-                    s.loop.stats.productVertices, s.loop.stats.shadedVertices});
+                    s.loop.stats.productVertices, s.loop.stats.shadedVertices,
+                    s.loop.stats.transferredVertices});
   noteBudget(start, d.overBudget);
 
   r.warnings = warnings(start, camera, d.overBudget);

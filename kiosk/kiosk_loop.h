@@ -46,7 +46,7 @@ struct FrameWork {
   uint32_t shadowMapSize = 0;
   uint64_t passPixels = 0;
   int64_t startNs = 0;
-  uint32_t productVertices = 0, shadedVertices = 0;  // shadow::CompositeStats'
+  uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;  // CompositeStats'
 };
 
 // The kiosk's clock. On the board: the steady clock, and time passes by itself. In the

@@ -156,6 +156,7 @@ void ClusterTransfers::computeProduct(const ClusterSelection& selection,
   probes_.resize(frameVertices + productVertices_);
   std::copy(product.positions.begin(), product.positions.begin() + std::ptrdiff_t(productVertices_),
             probes_.begin() + std::ptrdiff_t(frameVertices));
+  productComputed_ = unchanged ? 0 : productVertices_;
   if (unchanged) return;
   const bool seenShares = !lightShares && options_.gradedTransfers;
   if (seenShares) feedback.beginShares(productVertices_ * clusters);

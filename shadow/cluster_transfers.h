@@ -83,6 +83,9 @@ class ClusterTransfers {
   // them: nothing measures occlusion under linear accumulation).
   size_t productVertices() const { return productVertices_; }
   std::span<const glm::dvec3> productTransfers() const { return productTransfers_; }
+  // The product's vertices whose S the last compute() worked out: productVertices(), or 0
+  // when it kept the last S (the product's light and the clusters' sources unchanged).
+  size_t productVerticesComputed() const { return productComputed_; }
   VertexS s() const {
     return {slots_.receiverVertexOf(), slots_.slots(), receiverS_, productS_, clusters_};
   }
@@ -137,6 +140,7 @@ class ClusterTransfers {
   std::vector<glm::dvec3> productTransfers_;   // [v * clusters + k]
   std::vector<core::Rgb16> productS_;          // [v * clusters + k]
   uint64_t productGeneration_ = 0;             // of the product light productS_ is from
+  size_t productComputed_ = 0;                 // productVerticesComputed()
   std::vector<uint32_t> lastSourceCounts_;     // per cluster, at the last call
   std::vector<uint32_t> lastSources_;          // the clusters' sources back to back
   std::vector<core::Vec3> probes_;

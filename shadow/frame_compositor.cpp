@@ -65,6 +65,7 @@ void FrameCompositor::compose(const ProductPose& pose, size_t passes, uint32_t f
                      {placement_.mesh().positions, shading_.radiance(), shading_.sourceTransfers(),
                       shading_.generation()},
                      feedback_);
+  stats.transferredVertices = static_cast<uint32_t>(transfers_.productVerticesComputed());
   stats.receiverVertices = static_cast<uint32_t>(transfers_.frameVertices().size());
   stats.gradedVertices = transfers_.gradedVertices();
   ns[FrameStage::kRoomTransfers] = transfers_.nsReceivers();
@@ -155,6 +156,7 @@ void FrameCompositor::composeLit(const ProductPose& pose,
                              : std::span<const core::Vec3>();
   envTransfers_.compute(distant, placement_.bounds(), frame,
                         {positions, shading_.radiance(), shading_.sourceTransfers()});
+  stats.transferredVertices = static_cast<uint32_t>(positions.size());
   stats.clusters = static_cast<uint32_t>(lights.size());
   stats.receiverPatches = static_cast<uint32_t>(envTransfers_.distinctPatches());
   stats.receiverVertices = static_cast<uint32_t>(envTransfers_.frameVertices().size());

@@ -84,10 +84,11 @@ struct CompositeStats {
   // sphere (fitLightFrustum): their shadow is missing. Callers should warn (a product larger
   // than the room loses every shadow this way).
   uint32_t skippedClusters = 0;
-  // The placed product's vertices, and how many of them were shaded this frame (all of them
-  // when it moved or its light changed, else 0): the product's share of the frame's work, for
+  // The placed product's vertices; how many of them were shaded this frame (all of them when
+  // it moved or its light changed, else 0) and how many had their transfers and S worked out
+  // (ClusterTransfers::productVerticesComputed): the product's share of the frame's work, for
   // the simulated board's cost model (frame_cost_model.h).
-  uint32_t productVertices = 0, shadedVertices = 0;
+  uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;
   // Wall time of compose()'s stages (placement to pass list); the others stay 0.
   FrameStages stages;
 };

@@ -28,7 +28,8 @@ CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
     : params_(params), loadSteps_(std::move(loadSteps)) {
   if (params_.fixedNs < 0 || params_.perPassNs < 0 || params_.perTexelPs < 0 ||
       params_.perPixelPs < 0 || params_.perPassVertexPs < 0 || params_.perProductVertexPs < 0 ||
-      params_.perShadedVertexPs < 0) {
+      params_.perShadedVertexPs < 0 || params_.perTransferredVertexPs < 0 ||
+      params_.perPassTransferredVertexPs < 0) {
     throw std::invalid_argument("CostModel: costs must be >= 0");
   }
   for (size_t i = 0; i < loadSteps_.size(); ++i) {
@@ -57,12 +58,15 @@ int64_t CostModel::frameNs(int64_t nowNs, const Workload& work) const {
   // and does not depend on how the work is split between terms.
   const int64_t perPassPs =
       addSat(addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels)),
-             mulSat(params_.perPassVertexPs, work.productVertices));
+             addSat(mulSat(params_.perPassVertexPs, work.productVertices),
+                    mulSat(params_.perPassTransferredVertexPs, work.transferredVertices)));
   const int64_t pixels = work.shadowedPixels > static_cast<uint64_t>(kInt64Max)
                              ? kInt64Max
                              : static_cast<int64_t>(work.shadowedPixels);
-  const int64_t productPs = addSat(mulSat(params_.perProductVertexPs, work.productVertices),
-                                   mulSat(params_.perShadedVertexPs, work.shadedVertices));
+  const int64_t productPs =
+      addSat(addSat(mulSat(params_.perProductVertexPs, work.productVertices),
+                    mulSat(params_.perShadedVertexPs, work.shadedVertices)),
+             mulSat(params_.perTransferredVertexPs, work.transferredVertices));
   const int64_t variablePs =
       addSat(addSat(mulSat(perPassPs, work.passes), mulSat(params_.perPixelPs, pixels)), productPs);
   const int64_t variableNs = mulSat(variablePs / 1000, loadPermilleAt(nowNs)) / 1000;

@@ -11,15 +11,19 @@ namespace penumbra::shadow {
 // session is bit-exact on every platform:
 //
 //   ns = fixedNs + load * (passes * (perPassNs + (perTexelPs * size^2
-//                                                  + perPassVertexPs * productVertices) / 1000)
+//                                                  + perPassVertexPs * productVertices
+//                                                  + perPassTransferredVertexPs * transferred)
+//                                      / 1000)
 //                          + (perPixelPs * shadowedPixels + perProductVertexPs * productVertices
+//                             + perTransferredVertexPs * transferred
 //                             + perShadedVertexPs * shadedVertices) / 1000)
 //
 // following the shape of Gibson 2003 §9 (frame time grows with blending passes on top of a
 // fixed shading/compositing part) and design.md §1 step 7 (each pass renders a size×size
 // shadow map, then touches its shadowed pixels); the product's terms are its own stages
-// (issue 13): its transfers and its triangles in the pass list and in every shadow map grow
-// with its vertices and the passes, its shading with its vertices in the frames it moves.
+// (issue 13): its triangles in the pass list and in every pass grow with its vertices and the
+// passes; its transfers (per vertex, and per vertex and cluster) and its shading are paid only
+// in the frames that work them out again (it moved, or the clusters changed).
 // The coefficients come from counted instructions (bench/board_cost_model.py, docs/kiosk.md
 // "Cost model"). `load` is a scripted factor, piecewise constant in time, that stands for the
 // scene getting heavier or lighter (a load step); it scales the variable part only, so the
@@ -34,11 +38,13 @@ class CostModel {
   struct Params {
     int64_t fixedNs = 0;
     int64_t perPassNs = 0;
-    int64_t perTexelPs = 0;          // shadow-map texels (size^2) per pass, picoseconds each
-    int64_t perPixelPs = 0;          // shadowed pixels in the frame, picoseconds each
-    int64_t perPassVertexPs = 0;     // product vertices per pass
-    int64_t perProductVertexPs = 0;  // product vertices, once per frame
-    int64_t perShadedVertexPs = 0;   // product vertices shaded this frame
+    int64_t perTexelPs = 0;              // shadow-map texels (size^2) per pass, picoseconds each
+    int64_t perPixelPs = 0;              // shadowed pixels in the frame, picoseconds each
+    int64_t perPassVertexPs = 0;         // product vertices per pass
+    int64_t perProductVertexPs = 0;      // product vertices, once per frame
+    int64_t perShadedVertexPs = 0;       // product vertices shaded this frame
+    int64_t perTransferredVertexPs = 0;  // product vertices whose transfers were worked out
+    int64_t perPassTransferredVertexPs = 0;  // the same, per pass (cluster)
   };
 
   // What one frame did (kiosk::FrameWork less its bookkeeping).
@@ -46,7 +52,7 @@ class CostModel {
     uint32_t passes = 0;
     uint64_t shadowedPixels = 0;  // receiver pixels summed over the passes
     uint32_t shadowMapSize = 0;
-    uint32_t productVertices = 0, shadedVertices = 0;
+    uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;
   };
 
   // Throws std::invalid_argument for negative costs, or load steps that are not in strictly

@@ -139,18 +139,22 @@ TEST(CostModel, IsTheDocumentedIntegerFormula) {
   EXPECT_THROW(CostModel({0, 1, 0, 0}, {{5, 0}}), std::invalid_argument);
 }
 
-TEST(CostModel, ChargesTheProductsVerticesPerPassPerFrameAndWhenShaded) {
-  // fixed 1000 ns; per pass 200 ns + 3 ps per texel + 5 ps per product vertex; 7 ps per pixel;
-  // 11 ps per product vertex per frame; 13 ps per vertex shaded.
-  const CostModel m({1'000, 200, 3, 7, 5, 11, 13}, {{100, 2000}});
+TEST(CostModel, ChargesTheProductsVerticesPerPassPerFrameAndWhenWorkedOut) {
+  // fixed 1000 ns; per pass 200 ns + 3 ps per texel + 5 ps per product vertex + 17 ps per
+  // transferred vertex; 7 ps per pixel; per frame 11 ps per product vertex, 13 ps per vertex
+  // shaded, 19 ps per vertex transferred.
+  const CostModel m({1'000, 200, 3, 7, 5, 11, 13, 19, 17}, {{100, 2000}});
   // 2 passes of 64² with 100 vertices: 2·(200,000 + 12,288 + 500) = 425,576 ps; 10 pixels 70;
-  // 100 vertices 1,100; none shaded. 426,746 ps -> 426 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0}), 1'000 + 426);
+  // 100 vertices 1,100; none shaded or transferred. 426,746 ps -> 426 ns.
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0}), 1'000 + 426);
   // Shaded this frame: + 1,300 ps -> 428,046 ps -> 428 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 100}), 1'000 + 428);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 100, 0}), 1'000 + 428);
+  // And transferred: + 1,900 + 2·1,700 ps -> 433,346 ps -> 433 ns.
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 100, 100}), 1'000 + 433);
   // The load scales the product's part with the rest of the variable part.
-  EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 100}), 1'000 + 428 * 2);
-  EXPECT_THROW(CostModel({0, 0, 0, 0, 0, -1, 0}), std::invalid_argument);
+  EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 100, 100}), 1'000 + 433 * 2);
+  EXPECT_THROW(CostModel({0, 0, 0, 0, 0, -1, 0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(CostModel({0, 0, 0, 0, 0, 0, 0, 0, -1}), std::invalid_argument);
 }
 
 TEST(FrameRateController, ColdStartSettlesOnTheBestFit) {
