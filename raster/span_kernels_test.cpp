@@ -120,6 +120,14 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
       v[1] = {v[0].x + 200, v[0].y + 17, v[1].z, {}};
       v[2] = {v[0].x + 60, v[0].y + 230, v[2].z, {}};
     }
+    if (trial % 23 == 11) {
+      // Guard-band sized: vertices up to 2^21 sub-pixels away (spec §3's range is 2^22), a
+      // thin wedge through the buffer, so edge values reach 2^44 where the runs are cut.
+      const int32_t far = (1 << 21) - offset(rng) * 8;
+      v[0] = {cx - far, cy - far / (1 + trial % 5), v[0].z, {}};
+      v[1] = {cx + far, cy + far / (1 + trial % 5) + offset(rng), v[1].z, {}};
+      v[2] = {cx + far + offset(rng), cy + far / (1 + trial % 5) - 40 * 256, v[2].z, {}};
+    }
     SetupTriangle t;
     if (!setupTriangle(v, 64, 64, t)) continue;
     uint32_t* idA = trial % 3 == 2 ? ida.data() : nullptr;
