@@ -198,7 +198,9 @@ HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const Set
       e1 = hn::Add(e1, blockStep1);
       e2 = hn::Add(e2, blockStep2);
       if (R > 1 && y + R > t.maxY) covered = hn::And(covered, hn::Lt(dy, hn::Set(di, t.maxY - y)));
-      if (hn::AllFalse(di, covered)) continue;
+      // No test for an empty block: whether a row of a sliver's box meets it is a coin toss
+      // for the branch predictor, and writing a block back unchanged costs less than the
+      // mispredictions did (map samples -8%).
       const VF fy = hn::Add(fyLane, hn::Set(df, static_cast<float>(y - t.minY)));
       const VF z = hn::Add(zColumn, hn::Mul(dzdy, fy));
       float* corner = depth + stride * static_cast<size_t>(y) + x;
