@@ -119,6 +119,23 @@ HWY_INLINE bool isSmall(const SetupTriangle& t) {
   return x1 - x0 <= kSmallTriangleSpan && y1 - y0 <= kSmallTriangleSpan;
 }
 
+// Shadow-map triangles at most one vector wide take the block path below however tall they
+// are (occluder slivers: a fifth of the map triangles too tall for isSmall are at most 4
+// texels wide, 97 rows on average, half of the exact-run path's rows), when int32 is still
+// exact: with Sx, Sy the vertices' extents in sub-pixels, |A| <= Sy and |B| <= Sx; the block
+// path evaluates E at pixel centres at most Sx + 2^12 from a vertex in x (15 pixels right of
+// the bounding box) and Sy + 2^11 in y (a block's rows and the step after the last, at most
+// 7 rows below it), so |E| <= 2 Sx Sy + 2^12 Sy + 2^11 Sx + 1 (the bias), which must stay
+// below 2^31. isSmall's triangles satisfy it (2^29 + 2^26 + 2^25 + 1).
+HWY_INLINE bool narrowInInt32(const SetupTriangle& t, int32_t lanes) {
+  if (t.maxX - t.minX > lanes) return false;
+  const int64_t sx =
+      std::max({t.v[0].x, t.v[1].x, t.v[2].x}) - int64_t{std::min({t.v[0].x, t.v[1].x, t.v[2].x})};
+  const int64_t sy =
+      std::max({t.v[0].y, t.v[1].y, t.v[2].y}) - int64_t{std::min({t.v[0].y, t.v[1].y, t.v[2].y})};
+  return 2 * sx * sy + (sy << 12) + (sx << 11) + 1 < (int64_t{1} << 31);
+}
+
 #if HWY_TARGET != HWY_SCALAR
 // Rows r of a block live in lanes [r * W, (r + 1) * W), W = Lanes(d) / R: R rows of W
 // consecutive floats become one vector.
@@ -309,19 +326,11 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
                        uint32_t triangleId) {
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
   uint32_t passed = 0;
-  if (!isSmall(t)) {
-    if (id == nullptr) return DepthTriangleRuns(depth, stride, t);
-    forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-      const size_t row = stride * static_cast<size_t>(y);
-      passed +=
-          DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
-    });
-    return passed;
-  }
+  const bool small = isSmall(t);
 #if HWY_TARGET != HWY_SCALAR
   // Shadow maps (no ids) take the block path: one thread owns the whole map, so writing
   // back unchanged lanes past the bounding box is harmless (ShadowMap leaves room for it).
-  if (id == nullptr) {
+  if (id == nullptr && (small || narrowInInt32(t, static_cast<int32_t>(hn::Lanes(DF()))))) {
     constexpr size_t kMaxLanes = hn::MaxLanes(DF());
     const size_t width = static_cast<size_t>(t.maxX - t.minX), lanes = hn::Lanes(DF());
     if constexpr (kMaxLanes >= 16) {
@@ -333,6 +342,15 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
     return DepthTriangleBlocks<1>(depth, stride, t);
   }
 #endif
+  if (!small) {
+    if (id == nullptr) return DepthTriangleRuns(depth, stride, t);
+    forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+      const size_t row = stride * static_cast<size_t>(y);
+      passed +=
+          DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
+    });
+    return passed;
+  }
   const DF df;
   const DI di;
   const DU du;

@@ -128,6 +128,11 @@ TEST_P(SpanKernelsOnTarget, DepthTriangleMatchesScalar) {
       v[1] = {cx + far, cy + far / (1 + trial % 5) + offset(rng), v[1].z, {}};
       v[2] = {cx + far + offset(rng), cy + far / (1 + trial % 5) - 40 * 256, v[2].z, {}};
     }
+    if (trial % 29 == 13) {
+      // Tall and narrow (at most a few pixels wide, taller than isSmall's 64 pixels).
+      v[1] = {v[0].x + 2 * 256 + trial % 200, v[0].y + 100 * 256, v[1].z, {}};
+      v[2] = {v[0].x + trial % 300 - 100, v[0].y + 80 * 256 + trial % 500, v[2].z, {}};
+    }
     SetupTriangle t;
     if (!setupTriangle(v, 64, 64, t)) continue;
     uint32_t* idA = trial % 3 == 2 ? ida.data() : nullptr;
