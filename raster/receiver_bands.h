@@ -6,9 +6,10 @@
 // and sweeping them cost as much as a shadowed pixel until the block gather. A band is up to
 // kReceiverBandRows rows of one static receiver (sub-)triangle, summarised once, when the
 // static cache is built: the bounding box and depth range of the pixels it can match, and how
-// many there are. Per pass, footprintUnwritten() bounds where those pixels' lookups can land
-// in the map, in the lookup's own binary32 arithmetic, and a band that meets no written block
-// is skipped whole: the same bytes, and its matched count stands in for the kernel's.
+// many there are. Per pass, LightFootprint::unwritten() bounds where those pixels' lookups
+// can land in the map, in the lookup's own binary32 arithmetic, and a band that meets no
+// written block is skipped whole: the same bytes, and its matched count stands in for the
+// kernel's (FrameStats::passPixels feeds the simulator's cost model).
 #pragma once
 
 #include <cstdint>

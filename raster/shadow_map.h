@@ -56,7 +56,7 @@ class ShadowMap {
     for (size_t by = 0; by < bpr; ++by) {
       for (size_t bx = 0; bx < bpr; ++bx) {
         blockSums_[(by + 1) * side + bx + 1] =
-            blocks_[by * bpr + bx] + blockSums_[by * side + bx + 1] +
+            (blocks_[by * bpr + bx] != 0 ? 1 : 0) + blockSums_[by * side + bx + 1] +
             blockSums_[(by + 1) * side + bx] - blockSums_[by * side + bx];
       }
     }
