@@ -12,6 +12,7 @@
 #include "raster/aligned_vector.h"
 #include "raster/matrix4d.h"
 #include "raster/occluder_setup.h"
+#include "raster/receiver_bands.h"
 #include "raster/shadow_map.h"
 #include "raster/span_kernels.h"
 #include "raster/triangle_setup.h"
@@ -85,7 +86,22 @@ struct Renderer::Impl {
   std::vector<uint32_t> spanStart;
   std::vector<std::pair<int32_t, int32_t>> spans;
   std::vector<uint32_t> triangleCoverage;  // pixels of each static triangle's runs
-  std::vector<uint32_t> passOrder;         // this frame's passes, longest first
+  // Sub-triangle s's rows in bands of kReceiverBandRows from its minY:
+  // bands[bandStart[s], bandStart[s + 1]) (raster/receiver_bands.h).
+  std::vector<uint32_t> bandStart;
+  std::vector<ReceiverBand> bands;
+  std::vector<ReceiverBand> subBands;  // per sub-triangle, the union of its bands
+  // Per tile row, the pixel columns [first, second) of this frame's tiles with objects
+  // (empty when first >= second): there the id buffer is not the static one.
+  std::vector<std::pair<int32_t, int32_t>> objectColumns;
+  bool touchesObjects(const ReceiverBand& b) const {
+    for (int32_t ty = b.y0 / options.tileSize; ty <= b.y1 / options.tileSize; ++ty) {
+      const auto [first, second] = objectColumns[size_t(ty)];
+      if (first <= b.x1 && second > b.x0) return true;
+    }
+    return false;
+  }
+  std::vector<uint32_t> passOrder;  // this frame's passes, longest first
   std::vector<uint64_t> passCost;
 
   // Frame buffers. depth and id equal the static cache except in tiles that hold object
@@ -231,6 +247,17 @@ void Renderer::Impl::buildStaticCache() {
     });
   }
   spanStart[staticSubs.size()] = static_cast<uint32_t>(spans.size());
+  // Bands once the static depth and ids are final.
+  bandStart.assign(staticSubs.size() + 1, 0);
+  for (size_t s = 0; s < staticSubs.size(); ++s) {
+    bandStart[s] = static_cast<uint32_t>(bands.size());
+    appendReceiverBands(staticSubs[s].minY, staticSubs[s].maxY, &spans[spanStart[s]],
+                        staticDepth.data(), staticId.data(), stride, staticSubOwner[s], bands);
+    ReceiverBand whole;
+    for (size_t b = bandStart[s]; b < bands.size(); ++b) whole = unite(whole, bands[b]);
+    subBands.push_back(whole);
+  }
+  bandStart[staticSubs.size()] = static_cast<uint32_t>(bands.size());
   triangleCoverage.assign(triangles, 0);
   for (size_t s = 0; s < staticSubs.size(); ++s) {
     for (uint32_t k = spanStart[s]; k < spanStart[s + 1]; ++k) {
@@ -426,24 +453,33 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.pcf2x2 = pass.pcf2x2;
   lookup.blocks = w.shadowMap.blocks();
   lookup.blocksPerRow = w.shadowMap.blocksPerRow();
+  w.shadowMap.sumBlocks();
+  const LightFootprint footprint(lookup, w.shadowMap);
+  // A band without a matching pixel adds nothing; one whose footprint meets no written texel
+  // adds nothing either (W = 0, receiver_bands.h), and outside the tiles with objects its
+  // pixels match exactly as they did in the static cache, so its count is the band's own.
+  auto skipped = [&](const ReceiverBand& band) {
+    return band.matched == 0 || (!touchesObjects(band) && footprint.unwritten(band));
+  };
 
   const bool fine = frame.accumulation != Accumulation::kU8;
   // S of one (sub-)triangle's runs into the scratch, remembering which rows the sweep must
   // visit (the kernel widens passBegin / passEnd of the rows it matched; rows of the
   // triangle without a match keep an empty run, which the sweep passes over).
   int32_t rowLo = height, rowHi = 0;
-  auto addRuns = [&](const SetupTriangle& st, const std::pair<int32_t, int32_t>* runs,
+  // Rows [y0, y1) of a (sub-)triangle, runs[0] being row y0's.
+  auto addRuns = [&](int32_t y0, int32_t y1, const std::pair<int32_t, int32_t>* runs,
                      const SpanPlanes& planes, uint32_t triangleId) {
     const uint32_t matched =
-        fine ? kernels->interpolateRunsFine(w.sFine.data(), planeSize, id.data(), stride, st.minY,
-                                            st.maxY, runs, planes, triangleId, w.passBegin.data(),
+        fine ? kernels->interpolateRunsFine(w.sFine.data(), planeSize, id.data(), stride, y0, y1,
+                                            runs, planes, triangleId, w.passBegin.data(),
                                             w.passEnd.data())
-             : kernels->interpolateRuns(w.s.data(), id.data(), stride, st.minY, st.maxY, runs,
-                                        planes, triangleId, w.passBegin.data(), w.passEnd.data());
+             : kernels->interpolateRuns(w.s.data(), id.data(), stride, y0, y1, runs, planes,
+                                        triangleId, w.passBegin.data(), w.passEnd.data());
     if (matched == 0) return;
     w.passPixels += matched;
-    rowLo = std::min(rowLo, st.minY);
-    rowHi = std::max(rowHi, st.maxY);
+    rowLo = std::min(rowLo, y0);
+    rowHi = std::max(rowHi, y1);
   };
   // The mask sweep over those rows (spec §6 step 4), then the scratch is clean again.
   auto sweep = [&](float bias) {
@@ -474,13 +510,43 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
         st.minY};
   };
 
-  // The room's receivers: runs cached with the static depth.
+  // The room's receivers: runs cached with the static depth, drawn by bands unless skipped
+  // (first as a whole sub-triangle, then band by band).
   for (size_t k = 0; k < pass.receiverTriangles.size(); ++k) {
     const uint32_t t = pass.receiverTriangles[k];
     const core::Rgb16* s = &pass.receiverS[3 * k];
     for (uint32_t sub = firstSubOfTriangle[t]; sub < firstSubOfTriangle[t + 1]; ++sub) {
       const SetupTriangle& st = staticSubs[sub];
-      addRuns(st, &spans[spanStart[sub]], planesOf(st, s[0], s[1], s[2]), t);
+      if (skipped(subBands[sub])) {
+        w.passPixels += subBands[sub].matched;
+        continue;
+      }
+      const std::pair<int32_t, int32_t>* runs = &spans[spanStart[sub]];
+      SpanPlanes planes;
+      bool planned = false;
+      // Consecutive drawn bands go to the kernel in one call: rows [from, to).
+      int32_t from = st.minY, to = st.minY;
+      auto flush = [&] {
+        if (from >= to) return;
+        if (!planned) planes = planesOf(st, s[0], s[1], s[2]);
+        planned = true;
+        addRuns(from, to, runs + (from - st.minY), planes, t);
+      };
+      for (uint32_t b = bandStart[sub]; b < bandStart[sub + 1]; ++b) {
+        const ReceiverBand& band = bands[b];
+        const int32_t y0 = st.minY + static_cast<int32_t>(b - bandStart[sub]) * kReceiverBandRows;
+        const int32_t y1 = std::min(st.maxY, y0 + kReceiverBandRows);
+        // One band is the whole sub-triangle, which was not skipped.
+        if (bandStart[sub + 1] - bandStart[sub] == 1 || !skipped(band)) {
+          if (from >= to) from = y0;
+          to = y1;
+          continue;
+        }
+        w.passPixels += band.matched;
+        flush();
+        from = to = y1;
+      }
+      flush();
     }
   }
   sweep(pass.depthBias);
@@ -496,7 +562,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     const core::Rgb16* s = &pass.objectS[3 * k];
     for (uint32_t sub = objectFirstSub[g]; sub < objectFirstSub[g + 1]; ++sub) {
       const SetupTriangle& st = objectTriangles[sub].t;
-      addRuns(st, &objectSpans[objectSpanStart[sub]], planesOf(st, s[0], s[1], s[2]),
+      addRuns(st.minY, st.maxY, &objectSpans[objectSpanStart[sub]], planesOf(st, s[0], s[1], s[2]),
               kObjectBase + g);
     }
   }
@@ -654,6 +720,15 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
     return r.objectsOf(a).size() > r.objectsOf(b).size();
   });
   const size_t objectCount = r.objectFirstSub.size() - 1;
+  r.objectColumns.assign(size_t(r.tilesY), {r.width, 0});
+  for (uint32_t tile = 0; tile < tiles; ++tile) {
+    if (!r.tileHasObject[tile]) continue;
+    int32_t x0, y0, x1, y1;
+    r.tileRect(tile, x0, y0, x1, y1);
+    auto& [first, second] = r.objectColumns[size_t(y0 / r.options.tileSize)];
+    first = std::min(first, x0);
+    second = std::max(second, x1);
+  }
   for (Worker& w : r.workers) w.objectSeen.assign(objectCount, 0);
   r.pool.parallelFor(r.objectTiles.size(), [&](size_t k, int worker) {
     r.compositeObjects(r.objectTiles[k], frame, r.workers[size_t(worker)]);

@@ -48,6 +48,30 @@ class ShadowMap {
         blocks_[size_t(by) * size_t(bpr) + size_t(bx)] = 1;
     }
   }
+  // After the last markWritten of a pass: counts of marked blocks over every rectangle
+  // from block (0, 0), so that blocksWritten answers for a rectangle in four reads.
+  void sumBlocks() {
+    const size_t bpr = size_t(blocksPerRow()), side = bpr + 1;
+    blockSums_.assign(side * side, 0);
+    for (size_t by = 0; by < bpr; ++by) {
+      for (size_t bx = 0; bx < bpr; ++bx) {
+        blockSums_[(by + 1) * side + bx + 1] =
+            (blocks_[by * bpr + bx] != 0 ? 1 : 0) + blockSums_[by * side + bx + 1] +
+            blockSums_[(by + 1) * side + bx] - blockSums_[by * side + bx];
+      }
+    }
+  }
+  // False when no lane whose footprint starts at a texel (i, j) with i0 <= i <= i1 and
+  // j0 <= j <= j1 (all in [-1, size]) can see a written texel (the block rule above); needs
+  // sumBlocks() after the last markWritten.
+  bool blocksWritten(int32_t i0, int32_t j0, int32_t i1, int32_t j1) const {
+    const size_t side = size_t(blocksPerRow()) + 1;
+    const size_t bx0 = size_t((i0 + 8) >> 3), by0 = size_t((j0 + 8) >> 3);
+    const size_t bx1 = size_t((i1 + 8) >> 3) + 1, by1 = size_t((j1 + 8) >> 3) + 1;
+    return blockSums_[by1 * side + bx1] - blockSums_[by0 * side + bx1] -
+               blockSums_[by1 * side + bx0] + blockSums_[by0 * side + bx0] !=
+           0;
+  }
   // Texels [x0, x1) x [y0, y1) back to +inf, and every block to "not written".
   // Copies from a row of +inf: g++ -O2 leaves std::fill of a float value as a scalar loop
   // (a 256x256 map is then 65,536 single stores per pass); memcpy runs in vectors.
@@ -75,6 +99,7 @@ class ShadowMap {
   std::vector<float> texels_;
   std::vector<float> infinities_;  // a row of +inf to clear from
   std::vector<uint32_t> blocks_;
+  std::vector<int32_t> blockSums_;  // sumBlocks(): (bpr + 1)^2 rectangle counts
   struct BlockRect {
     int32_t bx0 = 0, by0 = 0, bx1 = -1, by1 = -1;  // inclusive; empty by default
   };

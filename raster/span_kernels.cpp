@@ -119,6 +119,23 @@ HWY_INLINE bool isSmall(const SetupTriangle& t) {
   return x1 - x0 <= kSmallTriangleSpan && y1 - y0 <= kSmallTriangleSpan;
 }
 
+// Shadow-map triangles at most one vector wide take the block path below however tall they
+// are (occluder slivers: a fifth of the map triangles too tall for isSmall are at most 4
+// texels wide, 97 rows on average, half of the exact-run path's rows), when int32 is still
+// exact: with Sx, Sy the vertices' extents in sub-pixels, |A| <= Sy and |B| <= Sx; the block
+// path evaluates E at pixel centres at most Sx + 2^12 from a vertex in x (15 pixels right of
+// the bounding box) and Sy + 2^11 in y (a block's rows and the step after the last, at most
+// 7 rows below it), so |E| <= 2 Sx Sy + 2^12 Sy + 2^11 Sx + 1 (the bias), which must stay
+// below 2^31. isSmall's triangles satisfy it (2^29 + 2^26 + 2^25 + 1).
+HWY_INLINE bool narrowInInt32(const SetupTriangle& t, int32_t lanes) {
+  if (t.maxX - t.minX > lanes) return false;
+  const int64_t sx =
+      std::max({t.v[0].x, t.v[1].x, t.v[2].x}) - int64_t{std::min({t.v[0].x, t.v[1].x, t.v[2].x})};
+  const int64_t sy =
+      std::max({t.v[0].y, t.v[1].y, t.v[2].y}) - int64_t{std::min({t.v[0].y, t.v[1].y, t.v[2].y})};
+  return 2 * sx * sy + (sy << 12) + (sx << 11) + 1 < (int64_t{1} << 31);
+}
+
 #if HWY_TARGET != HWY_SCALAR
 // Rows r of a block live in lanes [r * W, (r + 1) * W), W = Lanes(d) / R: R rows of W
 // consecutive floats become one vector.
@@ -198,7 +215,9 @@ HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const Set
       e1 = hn::Add(e1, blockStep1);
       e2 = hn::Add(e2, blockStep2);
       if (R > 1 && y + R > t.maxY) covered = hn::And(covered, hn::Lt(dy, hn::Set(di, t.maxY - y)));
-      if (hn::AllFalse(di, covered)) continue;
+      // No test for an empty block: whether a row of a sliver's box meets it is a coin toss
+      // for the branch predictor, and writing a block back unchanged costs less than the
+      // mispredictions did (map samples -8%).
       const VF fy = hn::Add(fyLane, hn::Set(df, static_cast<float>(y - t.minY)));
       const VF z = hn::Add(zColumn, hn::Mul(dzdy, fy));
       float* corner = depth + stride * static_cast<size_t>(y) + x;
@@ -216,83 +235,88 @@ HWY_NOINLINE uint32_t DepthTriangleBlocks(float* depth, size_t stride, const Set
 // cycles per row) and no edge tests per vector.
 //
 // With X = 256 x + 128 and dx = x - minX, spec §4's E - bias = Ec + 256 a dx, where Ec is
-// the row's value at minX (int64, stepped exactly by 256 b per row). So E - bias >= 0 <=>
-// a dx >= T = ceil(-Ec / 256) = -(Ec >> 8) (arithmetic shift: floor). Each edge bounds the
-// row's run on its own: dx >= ceil(T / a) for a > 0, dx <= floor(T / a) for a < 0, all or
-// nothing for a = 0 (edgeRun). The run [lo, hi) is then exactly the row's covered pixels,
-// and the lanes only mask its last vector.
-struct EdgeRow {
-  int64_t a;
-  double reciprocal;  // 1 / a, for the quotient's estimate
-};
-
-// Narrows [lo, hi) (within [0, width]) to the dx with a dx >= t. The quotient t / a is
-// estimated in binary64 and truncated (it lies in [0, width] there, so truncation is floor
-// and the estimate is off by far less than one); exact int64 products then correct it by
-// one step either way. No libm rounding in this per-frame path.
-HWY_INLINE void edgeRun(const EdgeRow& g, int64_t t, int32_t width, int32_t& lo, int32_t& hi) {
-  const int64_t a = g.a;
-  if (a > 0) {
-    if (t <= 0) return;  // every dx >= 0 passes
-    if (t > a * width) {
-      hi = 0;
-      return;
-    }
-    int64_t first = static_cast<int64_t>(static_cast<double>(t) * g.reciprocal);
-    if (a * first < t) ++first;
-    if (a * (first - 1) >= t) --first;
-    lo = std::max(lo, static_cast<int32_t>(first));
-  } else if (a < 0) {
-    if (t > 0) {
-      hi = 0;
-      return;
-    }
-    if (t <= a * width) return;  // every dx <= width passes
-    int64_t last = static_cast<int64_t>(static_cast<double>(t) * g.reciprocal);
-    if (a * last < t) --last;
-    if (a * (last + 1) >= t) ++last;
-    hi = std::min(hi, static_cast<int32_t>(last + 1));
-  } else if (t > 0) {
-    hi = 0;
-  }
-}
-
+// the row's value at minX (stepped exactly by 256 b per row). So E - bias >= 0 <=>
+// a dx >= T = ceil(-Ec / 256) = -floor(Ec / 256). Each edge bounds the row's run on its own:
+// dx >= ceil(T / a) for a > 0, dx <= floor(T / a) for a < 0, all or nothing for a = 0. The
+// run [lo, hi) is then exactly the row's covered pixels, and the lanes only mask its last
+// vector.
+//
+// The bounds of several rows at once, one row per binary64 lane, all exact there: snapped
+// coordinates lie within 2^22 (spec §3's snapping range), so |a|, |b| <= 2^23, and at pixel
+// centres of the bounding box |Ec| <= 2^48 < 2^53; Ec / 256 is exact (a power of two) and
+// floor exact. T is clamped to the range whose quotient lies in [-1, width + 1], which
+// changes no bound clipped to [0, width]: a smaller (a > 0) or larger (a < 0) T bounds
+// nothing there, a larger or smaller one empties the row either way. The quotient is then
+// estimated by T * (1 / a), off by less than 2^-39 from T / a, which is an integer or at
+// least 1 / |a| >= 2^-23 from one, so its truncation is the exact bound or one off; the
+// exact products a * n (|n| <= width + 2 <= 2^13: below 2^36) decide the one step either
+// way, as ceilDiv / floorDiv would.
 HWY_NOINLINE uint32_t DepthTriangleRuns(float* depth, size_t stride, const SetupTriangle& t) {
   const DF df;
   const DI di;
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<int32_t, decltype(dd)> d32;
+  using VD = hn::Vec<decltype(dd)>;
   const int32_t lanes = static_cast<int32_t>(hn::Lanes(df));
+  const int32_t rowLanes = static_cast<int32_t>(hn::Lanes(dd));
   const VI lane = hn::Iota(di, 0);
   const VF laneX = hn::ConvertTo(df, lane);
   const VF dzdx = hn::Set(df, t.depth.dzdx), z00 = hn::Set(df, t.depth.z00);
   const int32_t width = t.maxX - t.minX;
   const int64_t xc = int64_t{256} * t.minX + 128;
   const int64_t yc = int64_t{256} * t.minY + 128;
-  std::array<EdgeRow, 3> rows;
-  std::array<int64_t, 3> ec;
+  const VD zero = hn::Zero(dd), one = hn::Set(dd, 1.0), inv256 = hn::Set(dd, 1.0 / 256.0);
+  const VD rowOffset = hn::Iota(dd, 0.0), widthD = hn::Set(dd, static_cast<double>(width));
+  std::array<int64_t, 3> ec;  // Ec of the first row of the current group
   for (size_t k = 0; k < 3; ++k) {
     const Edge& g = t.edges[k];
-    rows[k] = {g.a, g.a == 0 ? 0.0 : 1.0 / static_cast<double>(g.a)};
     ec[k] = g.a * xc + g.b * yc + g.c - g.bias;
   }
+  HWY_ALIGN int32_t first[hn::MaxLanes(decltype(dd)())], end[hn::MaxLanes(decltype(dd)())];
   uint32_t passed = 0;
-  for (int32_t y = t.minY; y < t.maxY; ++y) {
-    int32_t lo = 0, hi = width;
+  for (int32_t y0 = t.minY; y0 < t.maxY; y0 += rowLanes) {
+    VD lo = zero, hi = widthD;
     for (size_t k = 0; k < 3; ++k) {
-      edgeRun(rows[k], -(ec[k] >> 8), width, lo, hi);
-      ec[k] += t.edges[k].b * 256;
+      const Edge& g = t.edges[k];
+      const double a = static_cast<double>(g.a);
+      const VD av = hn::Set(dd, a);
+      const VD rowEc = hn::Add(hn::Set(dd, static_cast<double>(ec[k])),
+                               hn::Mul(rowOffset, hn::Set(dd, static_cast<double>(g.b * 256))));
+      ec[k] += g.b * 256 * rowLanes;
+      const VD bound = hn::Neg(hn::Floor(hn::Mul(rowEc, inv256)));  // T
+      if (g.a > 0) {
+        const VD tc = hn::Min(hn::Max(bound, hn::Neg(av)), hn::Mul(av, hn::Add(widthD, one)));
+        VD n = hn::Trunc(hn::Mul(tc, hn::Set(dd, 1.0 / a)));
+        n = hn::IfThenElse(hn::Lt(hn::Mul(av, n), tc), hn::Add(n, one), n);
+        n = hn::IfThenElse(hn::Ge(hn::Mul(av, hn::Sub(n, one)), tc), hn::Sub(n, one), n);
+        lo = hn::Max(lo, n);  // ceil(T / a)
+      } else if (g.a < 0) {
+        const VD tc = hn::Min(hn::Max(bound, hn::Mul(av, hn::Add(widthD, one))), hn::Neg(av));
+        VD n = hn::Trunc(hn::Mul(tc, hn::Set(dd, 1.0 / a)));
+        n = hn::IfThenElse(hn::Lt(hn::Mul(av, n), tc), hn::Sub(n, one), n);
+        n = hn::IfThenElse(hn::Ge(hn::Mul(av, hn::Add(n, one)), tc), hn::Add(n, one), n);
+        hi = hn::Min(hi, hn::Add(n, one));  // floor(T / a) + 1
+      } else {
+        hi = hn::IfThenElse(hn::Gt(bound, zero), zero, hi);
+      }
     }
-    if (lo >= hi) continue;
-    float* row = depth + stride * static_cast<size_t>(y) + t.minX;
-    const VF zy = hn::Set(df, t.depth.dzdy * static_cast<float>(y - t.minY));
-    const VI end = hn::Set(di, hi);
-    for (int32_t dx = lo; dx < hi; dx += lanes) {
-      const MI covered = hn::Lt(hn::Add(lane, hn::Set(di, dx)), end);
-      const VF fx = hn::Add(laneX, hn::Set(df, static_cast<float>(dx)));
-      const VF z = hn::Add(hn::Add(z00, hn::Mul(dzdx, fx)), zy);
-      const VF old = hn::LoadU(df, row + dx);
-      const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
-      hn::StoreU(hn::IfThenElse(pass, z, old), df, row + dx);
-      passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+    hn::Store(hn::DemoteTo(d32, lo), d32, first);
+    hn::Store(hn::DemoteTo(d32, hi), d32, end);
+    for (int32_t r = 0; r < rowLanes && y0 + r < t.maxY; ++r) {
+      if (first[r] >= end[r]) continue;
+      const int32_t y = y0 + r;
+      float* row = depth + stride * static_cast<size_t>(y) + t.minX;
+      const VF zy = hn::Set(df, t.depth.dzdy * static_cast<float>(y - t.minY));
+      const VI last = hn::Set(di, end[r]);
+      for (int32_t dx = first[r]; dx < end[r]; dx += lanes) {
+        const MI covered = hn::Lt(hn::Add(lane, hn::Set(di, dx)), last);
+        const VF fx = hn::Add(laneX, hn::Set(df, static_cast<float>(dx)));
+        const VF z = hn::Add(hn::Add(z00, hn::Mul(dzdx, fx)), zy);
+        const VF old = hn::LoadU(df, row + dx);
+        const auto pass = hn::And(hn::RebindMask(df, covered), hn::Lt(z, old));
+        hn::StoreU(hn::IfThenElse(pass, z, old), df, row + dx);
+        passed += static_cast<uint32_t>(hn::CountTrue(df, pass));
+      }
     }
   }
   return passed;
@@ -302,19 +326,11 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
                        uint32_t triangleId) {
   const SpanPlanes planes{t.depth, {}, t.minX, t.minY};
   uint32_t passed = 0;
-  if (!isSmall(t)) {
-    if (id == nullptr) return DepthTriangleRuns(depth, stride, t);
-    forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
-      const size_t row = stride * static_cast<size_t>(y);
-      passed +=
-          DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
-    });
-    return passed;
-  }
+  const bool small = isSmall(t);
 #if HWY_TARGET != HWY_SCALAR
   // Shadow maps (no ids) take the block path: one thread owns the whole map, so writing
   // back unchanged lanes past the bounding box is harmless (ShadowMap leaves room for it).
-  if (id == nullptr) {
+  if (id == nullptr && (small || narrowInInt32(t, static_cast<int32_t>(hn::Lanes(DF()))))) {
     constexpr size_t kMaxLanes = hn::MaxLanes(DF());
     const size_t width = static_cast<size_t>(t.maxX - t.minX), lanes = hn::Lanes(DF());
     if constexpr (kMaxLanes >= 16) {
@@ -326,6 +342,15 @@ uint32_t DepthTriangle(float* depth, uint32_t* id, size_t stride, const SetupTri
     return DepthTriangleBlocks<1>(depth, stride, t);
   }
 #endif
+  if (!small) {
+    if (id == nullptr) return DepthTriangleRuns(depth, stride, t);
+    forEachRun(t, t.minX, t.minY, t.maxX, t.maxY, false, [&](int32_t y, int32_t xa, int32_t xb) {
+      const size_t row = stride * static_cast<size_t>(y);
+      passed +=
+          DepthLess(depth + row, id == nullptr ? nullptr : id + row, xa, xb, y, planes, triangleId);
+    });
+    return passed;
+  }
   const DF df;
   const DI di;
   const DU du;
