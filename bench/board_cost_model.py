@@ -286,7 +286,11 @@ def main():
     text = "\n".join(out) + "\n"
     print(text)
     if args.markdown:
-        args.markdown.write_text(text)
+        args.markdown.write_text(
+            "# The board's cost model, fitted to counted instructions\n\n"
+            f"Written by `bench/board_cost_model.py {args.counts}` from the counts of "
+            "`bench/board_instruction_counts.sh` (docs/kiosk.md, \"Cost model\"); do not edit.\n\n"
+            + text)
     if args.json:
         args.json.write_text(json.dumps({"fits": fits, "boards": boards,
                                          "assumptions": ASSUMPTIONS}, indent=1) + "\n")
