@@ -4,7 +4,8 @@
 #   bash .ci/install-deps.sh            native amd64 (or arm64) toolchain and libraries
 #   bash .ci/install-deps.sh --cross    + the aarch64 cross toolchain, qemu and arm64 libraries
 #   bash .ci/install-deps.sh --board-vm + what .ci/board-vm needs: mmdebstrap, qemu-system-arm,
-#                                         qemu-user-static (binfmt for the arm64 chroot), ssh
+#                                         qemu-user-static (binfmt for the arm64 chroot), ssh;
+#                                         and bench/board_instruction_counts.sh (cpio)
 #
 # Idempotent: packages already installed are left alone. Runs apt-get update once.
 # Uses sudo when not root.
@@ -65,9 +66,10 @@ cross_pkgs=(
   g++-aarch64-linux-gnu qemu-user
   libhwy-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 libpng-dev:arm64 zlib1g-dev:arm64
 )
-# .ci/board-vm-image and .ci/board-vm (docs/kiosk.md, "The board in a VM"); qemu-utils: qemu-img.
+# .ci/board-vm-image and .ci/board-vm (docs/kiosk.md, "The board in a VM"); qemu-utils: qemu-img;
+# cpio: bench/board_instruction_counts.sh's initramfs.
 board_vm_pkgs=(
-  mmdebstrap qemu-system-arm qemu-utils qemu-user-static e2fsprogs openssh-client
+  mmdebstrap qemu-system-arm qemu-utils qemu-user-static e2fsprogs openssh-client cpio
 )
 # Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (../shared/design.md §6).
 

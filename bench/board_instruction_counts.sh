@@ -24,8 +24,9 @@
 #   demo.txt                `penumbra-sim data/sessions/demo.json --bench` over FRAMES frames
 #                           (default 240): the whole board frame by stage, M instructions
 #   console.log             the VM's serial console
-# Needs qemu-system-arm, cpio and the arm64 architecture in dpkg (.ci/install-deps.sh --cross
-# adds it; the kernel and busybox-static packages are fetched with `apt-get download`).
+# Needs qemu-system-arm, cpio (`bash .ci/install-deps.sh --board-vm`) and the arm64 architecture
+# in dpkg (`--cross` adds it; the kernel and busybox-static packages are fetched with
+# `apt-get download`).
 # About 3 minutes on this machine (TCG runs ~200 M guest instructions a second).
 set -euo pipefail
 if [[ $# -lt 2 ]]; then
@@ -46,7 +47,7 @@ for program in penumbra penumbra-sim; do
 done
 for tool in qemu-system-aarch64 cpio; do
   command -v "$tool" >/dev/null || {
-    echo "board_instruction_counts.sh: $tool not found (apt-get install qemu-system-arm cpio)" >&2
+    echo "board_instruction_counts.sh: $tool not found (bash .ci/install-deps.sh --board-vm)" >&2
     exit 1
   }
 done
