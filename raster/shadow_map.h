@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -95,7 +96,7 @@ class ShadowMap {
   static constexpr float kInfinity = std::numeric_limits<float>::infinity();
   static constexpr size_t kSlackRows = 3;
   static constexpr size_t kVectorSlack = 16;
-  ptrdiff_t rowOffset(int32_t y) const { return ptrdiff_t(y) * stride(); }
+  std::ptrdiff_t rowOffset(int32_t y) const { return std::ptrdiff_t(y) * stride(); }
   std::vector<float> texels_;
   std::vector<float> infinities_;  // a row of +inf to clear from
   std::vector<uint32_t> blocks_;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 
@@ -46,14 +47,14 @@ void lightShares(const glm::dvec3& totalRadiance, std::span<const glm::dvec3> tr
                  std::span<core::Rgb16> out);
 
 // One channel of lightShares: `part` of `whole` in units of 1/65280, rounded half up.
-// min(part / whole, 1) * 65280 + 0.5 lies in [0.5, 65280.5], so truncating it is the floor.
+// min(part / whole, 1) * 65280 + 0.5 lies in [0.5, 65280.5]; its floor fits uint16_t.
 // 0 for a NaN quotient (infinite part and whole; bundles hold none), rather than converting
 // NaN, which C++ leaves undefined (x86 gave 0 too).
 inline uint16_t lightShare(double part, double whole) {
   if (!(whole > 0.0) || !(part > 0.0)) return 0;
   const double q = part / whole;
   if (q != q) return 0;
-  return static_cast<uint16_t>((1.0 < q ? 1.0 : q) * core::kMaxFineLevel + 0.5);
+  return static_cast<uint16_t>(std::floor((1.0 < q ? 1.0 : q) * core::kMaxFineLevel + 0.5));
 }
 
 // Each function below writes S in one of two precisions, chosen by the element of `out`:
