@@ -26,9 +26,7 @@ void SimTimebase::sleepUntil(int64_t ns) {
 }
 
 void SimTimebase::charge(const kiosk::FrameWork& w) {
-  int64_t ns =
-      model_.frameNs(w.startNs, {w.passes, w.passPixels, w.shadowMapSize, w.productVertices,
-                                 w.shadedVertices, w.transferredVertices});
+  int64_t ns = model_.frameNs(w.startNs, w.work);
   for (const Overrun& o : overruns_) {
     if (o.frame == w.frame) ns += o.extraNs;
   }

@@ -565,9 +565,11 @@ FrameReport KioskLoop::step() {
   r.frame = s.loop.frameNumber;
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
-  io_.time->charge({r.frame, passes, d.shadowMapSize, passPixels, start,
-                    s.loop.stats.productVertices, s.loop.stats.shadedVertices,
-                    s.loop.stats.transferredVertices});
+  const shadow::CompositeStats& c = s.loop.stats;
+  io_.time->charge({r.frame,
+                    start,
+                    {passes, passPixels, d.shadowMapSize, c.productVertices, c.shadedVertices,
+                     c.transferredVertices}});
   noteBudget(start, d.overBudget);
 
   r.warnings = warnings(start, camera, d.overBudget);

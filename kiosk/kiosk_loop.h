@@ -33,6 +33,7 @@
 #include "kiosk/status.h"
 #include "raster/renderer.h"
 #include "shadow/frame_compositor.h"
+#include "shadow/frame_cost_model.h"
 #include "shadow/frame_rate_controller.h"
 #include "shadow/frame_stages.h"
 #include "shadow/scene_bundle.h"
@@ -42,11 +43,8 @@ namespace penumbra::kiosk {
 // The rendering work of one frame, for a timebase that models its cost (the simulator).
 struct FrameWork {
   uint32_t frame = 0;
-  uint32_t passes = 0;
-  uint32_t shadowMapSize = 0;
-  uint64_t passPixels = 0;
   int64_t startNs = 0;
-  uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;  // CompositeStats'
+  shadow::CostModel::Workload work;
 };
 
 // The kiosk's clock. On the board: the steady clock, and time passes by itself. In the

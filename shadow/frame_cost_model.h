@@ -47,7 +47,7 @@ class CostModel {
     int64_t perPassTransferredVertexPs = 0;  // the same, per pass (cluster)
   };
 
-  // What one frame did (kiosk::FrameWork less its bookkeeping).
+  // What one frame did (the kiosk hands it over in kiosk::FrameWork).
   struct Workload {
     uint32_t passes = 0;
     uint64_t shadowedPixels = 0;  // receiver pixels summed over the passes
