@@ -15,7 +15,7 @@ namespace penumbra::kiosk {
 enum class PixelFormat : uint32_t {
   kRgba8,     // R, G, B, A
   kXrgb8888,  // libcamera/DRM XRGB8888 on a little-endian CPU: B, G, R, X
-  kBgr8,      // OpenCV's default Mat layout: B, G, R
+  kBgr8,      // OpenCV's default Mat layout, libcamera RGB888: B, G, R
   kYuyv,      // packed 4:2:2 (not converted: the kiosk configures XRGB8888)
   kYuv420,    // libcamera YUV420 (YU12): Y plane (stride), then U and V (stride / 2), JPEG range
 };

@@ -45,9 +45,11 @@ bool packFrame(const std::vector<std::span<const uint8_t>>& planes, kiosk::Pixel
                uint32_t width, uint32_t height, uint32_t stride, kiosk::CameraFrame& out,
                std::string& why) {
   std::vector<size_t> need;
-  if (format == kiosk::PixelFormat::kXrgb8888) {
-    if (stride < width * 4) {
-      why = "XRGB8888 stride " + std::to_string(stride) + " < 4 x width " + std::to_string(width);
+  if (format == kiosk::PixelFormat::kXrgb8888 || format == kiosk::PixelFormat::kBgr8) {
+    const uint32_t bpp = format == kiosk::PixelFormat::kXrgb8888 ? 4 : 3;
+    if (stride < width * bpp) {
+      why = std::string(kiosk::pixelFormatName(format)) + " stride " + std::to_string(stride) +
+            " < " + std::to_string(bpp) + " x width " + std::to_string(width);
       return false;
     }
     need = {size_t{stride} * height};

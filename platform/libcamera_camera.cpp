@@ -4,9 +4,11 @@
 #include <libcamera/version.h>
 #include <time.h>
 
+#include <array>
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <utility>
 
 #include "platform/camera_buffers.h"
 #include "platform/frame_slot.h"
@@ -51,24 +53,38 @@ std::vector<const lc::ControlId*> manualExposureControls(const lc::ControlInfoMa
   return {&lc::controls::AeEnable};
 }
 
-// The fixed controls (AE and AWB off: the bundle's T() holds for this exposure only).
-// `splitModes`: manualExposureControls() chose ExposureTimeMode and AnalogueGainMode.
-void setFixedControls(lc::ControlList& list, const kiosk::CameraControls& c, bool splitModes) {
+// `value` for `control` when the camera offers it. A request's list checks every id against
+// the camera's controls and logs an error for each one it lacks, on every request: a camera
+// without manual exposure (vimc, many UVC webcams) would flood the log at the frame rate.
+template <typename T, typename V>
+void setIfOffered(lc::ControlList& list, const lc::ControlInfoMap& offered,
+                  const lc::Control<T>& control, const V& value) {
+  if (offered.find(&control) != offered.end()) list.set(control, value);
+}
+
+// The fixed controls (AE and AWB off: the bundle's T() holds for this exposure only), those the
+// camera offers (the others are named in its description). `splitModes`:
+// manualExposureControls() chose ExposureTimeMode and AnalogueGainMode.
+void setFixedControls(lc::ControlList& list, const lc::ControlInfoMap& offered,
+                      const kiosk::CameraControls& c, bool splitModes) {
 #ifdef PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES
   if (splitModes) {
-    list.set(lc::controls::ExposureTimeMode, int32_t{lc::controls::ExposureTimeModeManual});
-    list.set(lc::controls::AnalogueGainMode, int32_t{lc::controls::AnalogueGainModeManual});
+    setIfOffered(list, offered, lc::controls::ExposureTimeMode,
+                 int32_t{lc::controls::ExposureTimeModeManual});
+    setIfOffered(list, offered, lc::controls::AnalogueGainMode,
+                 int32_t{lc::controls::AnalogueGainModeManual});
   } else {
-    list.set(lc::controls::AeEnable, false);
+    setIfOffered(list, offered, lc::controls::AeEnable, false);
   }
 #else
   (void)splitModes;
-  list.set(lc::controls::AeEnable, false);
+  setIfOffered(list, offered, lc::controls::AeEnable, false);
 #endif
-  list.set(lc::controls::AwbEnable, false);
-  list.set(lc::controls::ExposureTime, c.exposureUs);
-  list.set(lc::controls::AnalogueGain, c.analogueGain);
-  list.set(lc::controls::ColourGains, {c.redGain, c.blueGain});
+  setIfOffered(list, offered, lc::controls::AwbEnable, false);
+  setIfOffered(list, offered, lc::controls::ExposureTime, c.exposureUs);
+  setIfOffered(list, offered, lc::controls::AnalogueGain, c.analogueGain);
+  setIfOffered(list, offered, lc::controls::ColourGains,
+               std::array<float, 2>{c.redGain, c.blueGain});
 }
 
 int64_t monotonicNs() {
@@ -148,23 +164,33 @@ void LibcameraCamera::Impl::configure() {
   }
   const lc::Size want(options.width, options.height);
   lc::StreamConfiguration& sc = config->at(0);
-  // XRGB8888 first (no conversion); YUV420 when the pipeline has no RGB output.
-  for (const lc::PixelFormat& f : {lc::formats::XRGB8888, lc::formats::YUV420}) {
+  // XRGB8888 first; YUV420 when the pipeline has no 32-bit RGB output (a Pi's ISP has both);
+  // RGB888 (bytes B, G, R: DRM's little-endian [23:0] R:G:B) for pipelines with only 24-bit
+  // RGB, such as the vimc test camera's.
+  const std::pair<lc::PixelFormat, kiosk::PixelFormat> accepted[] = {
+      {lc::formats::XRGB8888, kiosk::PixelFormat::kXrgb8888},
+      {lc::formats::YUV420, kiosk::PixelFormat::kYuv420},
+      {lc::formats::RGB888, kiosk::PixelFormat::kBgr8}};
+  const kiosk::PixelFormat* chosen = nullptr;
+  for (const auto& [f, kioskFormat] : accepted) {
     sc.pixelFormat = f;
     sc.size = want;
     sc.bufferCount = options.buffers;
-    if (config->validate() != lc::CameraConfiguration::Invalid && sc.pixelFormat == f) break;
+    if (config->validate() != lc::CameraConfiguration::Invalid && sc.pixelFormat == f) {
+      chosen = &kioskFormat;
+      break;
+    }
   }
-  if (sc.pixelFormat != lc::formats::XRGB8888 && sc.pixelFormat != lc::formats::YUV420) {
-    throw HardwareUnavailable("libcamera: " + id + " offers neither XRGB8888 nor YUV420 (got " +
+  if (!chosen) {
+    throw HardwareUnavailable("libcamera: " + id +
+                              " offers none of XRGB8888, YUV420 and RGB888 (got " +
                               sc.pixelFormat.toString() + ")");
   }
   if (sc.size != want) {
     throw HardwareUnavailable("libcamera: " + id + " cannot deliver the calibrated " +
                               want.toString() + " (nearest " + sc.size.toString() + ")");
   }
-  format = sc.pixelFormat == lc::formats::XRGB8888 ? kiosk::PixelFormat::kXrgb8888
-                                                   : kiosk::PixelFormat::kYuv420;
+  format = *chosen;
   stride = sc.stride;
   if (camera->configure(config.get()) != 0) {
     throw HardwareUnavailable("libcamera: " + id + ": configure " + sc.toString() + " failed");
@@ -194,7 +220,7 @@ void LibcameraCamera::Impl::configure() {
     if (!request || request->addBuffer(stream, buffer.get()) != 0) {
       throw HardwareUnavailable("libcamera: " + id + ": cannot create a capture request");
     }
-    setFixedControls(request->controls(), c, splitExposureModes);
+    setFixedControls(request->controls(), offered, c, splitExposureModes);
     requests.push_back(std::move(request));
   }
   unsupported.clear();
@@ -207,7 +233,7 @@ void LibcameraCamera::Impl::configure() {
   camera->requestCompleted.connect(this, &Impl::onRequestCompleted);
   camera->disconnected.connect(this, &Impl::onDisconnected);
   lc::ControlList start(offered);
-  setFixedControls(start, c, splitExposureModes);
+  setFixedControls(start, offered, c, splitExposureModes);
   disconnected = false;
   slot.reopen();
   sequenceBase = lastSequence;
@@ -263,7 +289,7 @@ void LibcameraCamera::Impl::onRequestCompleted(lc::Request* request) {
   request->reuse(lc::Request::ReuseBuffers);
   {
     std::lock_guard<std::mutex> lock(controlsMutex);
-    setFixedControls(request->controls(), controls, splitExposureModes);
+    setFixedControls(request->controls(), camera->controls(), controls, splitExposureModes);
   }
   if (running) camera->queueRequest(request);
 }

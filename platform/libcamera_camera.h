@@ -1,6 +1,7 @@
 // The kiosk camera through libcamera 0.0.3 (issue 6 §1; docs/kiosk.md "Camera"):
 // CameraManager → Camera → acquire → a viewfinder configuration at the calibrated size in
-// XRGB8888 (YUV420 when the pipeline offers no RGB) → FrameBufferAllocator → buffers mapped
+// XRGB8888 (YUV420 when the pipeline offers no 32-bit RGB, RGB888 when it offers only
+// 24-bit RGB, as vimc) → FrameBufferAllocator → buffers mapped
 // once → one Request per buffer, each carrying the fixed controls (ExposureTime,
 // AnalogueGain, ColourGains; AeEnable and AwbEnable off) → start.
 //
@@ -32,7 +33,7 @@ class LibcameraCamera final : public kiosk::ControllableCamera {
  public:
   // Throws HardwareUnavailable: the manager does not start, no camera is listed ("libcamera:
   // no camera found ..."), the named camera is not listed, it is busy, or it cannot deliver
-  // the calibrated size in XRGB8888 or YUV420 (both sizes and formats named).
+  // the calibrated size in XRGB8888, YUV420 or RGB888 (sizes and formats named).
   explicit LibcameraCamera(LibcameraOptions options);
   ~LibcameraCamera() override;
 
