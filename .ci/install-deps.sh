@@ -69,7 +69,7 @@ cross_pkgs=(
 # .ci/board-vm-image and .ci/board-vm (docs/kiosk.md, "The board in a VM"); qemu-utils: qemu-img;
 # cpio: bench/board_instruction_counts.sh's initramfs.
 board_vm_pkgs=(
-  mmdebstrap qemu-system-arm qemu-utils qemu-user-static e2fsprogs openssh-client cpio
+  mmdebstrap arch-test qemu-system-arm qemu-utils qemu-user-static e2fsprogs openssh-client cpio kmod
 )
 # Not in the cross set: libopenexr-dev:arm64 conflicts with the amd64 one (../shared/design.md §6).
 
