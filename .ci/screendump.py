@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""Reads QEMU `screendump` PPM files for .ci/board-vm (standard library only).
+"""QEMU `screendump`s for .ci/board-vm and .ci/board-vm-quick (standard library only).
+
+  screendump.py dump QMP.sock SHOT          the VM's screen through its QMP socket, as
+                                            SHOT.ppm and SHOT.png
 
   screendump.py stats SHOT.ppm              size, mean, share of non-black pixels
   screendump.py screen SHOT.ppm WxH PCT     stats; exit 1 unless the size is WxH and at least
@@ -10,7 +13,35 @@
       (every channel lower, the largest drop >= 8 levels) and brighter in WITH; exit 1 unless
       at least MIN are darker and at most 1 % as many are brighter
 """
+import json
+import socket
 import sys
+
+
+def qmp_screendump(sock_path, shot):
+    """One QMP session: capabilities, then a screendump per format; QEMU's error exits."""
+    s = socket.socket(socket.AF_UNIX)
+    s.settimeout(50)
+    s.connect(sock_path)
+    f = s.makefile("rw")
+
+    def reply():
+        while True:
+            m = json.loads(f.readline())
+            if "event" not in m:
+                return m
+
+    reply()  # the greeting
+    commands = [{"execute": "qmp_capabilities"}]
+    for fmt in ("ppm", "png"):
+        commands.append({"execute": "screendump",
+                         "arguments": {"filename": f"{shot}.{fmt}", "format": fmt}})
+    for cmd in commands:
+        f.write(json.dumps(cmd) + "\n")
+        f.flush()
+        r = reply()
+        if "error" in r:
+            sys.exit(f"screendump.py: qmp {cmd['execute']}: {r['error']['desc']}")
 
 
 def read_ppm(path):
@@ -47,7 +78,10 @@ def stats(path):
 
 def main():
     cmd = sys.argv[1] if len(sys.argv) > 1 else ""
-    if cmd == "stats" and len(sys.argv) == 3:
+    if cmd == "dump" and len(sys.argv) == 4:
+        qmp_screendump(sys.argv[2], sys.argv[3])
+        stats(sys.argv[3] + ".ppm")
+    elif cmd == "stats" and len(sys.argv) == 3:
         stats(sys.argv[2])
     elif cmd == "screen" and len(sys.argv) == 5:
         w, h, lit = stats(sys.argv[2])
