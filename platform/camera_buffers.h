@@ -45,10 +45,10 @@ class MappedFrameBuffer {
 };
 
 // Packs the planes of one captured frame into `out` (data, width, height, stride, format).
-// kXrgb8888 and kBgr8 (libcamera RGB888): one plane of stride × height bytes. kYuv420: three planes Y (stride × height),
-// U and V (stride/2 × height/2 each); width and height even. Returns false and sets `why` for
-// a format it does not pack, the wrong plane count or a plane too short. `out.sequence` and
-// the timestamps are the caller's.
+// kXrgb8888 and kBgr8 (libcamera RGB888): one plane of stride × height bytes. kYuv420: three planes
+// Y (stride × height), U and V (stride/2 × height/2 each); width and height even. Returns false and
+// sets `why` for a format it does not pack, the wrong plane count or a plane too short.
+// `out.sequence` and the timestamps are the caller's.
 bool packFrame(const std::vector<std::span<const uint8_t>>& planes, kiosk::PixelFormat format,
                uint32_t width, uint32_t height, uint32_t stride, kiosk::CameraFrame& out,
                std::string& why);
