@@ -3,7 +3,6 @@
 // traces render to their golden hashes (tests/golden_hashes.txt).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +15,7 @@
 #include "raster/renderer.h"
 #include "scene/sha256.h"
 #include "tests/test_scenes.h"
+#include "tests/test_workload.h"
 
 namespace penumbra {
 namespace {
@@ -58,16 +58,6 @@ std::string hashOf(const raster::FrameTrace& trace, const raster::RenderOptions&
   return scene::sha256Hex(raster::renderTrace(trace, options));
 }
 
-// PENUMBRA_TEST_WORKLOAD=small (the asan and tsan test presets, tests/check_lib.sh): the
-// sanitizers look for memory errors and races, not for other bytes, so there every target
-// renders at every thread count with one tile size each (the sizes rotate, so every
-// target meets every size and every thread count meets every size across the targets):
-// a third of the grid. The release and aarch64 stages render the whole grid.
-bool smallWorkload() {
-  const char* workload = std::getenv("PENUMBRA_TEST_WORKLOAD");
-  return workload != nullptr && std::string_view(workload) == "small";
-}
-
 // Frames of more pixels than the 640x480 benchmark (the 720p and 1080p showroom traces) take
 // no other code path, only more tiles and larger coordinates: each target renders them at a
 // fifth of the grid, three points spaced so that the targets together meet every thread count
@@ -78,7 +68,10 @@ bool sparseGrid(const raster::FrameTrace& trace) {
 
 void expectInvariant(const raster::FrameTrace& trace, const std::string& name) {
   const std::string reference = hashOf(trace, {simd::Isa::kScalar, 1, 32});
-  const bool small = smallWorkload(), sparse = sparseGrid(trace);
+  // Under the small workload (tests/test_workload.h) every target renders at every thread count
+  // with one tile size each (the sizes rotate, so every target meets every size and every
+  // thread count meets every size across the targets): a third of the grid.
+  const bool small = testing::smallTestWorkload(), sparse = sparseGrid(trace);
   const std::vector<simd::Isa> isas = simd::supportedIsas();
   const int threadCounts[] = {1, 2, 3, 4, 8};
   const int tiles[] = {16, 32, 64};
