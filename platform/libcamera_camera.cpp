@@ -8,6 +8,7 @@
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include "platform/camera_buffers.h"
@@ -42,49 +43,56 @@ std::string noCameraMessage() {
 #define PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES 1
 #endif
 
-// The manual-exposure controls this camera takes.
-std::vector<const lc::ControlId*> manualExposureControls(const lc::ControlInfoMap& offered) {
+// Whether this camera takes manual exposure as ExposureTimeMode and AnalogueGainMode (else
+// AeEnable).
+bool offersSplitExposureModes(const lc::ControlInfoMap& offered) {
 #ifdef PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES
-  if (offered.find(&lc::controls::ExposureTimeMode) != offered.end()) {
-    return {&lc::controls::ExposureTimeMode, &lc::controls::AnalogueGainMode};
-  }
-#endif
+  return offered.find(&lc::controls::ExposureTimeMode) != offered.end();
+#else
   (void)offered;
-  return {&lc::controls::AeEnable};
+  return false;
+#endif
 }
 
-// `value` for `control` when the camera offers it. A request's list checks every id against
-// the camera's controls and logs an error for each one it lacks, on every request: a camera
-// without manual exposure (vimc, many UVC webcams) would flood the log at the frame rate.
+// `value` for `control` when the camera offers it, else its name to `missing` (when given). A
+// request's list checks every id against the camera's controls and logs an error for each one
+// it lacks, on every request: a camera without manual exposure (vimc, many UVC webcams) would
+// flood the log at the frame rate.
 template <typename T, typename V>
 void setIfOffered(lc::ControlList& list, const lc::ControlInfoMap& offered,
-                  const lc::Control<T>& control, const V& value) {
-  if (offered.find(&control) != offered.end()) list.set(control, value);
+                  const lc::Control<T>& control, const V& value,
+                  std::vector<std::string>* missing) {
+  if (offered.find(&control) != offered.end()) {
+    list.set(control, value);
+  } else if (missing) {
+    missing->push_back(control.name());
+  }
 }
 
 // The fixed controls (AE and AWB off: the bundle's T() holds for this exposure only), those the
-// camera offers (the others are named in its description). `splitModes`:
-// manualExposureControls() chose ExposureTimeMode and AnalogueGainMode.
+// camera offers; the others' names go to `missing` (configure() only: per request it is null).
+// `splitModes`: offersSplitExposureModes().
 void setFixedControls(lc::ControlList& list, const lc::ControlInfoMap& offered,
-                      const kiosk::CameraControls& c, bool splitModes) {
+                      const kiosk::CameraControls& c, bool splitModes,
+                      std::vector<std::string>* missing = nullptr) {
 #ifdef PENUMBRA_LIBCAMERA_SPLIT_EXPOSURE_MODES
   if (splitModes) {
     setIfOffered(list, offered, lc::controls::ExposureTimeMode,
-                 int32_t{lc::controls::ExposureTimeModeManual});
+                 int32_t{lc::controls::ExposureTimeModeManual}, missing);
     setIfOffered(list, offered, lc::controls::AnalogueGainMode,
-                 int32_t{lc::controls::AnalogueGainModeManual});
+                 int32_t{lc::controls::AnalogueGainModeManual}, missing);
   } else {
-    setIfOffered(list, offered, lc::controls::AeEnable, false);
+    setIfOffered(list, offered, lc::controls::AeEnable, false, missing);
   }
 #else
   (void)splitModes;
-  setIfOffered(list, offered, lc::controls::AeEnable, false);
+  setIfOffered(list, offered, lc::controls::AeEnable, false, missing);
 #endif
-  setIfOffered(list, offered, lc::controls::AwbEnable, false);
-  setIfOffered(list, offered, lc::controls::ExposureTime, c.exposureUs);
-  setIfOffered(list, offered, lc::controls::AnalogueGain, c.analogueGain);
+  setIfOffered(list, offered, lc::controls::ExposureTime, c.exposureUs, missing);
+  setIfOffered(list, offered, lc::controls::AnalogueGain, c.analogueGain, missing);
   setIfOffered(list, offered, lc::controls::ColourGains,
-               std::array<float, 2>{c.redGain, c.blueGain});
+               std::array<float, 2>{c.redGain, c.blueGain}, missing);
+  setIfOffered(list, offered, lc::controls::AwbEnable, false, missing);
 }
 
 int64_t monotonicNs() {
@@ -171,13 +179,13 @@ void LibcameraCamera::Impl::configure() {
       {lc::formats::XRGB8888, kiosk::PixelFormat::kXrgb8888},
       {lc::formats::YUV420, kiosk::PixelFormat::kYuv420},
       {lc::formats::RGB888, kiosk::PixelFormat::kBgr8}};
-  const kiosk::PixelFormat* chosen = nullptr;
+  std::optional<kiosk::PixelFormat> chosen;
   for (const auto& [f, kioskFormat] : accepted) {
     sc.pixelFormat = f;
     sc.size = want;
     sc.bufferCount = options.buffers;
     if (config->validate() != lc::CameraConfiguration::Invalid && sc.pixelFormat == f) {
-      chosen = &kioskFormat;
+      chosen = kioskFormat;
       break;
     }
   }
@@ -207,8 +215,7 @@ void LibcameraCamera::Impl::configure() {
     c = controls;
   }
   const lc::ControlInfoMap& offered = camera->controls();
-  std::vector<const lc::ControlId*> wanted = manualExposureControls(offered);
-  splitExposureModes = wanted.front() != &lc::controls::AeEnable;
+  splitExposureModes = offersSplitExposureModes(offered);
   uint64_t cookie = 0;
   for (const std::unique_ptr<lc::FrameBuffer>& buffer : allocator->buffers(stream)) {
     std::vector<PlaneRef> planes;
@@ -223,17 +230,12 @@ void LibcameraCamera::Impl::configure() {
     setFixedControls(request->controls(), offered, c, splitExposureModes);
     requests.push_back(std::move(request));
   }
-  unsupported.clear();
-  wanted.insert(wanted.end(), {&lc::controls::ExposureTime, &lc::controls::AnalogueGain,
-                               &lc::controls::ColourGains, &lc::controls::AwbEnable});
-  for (const lc::ControlId* control : wanted) {
-    if (offered.find(control) == offered.end()) unsupported.push_back(control->name());
-  }
 
   camera->requestCompleted.connect(this, &Impl::onRequestCompleted);
   camera->disconnected.connect(this, &Impl::onDisconnected);
   lc::ControlList start(offered);
-  setFixedControls(start, offered, c, splitExposureModes);
+  unsupported.clear();
+  setFixedControls(start, offered, c, splitExposureModes, &unsupported);
   disconnected = false;
   slot.reopen();
   sequenceBase = lastSequence;
