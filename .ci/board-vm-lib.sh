@@ -16,8 +16,8 @@ find_deb() {
 }
 
 # vimc_bundle OUT: the showroom precomputed for a 480x360 view, by this machine's `penumbra
-# precompute` ($PENUMBRA, default build/ci/bin/penumbra; bundles are the same bytes on every
-# ISA). libcamera 0.0.3's Vimc pipeline handler delivers only sizes that are multiples of 6
+# precompute` ($PENUMBRA, default build/ci/bin/penumbra; the arm64 kiosk reads the x86-made
+# bundle as it reads the shipped one). libcamera 0.0.3's Vimc pipeline handler delivers only sizes that are multiples of 6
 # (vimc's scaler scales by 3, its sensor moves in 2-pixel steps): not the shipped bundle's
 # 640x480 view, which the kiosk rightly refuses to film at another size (the calibration holds
 # for one view). The libcamera runs show this bundle.
@@ -34,4 +34,38 @@ vimc_bundle() {
   "$penumbra" precompute "$scene/showroom/showroom-480x360.json" -o "$out" >"$scene/log" 2>&1 ||
     { cat "$scene/log" >&2; rm -rf "$scene"; fail "penumbra precompute (480x360)"; }
   rm -rf "$scene"
+}
+
+# kiosk_json BUNDLE LAST_GOOD CAMERA GPIO_CHIP HUD STALE_MS [PASSES]: a kiosk configuration as a
+# site would write it (docs/kiosk.md, "The board program"), on stdout. Attract mode off (the pose
+# stays the bundle's start pose, for the screendumps); STALE_MS generous, as TCG is ~10x slower
+# than the board; the passes fixed when PASSES is given.
+kiosk_json() {
+  local passes=""
+  if [[ -n "${7:-}" ]]; then
+    passes=", \"min_passes\": $7, \"max_passes\": $7, \"initial_passes\": $7"
+  fi
+  cat <<EOF
+{
+  "bundle": "$1",
+  "last_good_bundle": "$2",
+  "camera": "$3",
+  "camera_fallback": "photograph",
+  "gpio_chip": "$4",
+  "led_line": 12,
+  "display": "sdl",
+  "fullscreen": true,
+  "threads": 0,
+  "loop": {"fps": 30, "quality_fps": 15, "hud": "$5", "attract_after_ms": 3600000,
+           "stale_after_ms": $6$passes}
+}
+EOF
+}
+
+# camera_outage: reads a kiosk log on stdin and prints its last camera outage line, if the
+# camera did not come back after it. The kiosk says "camera: no frame yet" when its first frame
+# finds none, "no new frame" when frames stop, and "camera: live again" when one comes; a camera
+# that delivers leaves the last of these lines the third, or none (a frame was waiting).
+camera_outage() {
+  grep -E 'camera: (no frame yet|no new frame|live again)' | tail -n1 | grep -v 'camera: live again' || true
 }
