@@ -116,7 +116,7 @@ def read_image(path):
 
 
 def stats(path):
-    w, h, p = read_ppm(path)
+    w, h, p = read_image(path)
     n = w * h
     lit = sum(1 for i in range(0, len(p), 3) if p[i] + p[i + 1] + p[i + 2] > 24)
     print(f"{path}: {w}x{h}, mean {sum(p) / len(p):.1f}, non-black {100.0 * lit / n:.1f} %")
