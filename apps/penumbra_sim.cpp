@@ -18,6 +18,7 @@
 #include "apps/render_flags.h"
 #include "core/cli.h"
 #include "core/process_memory.h"
+#include "core/replace_file.h"
 #include "firmware-sim/frame_time_drift.h"
 #include "firmware-sim/session.h"
 #include "firmware-sim/session_stats.h"
@@ -82,7 +83,7 @@ class Strip {
 
 int main(int argc, char** argv) {
   CLI::App app{"penumbra-sim: replay a kiosk session on the simulated board (docs/kiosk.md)"};
-  std::string sessionPath, hashesPath, videoPath, framesDir, stripPath;
+  std::string sessionPath, hashesPath, videoPath, framesDir, stripPath, benchCsvPath;
   uint32_t frames = 0, stripCount = 6, soakFrames = 0;
   bool bench = false, echoLog = false;
   apps::RenderFlags flags;
@@ -101,7 +102,11 @@ int main(int argc, char** argv) {
   app.add_option("--strip", stripPath, "write a PNG strip of evenly spaced frames");
   app.add_option("--strip-frames", stripCount, "frames in the strip")
       ->check(cli::NumberRange(2, 12));
-  app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
+  auto* benchFlag =
+      app.add_flag("--bench", bench, "time the loop on this machine (wall clock; not the board)");
+  app.add_option("--bench-csv", benchCsvPath,
+                 "with --bench: write every frame's stage times (ms) as CSV")
+      ->needs(benchFlag);
   app.add_flag("--log", echoLog, "echo the kiosk log to stderr");
   app.add_option("--soak", soakFrames,
                  "soak: N frames of generated presses, camera faults and load steps on top of "
@@ -286,6 +291,7 @@ int main(int argc, char** argv) {
       std::printf("peak RSS %.1f MB (VmHWM: the whole simulator, camera footage%s included)\n",
                   double(core::processMemory().peakRssKb) / 1024.0,
                   replaySoak ? " and the soak's replay" : "");
+      if (!benchCsvPath.empty()) core::writeFileReplacing(benchCsvPath, stageSamples.csv());
     }
     return 0;
   });

@@ -123,4 +123,26 @@ std::string FrameStageSamples::table() const {
   return out;
 }
 
+std::string FrameStageSamples::csv() const {
+  std::string out = "frame";
+  for (size_t i = 0; i < kFrameStageCount; ++i) {
+    std::string name = kNames[i];
+    std::replace(name.begin(), name.end(), ' ', '_');
+    out += ',' + name;
+  }
+  out += ",board_frame\n";
+  const std::vector<int64_t> board = boardFrames();
+  char cell[32];
+  for (size_t f = 0; f < count_; ++f) {
+    out += std::to_string(f + 1);
+    for (size_t i = 0; i < kFrameStageCount; ++i) {
+      std::snprintf(cell, sizeof cell, ",%.3f", double(ns_[i][f]) * 1e-6);
+      out += cell;
+    }
+    std::snprintf(cell, sizeof cell, ",%.3f\n", double(board[f]) * 1e-6);
+    out += cell;
+  }
+  return out;
+}
+
 }  // namespace penumbra::shadow

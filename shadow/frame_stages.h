@@ -77,6 +77,10 @@ class FrameStageSamples {
   // A table, one line per stage that took any time: mean, median, p99 (ms) and its share of
   // the mean board frame; then the board total and, apart, the simulator's camera.
   std::string table() const;
+  // One line per frame: `frame`, then every stage's ms in FrameStage's order (columns named
+  // by frameStageName, spaces as '_'), then `board_frame`; for finding which frames make the
+  // p99 and what they spent it on.
+  std::string csv() const;
 
  private:
   std::vector<int64_t> boardFrames() const;  // each added frame's boardNs()
