@@ -4,6 +4,8 @@
 #include <chrono>
 #include <utility>
 
+#include <sched.h>
+
 namespace penumbra::core {
 namespace {
 
@@ -16,6 +18,14 @@ void cpuRelax() {
 }
 
 // Polls `ready` for up to JobPool::kSpinMicroseconds; true once it holds.
+//
+// Every 64 polls (a few microseconds) the thread offers its core to the scheduler. On a
+// busy machine the thread we wait for — a worker holding the job's last index, or the
+// caller with the next job — may be queued behind us on our own core: polling would keep it
+// off that core until our time slice ends (milliseconds), sched_yield() hands the core over
+// now. On a quiet machine nothing else is runnable and the call returns at once.
+// showroom-50 at 2 threads with a busy loop on one core, 5 alternating rounds: medians 7.95
+// ms polling only, 7.18 with the yield (1 thread: 7.3); quiet, 3.93 against 3.92 ms.
 template <class Ready>
 bool spinUntil(Ready&& ready) {
   using Clock = std::chrono::steady_clock;
@@ -26,6 +36,7 @@ bool spinUntil(Ready&& ready) {
       cpuRelax();
     }
     if (Clock::now() >= deadline) return ready();
+    sched_yield();
   }
 }
 
