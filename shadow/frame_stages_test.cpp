@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
+#include <string>
+#include <vector>
 
 #include "shadow/frame_loop.h"
 #include "tests/showroom_bundle.h"
@@ -54,6 +57,31 @@ TEST(FrameStages, MeansAddUpAndPercentilesAreNearestRank) {
   EXPECT_NE(table.find("raster passes"), std::string::npos) << table;
   EXPECT_NE(table.find("simulator camera"), std::string::npos) << table;
   EXPECT_EQ(table.find("observe"), std::string::npos) << "stages that took no time are left out";
+}
+
+TEST(FrameStages, CsvHasAColumnPerStageAndALinePerAddedFrame) {
+  FrameStageSamples samples;
+  samples.reserve(8);  // more than added: only added frames are lines
+  for (int64_t f = 1; f <= 3; ++f) {
+    FrameStages s;
+    s[FrameStage::kPassList] = f * 1'500'000;
+    s[FrameStage::kHud] = 250'000;
+    s[FrameStage::kSimulatorCamera] = 9'000'000;  // a column, not in board_frame
+    samples.add(s);
+  }
+  const std::string csv = samples.csv();
+  std::vector<std::string> lines;
+  for (size_t at = 0, end; (end = csv.find('\n', at)) != std::string::npos; at = end + 1) {
+    lines.push_back(csv.substr(at, end - at));
+  }
+  ASSERT_EQ(lines.size(), 4u) << csv;
+  EXPECT_EQ(std::count(lines[0].begin(), lines[0].end(), ','), int(kFrameStageCount) + 1);
+  EXPECT_EQ(lines[0].rfind("frame,camera,", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find(",pass_list,"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find(",simulator_camera,board_frame"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[2].rfind("2,", 0), 0u) << lines[2];
+  EXPECT_NE(lines[2].find(",3.000,"), std::string::npos) << lines[2];       // pass list
+  EXPECT_NE(lines[2].find(",9.000,3.250"), std::string::npos) << lines[2];  // camera, board
 }
 
 }  // namespace
