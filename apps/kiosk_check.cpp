@@ -208,6 +208,12 @@ void checkKioskConfig(const std::filesystem::path& configPath, std::ostream& out
     out << (c.fullscreen ? ", fullscreen" : ", windowed") << ", SDL_VIDEODRIVER "
         << (driver != nullptr ? std::string(driver) : "unset (SDL picks; kmsdrm on a board)");
   }
+  if (c.display == "drm") {
+    out << ", "
+        << (c.drmDevice.empty()
+                ? std::string("the first /dev/dri/card* with a connected screen")
+                : c.drmDevice + (std::filesystem::exists(c.drmDevice) ? "" : " (not present)"));
+  }
   out << "\n";
   describeEnvironment(c, out);
   out << "render: " << kioskThreads(c) << " threads" << (c.threads == 0 ? " (one per core)" : "")

@@ -35,6 +35,9 @@
 #ifdef PENUMBRA_HAVE_OPENCV_CAMERA
 #include "platform/opencv_camera_module.h"
 #endif
+#ifdef PENUMBRA_HAVE_DRM
+#include "platform/drm_display.h"
+#endif
 #ifdef PENUMBRA_HAVE_SDL2
 #include "platform/sdl_display.h"
 #endif
@@ -256,6 +259,22 @@ Examples:
 #endif
 
     std::unique_ptr<kiosk::Display> display;
+    if (config.display == "drm") {
+#ifdef PENUMBRA_HAVE_DRM
+      try {
+        auto drm =
+            std::make_unique<platform::DrmDisplay>(config.drmDevice, b.view.width, b.view.height);
+        log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
+                  "display: " + drm->description() + ", frame " + std::to_string(b.view.width) +
+                      "x" + std::to_string(b.view.height));
+        display = std::move(drm);
+      } catch (const platform::HardwareUnavailable& e) {
+        fallback(std::string(e.what()) + "; running without a screen");
+      }
+#else
+      fallback("display: built without libdrm; running without a screen");
+#endif
+    }
     if (config.display == "sdl") {
 #ifdef PENUMBRA_HAVE_SDL2
       try {

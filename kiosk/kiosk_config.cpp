@@ -130,7 +130,7 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   const JsonValue j = doc.root().object(
       {"bundle", "last_good_bundle", "camera", "camera_id", "camera_controls", "camera_fallback",
        "camera_rotation", "camera_flip", "gpio_chip", "gpio_lines", "led_line", "display",
-       "fullscreen", "product_files", "threads", "loop", "environment"});
+       "drm_device", "fullscreen", "product_files", "threads", "loop", "environment"});
   KioskConfig c;
   const std::string bundle = j.stringOr("bundle", "");
   if (bundle.empty()) doc.fail("bundle", "required");
@@ -145,7 +145,13 @@ KioskConfig loadKioskConfig(const std::filesystem::path& path) {
   if (const auto fallback = j.find("camera_fallback")) {
     c.cameraFallback = oneOfNames(*fallback, {"photograph", "simulated"});
   }
-  if (const auto display = j.find("display")) c.display = oneOfNames(*display, {"sdl", "none"});
+  if (const auto display = j.find("display")) {
+    c.display = oneOfNames(*display, {"drm", "sdl", "none"});
+  }
+  c.drmDevice = j.stringOr("drm_device", c.drmDevice);
+  if (!c.drmDevice.empty() && c.display != "drm") {
+    j["drm_device"].fail("is for display \"drm\", and display is \"" + c.display + "\"");
+  }
   if (const auto controls = j.find("camera_controls")) c.cameraControls = parseControls(*controls);
   c.fullscreen = j.booleanOr("fullscreen", c.fullscreen);
   c.threads = static_cast<int>(j.integerOr("threads", 0, 0, 64));

@@ -50,8 +50,11 @@ struct KioskConfig {
   // Frame rates, passes, attract mode, buttons, HUD (readLoopOptions). A site's HUD defaults to
   // "service": customers see the room and the product, not the frame rate.
   KioskOptions loop;
-  std::string display = "sdl";  // sdl | none
-  bool fullscreen = true;
+  // "drm": straight on the kernel's display (platform/drm_display.h), the board's choice;
+  // "sdl": SDL2 (a window on a desktop, KMSDRM through EGL on a board); "none".
+  std::string display = "sdl";
+  std::string drmDevice;   // "drm" only; empty: the first /dev/dri/card* with a screen
+  bool fullscreen = true;  // "sdl" only
   // Product models from files (kiosk/product_files.h), watched while the kiosk runs.
   std::vector<ProductFile> productFiles;
   // "environment": live lighting from the real environment camera (absent: captured light;

@@ -76,6 +76,13 @@ TEST(KioskConfig, ReadsASitesWiringLoopAndCameraMounting) {
       write(R"({"bundle": "b", "camera_rotation": 180, "camera_flip": "vertical"})"));
   EXPECT_TRUE(f.loop.cameraOrientation.mirrorX);
   EXPECT_FALSE(f.loop.cameraOrientation.mirrorY);
+  // The screen: SDL unless a site says; DRM with its card, or the first card with a screen.
+  EXPECT_EQ(d.display, "sdl");
+  const KioskConfig s = loadKioskConfig(
+      write(R"({"bundle": "b", "display": "drm", "drm_device": "/dev/dri/card1"})"));
+  EXPECT_EQ(s.display, "drm");
+  EXPECT_EQ(s.drmDevice, "/dev/dri/card1");
+  EXPECT_EQ(loadKioskConfig(write(R"({"bundle": "b", "display": "drm"})")).drmDevice, "");
 }
 
 // "environment": the real environment camera of live lighting and the lights' options.
@@ -256,6 +263,10 @@ TEST(KioskConfig, BadValuesNameTheFileAndKey) {
       {R"({"bundle": "b", "gpio_lines": {"left": 12}})",
        "gpio_lines: the LED and the left button are both on line 12"},
       {R"({"bundle": "b", "loop": {"hud": true}})", "loop.hud: "},
+      {R"({"bundle": "b", "display": "fbdev"})",
+       "display: expected one of \"drm\", \"sdl\", \"none\", got \"fbdev\""},
+      {R"({"bundle": "b", "drm_device": "/dev/dri/card1"})",
+       "drm_device: is for display \"drm\", and display is \"sdl\""},
       {R"({"bundle": "b", "loop": {"hud": "maybe"}})",
        "loop.hud: expected one of \"on\", \"off\", \"service\", got \"maybe\""},
       {R"({"bundle": "b", "loop": {"fps": 0}})", "loop.fps: "},

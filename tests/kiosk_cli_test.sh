@@ -28,6 +28,18 @@ grep -q "render: 2 threads" "$tmp/err" || fail "--threads 2 not used"
 if "$kiosk" "$tmp/kiosk.json" --bracket "$tmp/bracket" 2>"$tmp/err4"; then fail "bracket without a camera succeeded"; fi
 grep -q -- "--bracket needs a libcamera camera with exposure control" "$tmp/err4" || fail "unclear bracket error: $(cat "$tmp/err4")"
 [ ! -e "$tmp/bracket" ] || fail "bracket folder written without a camera"
+# A DRM display that is not there (or a build without libdrm): said, and the kiosk runs
+# without a screen.
+cat >"$tmp/drm.json" <<JSON
+{"bundle": "$data/showroom/showroom.bundle", "camera": "none", "display": "drm",
+ "drm_device": "$tmp/no-card", "gpio_chip": "/dev/gpiochip-penumbra-absent"}
+JSON
+"$kiosk" "$tmp/drm.json" --frames 3 --threads 2 >"$tmp/out6" 2>"$tmp/err6" ||
+  fail "kiosk with an absent DRM card failed: $(cat "$tmp/err6")"
+grep -q "3 frames" "$tmp/out6" || fail "did not run 3 frames without the DRM card"
+grep -q "display: $tmp/no-card: No such file or directory; running without a screen" "$tmp/err6" ||
+  grep -q "display: built without libdrm; running without a screen" "$tmp/err6" ||
+  fail "absent DRM card not said: $(cat "$tmp/err6")"
 # The configured last fallback: the simulated camera filming the bundle's photograph.
 cat >"$tmp/sim.json" <<JSON
 {"bundle": "$data/showroom/showroom.bundle", "camera": "auto", "camera_fallback": "simulated",
