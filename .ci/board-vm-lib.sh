@@ -36,10 +36,11 @@ vimc_bundle() {
   rm -rf "$scene"
 }
 
-# kiosk_json BUNDLE LAST_GOOD CAMERA GPIO_CHIP HUD STALE_MS [PASSES]: a kiosk configuration as a
-# site would write it (docs/kiosk.md, "The board program"), on stdout. Attract mode off (the pose
-# stays the bundle's start pose, for the screendumps); STALE_MS generous, as TCG is ~10x slower
-# than the board; the passes fixed when PASSES is given.
+# kiosk_json BUNDLE LAST_GOOD CAMERA GPIO_CHIP HUD STALE_MS [PASSES [DISPLAY]]: a kiosk
+# configuration as a site would write it (docs/kiosk.md, "The board program"), on stdout. Attract
+# mode off (the pose stays the bundle's start pose, for the screendumps); STALE_MS generous, as
+# TCG is ~10x slower than the board; the passes fixed when PASSES is given (may be empty);
+# DISPLAY "drm" or "sdl" (the default).
 kiosk_json() {
   local passes=""
   if [[ -n "${7:-}" ]]; then
@@ -53,7 +54,7 @@ kiosk_json() {
   "camera_fallback": "photograph",
   "gpio_chip": "$4",
   "led_line": 12,
-  "display": "sdl",
+  "display": "${8:-sdl}",
   "fullscreen": true,
   "threads": 0,
   "loop": {"fps": 30, "quality_fps": 15, "hud": "$5", "attract_after_ms": 3600000,
