@@ -39,11 +39,13 @@ ScreenFit fitFrame(uint32_t frameWidth, uint32_t frameHeight, uint32_t screenWid
   // floor((i + 1/2)·frame/fit), always < frame since i + 1/2 < fit.
   fit.sourceColumn.resize(fit.width);
   for (uint32_t i = 0; i < fit.width; ++i) {
-    fit.sourceColumn[i] = static_cast<uint32_t>((2 * uint64_t{i} + 1) * fw / (2 * fit.width));
+    fit.sourceColumn[i] =
+        static_cast<uint32_t>((2 * static_cast<uint64_t>(i) + 1) * fw / (2 * fit.width));
   }
   fit.sourceRow.resize(fit.height);
   for (uint32_t i = 0; i < fit.height; ++i) {
-    fit.sourceRow[i] = static_cast<uint32_t>((2 * uint64_t{i} + 1) * fh / (2 * fit.height));
+    fit.sourceRow[i] =
+        static_cast<uint32_t>((2 * static_cast<uint64_t>(i) + 1) * fh / (2 * fit.height));
   }
   return fit;
 }
