@@ -53,6 +53,47 @@ void requestStop(int) {
   stopRequested = 1;
 }
 
+// The configured screen (docs/kiosk.md, "The screen"), or none: a screen that cannot open,
+// or a build without its library, is one `warn` line and the kiosk runs without a screen.
+std::unique_ptr<kiosk::Display> openScreen(
+    const kiosk::KioskConfig& config, uint32_t width, uint32_t height,
+    const std::function<void(std::string)>& warn,
+    [[maybe_unused]] const std::function<void(std::string)>& info) {
+  [[maybe_unused]] const std::string frame = std::to_string(width) + "x" + std::to_string(height);
+  try {
+    if (config.display == "drm") {
+#ifdef PENUMBRA_HAVE_DRM
+      auto drm = std::make_unique<platform::DrmDisplay>(config.drmDevice, width, height);
+      info("display: " + drm->description() + ", frame " + frame);
+      return drm;
+#else
+      throw platform::HardwareUnavailable("display: built without libdrm");
+#endif
+    }
+    if (config.display == "sdl") {
+#ifdef PENUMBRA_HAVE_SDL2
+      auto sdl = std::make_unique<platform::SdlDisplay>(width, height, config.fullscreen);
+      // SDL falls back to drivers that show nothing when no screen answers: say so, or a
+      // technician sees a black screen and a log without a word about it.
+      const std::string driver = sdl->driver();
+      if (sdl->showsNothing()) {
+        warn("display: SDL chose its '" + driver +
+             "' video driver, which shows nothing on a screen; set SDL_VIDEODRIVER=kmsdrm "
+             "(or x11, wayland)");
+      } else {
+        info("display: SDL " + driver + " " + frame);
+      }
+      return sdl;
+#else
+      throw platform::HardwareUnavailable("display: built without SDL2");
+#endif
+    }
+  } catch (const platform::HardwareUnavailable& e) {
+    warn(std::string(e.what()) + "; running without a screen");
+  }
+  return nullptr;
+}
+
 // The camera, in the fallback order of docs/kiosk.md: libcamera → V4L2 webcam (OpenCV) →
 // the simulated camera if configured → none (the bundle's photograph, said on the HUD).
 // Each step that fails is logged with its reason.
@@ -258,48 +299,10 @@ Examples:
     fallback("gpio: built without libgpiod; no buttons, no status LED");
 #endif
 
-    std::unique_ptr<kiosk::Display> display;
-    if (config.display == "drm") {
-#ifdef PENUMBRA_HAVE_DRM
-      try {
-        auto drm =
-            std::make_unique<platform::DrmDisplay>(config.drmDevice, b.view.width, b.view.height);
-        log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
-                  "display: " + drm->description() + ", frame " + std::to_string(b.view.width) +
-                      "x" + std::to_string(b.view.height));
-        display = std::move(drm);
-      } catch (const platform::HardwareUnavailable& e) {
-        fallback(std::string(e.what()) + "; running without a screen");
-      }
-#else
-      fallback("display: built without libdrm; running without a screen");
-#endif
-    }
-    if (config.display == "sdl") {
-#ifdef PENUMBRA_HAVE_SDL2
-      try {
-        auto sdl =
-            std::make_unique<platform::SdlDisplay>(b.view.width, b.view.height, config.fullscreen);
-        // SDL falls back to drivers that show nothing when no screen answers: say so, or a
-        // technician sees a black screen and a log without a word about it.
-        const std::string driver = sdl->driver();
-        if (sdl->showsNothing()) {
-          fallback("display: SDL chose its '" + driver +
-                   "' video driver, which shows nothing on a screen; set SDL_VIDEODRIVER=kmsdrm "
-                   "(or x11, wayland)");
-        } else {
-          log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo,
-                    "display: SDL " + driver + " " + std::to_string(b.view.width) + "x" +
-                        std::to_string(b.view.height));
-        }
-        display = std::move(sdl);
-      } catch (const platform::HardwareUnavailable& e) {
-        fallback(std::string(e.what()) + "; running without a screen");
-      }
-#else
-      fallback("display: built without SDL2; running without a screen");
-#endif
-    }
+    const std::unique_ptr<kiosk::Display> display =
+        openScreen(config, b.view.width, b.view.height, fallback, [&](const std::string& what) {
+          log.write(time.nowNanoseconds(), kiosk::LogLevel::kInfo, what);
+        });
 
     kiosk::Peripherals io;
     io.camera = camera.get();

@@ -327,7 +327,6 @@ bool DrmDisplay::show(const uint8_t* rgba, uint32_t width, uint32_t height) {
     throw std::runtime_error("display: " + d.device + ": cannot show a frame: " + errnoText(errno));
   }
   d.front = back;
-  ++shown_;
   return true;
 }
 

@@ -1,8 +1,8 @@
 // The kiosk screen straight on the kernel's display (DRM/KMS) through libdrm: the frame is
 // drawn by the CPU anyway, so all a board needs is a scanout buffer in memory ("dumb buffer")
 // and a page flip. No EGL, no GBM, no Mesa driver: SDL2's KMSDRM driver can only present
-// through them, and on the board in a VM they took the kiosk's peak RSS from 46 MB to 117 MB
-// (docs/kiosk.md, "Memory").
+// through them, and in the board VM they took the libcamera kiosk's peak RSS from 40.6 MB
+// (this display) to 117.3 MB (docs/kiosk.md, "Memory").
 //
 // The frame is scaled to the screen's mode by nearest neighbour, keeping its aspect, centred
 // between black bars (a 640x480 frame on a 1920x1080 screen: 1440x1080 at x = 240, each frame
@@ -58,13 +58,11 @@ class DrmDisplay final : public kiosk::Display {
   bool show(const uint8_t* rgba, uint32_t width, uint32_t height) override;
   // "DRM /dev/dri/card0 Virtual-1 1280x800" for the log.
   std::string description() const;
-  uint64_t framesShown() const { return shown_; }
 
   struct Impl;  // the device's state (drm_display.cpp)
 
  private:
   std::unique_ptr<Impl> impl_;
-  uint64_t shown_ = 0;
 };
 
 }  // namespace penumbra::platform
