@@ -66,7 +66,16 @@ scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
                                     " patches, more than the " +
                                     core::formatNumber(scene::kMaxPatches) + " precompute handles");
   }
-  return scene::buildPatchMesh(room, size);
+  try {
+    return scene::buildPatchMesh(room, size, scene::kMaxPatches);
+  } catch (const std::length_error&) {
+    // Only shadow-boundary refinement grows past the count checked above.
+    throw scene::SceneFileError(
+        scene.source.string(), "shadow_boundary_patch_size",
+        core::formatNumber(room.shadowBoundaryPatchSize) +
+            " m refines the room into more than the " + core::formatNumber(scene::kMaxPatches) +
+            " patches precompute handles: use a larger shadow_boundary_patch_size");
+  }
 }
 
 shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,

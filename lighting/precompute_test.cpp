@@ -1,6 +1,6 @@
 // `penumbra precompute` refuses what `render` would refuse (issue 18): a scene whose camera
 // sees no surface of the room, and a patch size override that cuts the room into more
-// patches than precompute handles.
+// patches than precompute handles, or a shadow-boundary refinement that does.
 #include "lighting/precompute.h"
 
 #include <gtest/gtest.h>
@@ -46,6 +46,19 @@ TEST(Precompute, PatchSizeOverrideIsBounded) {
   EXPECT_EQ(why.rfind(showroom().source.string() + ": patch size 0.02: cuts the room into ", 0), 0u)
       << why;
   EXPECT_NE(why.find(" patches, more than the 20000 precompute handles"), std::string::npos) << why;
+}
+
+// The grid count is checked before the mesh is built; shadow-boundary refinement grows it
+// afterwards, by as much as the lights' shadow edges need, so it is bounded while it cuts.
+TEST(Precompute, ShadowBoundaryRefinementIsBounded) {
+  scene::SceneDescription s = showroom();
+  s.room.shadowBoundaryPatchSize = 0.02;
+  PrecomputeOptions options;
+  options.patchSize = 0.13;  // 8,285 grid patches; the desk's shadow edges add the rest
+  EXPECT_EQ(refusal(s, options),
+            s.source.string() +
+                ": shadow_boundary_patch_size: 0.02 m refines the room into more than the 20000 "
+                "patches precompute handles: use a larger shadow_boundary_patch_size");
 }
 
 }  // namespace

@@ -4,10 +4,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
+
+#include "scene/shadow_boundary_refinement.h"
 
 namespace penumbra::scene {
 
@@ -283,18 +287,81 @@ double patchCount(const RoomDescription& room, double targetPatchSize) {
   return patches;
 }
 
-PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
+namespace {
+
+// The grid lines of one quad (buildPatchMesh's first step).
+struct QuadGrid {
+  std::vector<double> ss, ts;
+  QuadGrid(const Quad& q, double targetPatchSize) {
+    const QuadSpans spans(q);
+    ss = gridLines(spans.s, spans.sizes, glm::length(q.edgeU), targetPatchSize);
+    ts = gridLines(spans.t, spans.sizes, glm::length(q.edgeV), targetPatchSize);
+  }
+};
+
+// Every emitting grid cell of the room as a light of the shadow-boundary test.
+std::vector<LightSample> emittingCells(const RoomDescription& room, double targetPatchSize) {
+  std::vector<LightSample> lights;
+  for (const Quad& q : room.quads) {
+    const QuadGrid grid(q, targetPatchSize);
+    for (size_t j = 0; j + 1 < grid.ts.size(); ++j) {
+      for (size_t i = 0; i + 1 < grid.ss.size(); ++i) {
+        const double sc = 0.5 * (grid.ss[i] + grid.ss[i + 1]);
+        const double tc = 0.5 * (grid.ts[j] + grid.ts[j + 1]);
+        const Material& m = q.materialAt(sc, tc);
+        if (!m.emits()) continue;
+        const double area =
+            q.area() * (grid.ss[i + 1] - grid.ss[i]) * (grid.ts[j + 1] - grid.ts[j]);
+        const glm::dvec3 e = m.emission;
+        lights.push_back(
+            {q.point(sc, tc), q.normal(), area, 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z});
+      }
+    }
+  }
+  return lights;
+}
+
+// A cell [s0, s1] x [t0, t1] of a quad's parameter square.
+struct Cell {
+  double s0, s1, t0, t1;
+};
+
+// The leaves of `cell`: itself, or the leaves of its four quarters while it straddles a
+// shadow boundary and its longer side exceeds `size` (a relative 1e-9 absorbs the
+// rounding of cells that are `size` exactly).
+void shadowBoundaryLeaves(const ShadowBoundaryTest& test, const Quad& q, const Cell& cell,
+                          double size, std::vector<Cell>& leaves) {
+  const double longer = std::max((cell.s1 - cell.s0) * glm::length(q.edgeU),
+                                 (cell.t1 - cell.t0) * glm::length(q.edgeV));
+  if (!(longer > size * (1 + 1e-9)) || !test.straddles(q, cell.s0, cell.s1, cell.t0, cell.t1)) {
+    leaves.push_back(cell);
+    return;
+  }
+  const double sm = 0.5 * (cell.s0 + cell.s1), tm = 0.5 * (cell.t0 + cell.t1);
+  for (const Cell& quarter : {Cell{cell.s0, sm, cell.t0, tm}, Cell{sm, cell.s1, cell.t0, tm},
+                              Cell{cell.s0, sm, tm, cell.t1}, Cell{sm, cell.s1, tm, cell.t1}}) {
+    shadowBoundaryLeaves(test, q, quarter, size, leaves);
+  }
+}
+
+}  // namespace
+
+PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize, double maxPatches) {
   if (!(targetPatchSize > 0)) {
     throw std::invalid_argument("buildPatchMesh: target patch size must be positive");
   }
+  const double refineTo = room.shadowBoundaryPatchSize;
+  std::optional<ShadowBoundaryTest> boundaries;
+  // 2 %: the light a receiver vertex may lose to shaft pruning (ShaftBuildOptions::
+  // pruneFraction), about a level of an 8-bit code in the mid-tones.
+  if (refineTo > 0) boundaries.emplace(room, emittingCells(room, targetPatchSize), 0.02);
   PatchMesh mesh;
+  std::vector<Cell> leaves;
   for (uint32_t qi = 0; qi < room.quads.size(); ++qi) {
     const Quad& q = room.quads[qi];
-    const QuadSpans spans(q);
-    const std::vector<double> ss =
-        gridLines(spans.s, spans.sizes, glm::length(q.edgeU), targetPatchSize);
-    const std::vector<double> ts =
-        gridLines(spans.t, spans.sizes, glm::length(q.edgeV), targetPatchSize);
+    const QuadGrid grid(q, targetPatchSize);
+    const std::vector<double>& ss = grid.ss;
+    const std::vector<double>& ts = grid.ts;
     const glm::dvec3 n = q.normal();
     const double quadArea = q.area();
     const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
@@ -305,26 +372,59 @@ PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize) {
         mesh.normals.push_back(n);
       }
     }
+    // Vertices off the grid lines, by their exact (s, t): a cell's quarters and their
+    // neighbours compute a shared corner from the same two numbers, so they find it here.
+    std::map<std::pair<double, double>, uint32_t> refinedVertices;
+    const auto vertexAt = [&](uint32_t i, uint32_t j, double s, double t) {
+      if (s == ss[i] && t == ts[j]) return base + j * ns + i;
+      const auto [at, added] =
+          refinedVertices.try_emplace({s, t}, static_cast<uint32_t>(mesh.positions.size()));
+      if (added) {
+        mesh.positions.push_back(q.point(s, t));
+        mesh.normals.push_back(n);
+      }
+      return at->second;
+    };
     for (uint32_t j = 0; j + 1 < ts.size(); ++j) {
       for (uint32_t i = 0; i + 1 < ns; ++i) {
-        const uint32_t v00 = base + j * ns + i, v10 = v00 + 1;
-        const uint32_t v01 = v00 + ns, v11 = v01 + 1;
-        const double sc = 0.5 * (ss[i] + ss[i + 1]), tc = 0.5 * (ts[j] + ts[j + 1]);
-        const Material& m = q.materialAt(sc, tc);
-        Patch p;
-        p.centre = q.point(sc, tc);
-        p.normal = n;
-        p.area = quadArea * (ss[i + 1] - ss[i]) * (ts[j + 1] - ts[j]);
-        p.reflectance = m.reflectance;
-        p.emission = m.emission;
-        p.quad = qi;
-        p.firstTriangle = static_cast<uint32_t>(mesh.triangleCount());
-        const uint32_t patchId = static_cast<uint32_t>(mesh.patches.size());
-        mesh.patches.push_back(p);
-        // Counter-clockwise about n: cross(U, U + V) = cross(U + V, V) = cross(U, V).
-        mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
-        mesh.trianglePatch.push_back(patchId);
-        mesh.trianglePatch.push_back(patchId);
+        const Cell cell{ss[i], ss[i + 1], ts[j], ts[j + 1]};
+        leaves.clear();
+        const double sc = 0.5 * (cell.s0 + cell.s1), tc = 0.5 * (cell.t0 + cell.t1);
+        if (boundaries && !q.materialAt(sc, tc).emits()) {
+          shadowBoundaryLeaves(*boundaries, q, cell, refineTo, leaves);
+        } else {
+          leaves.push_back(cell);
+        }
+        for (const Cell& leaf : leaves) {
+          // A leaf's corners lie on the grid lines i, i + 1, j, j + 1 or between them.
+          const uint32_t i1 = leaf.s1 == ss[i + 1] ? i + 1 : i,
+                         j1 = leaf.t1 == ts[j + 1] ? j + 1 : j;
+          const uint32_t v00 = vertexAt(i, j, leaf.s0, leaf.t0);
+          const uint32_t v10 = vertexAt(i1, j, leaf.s1, leaf.t0);
+          const uint32_t v01 = vertexAt(i, j1, leaf.s0, leaf.t1);
+          const uint32_t v11 = vertexAt(i1, j1, leaf.s1, leaf.t1);
+          const double lc = 0.5 * (leaf.s0 + leaf.s1), mc = 0.5 * (leaf.t0 + leaf.t1);
+          const Material& m = q.materialAt(lc, mc);
+          Patch p;
+          p.centre = q.point(lc, mc);
+          p.normal = n;
+          p.area = quadArea * (leaf.s1 - leaf.s0) * (leaf.t1 - leaf.t0);
+          p.reflectance = m.reflectance;
+          p.emission = m.emission;
+          p.quad = qi;
+          p.firstTriangle = static_cast<uint32_t>(mesh.triangleCount());
+          const uint32_t patchId = static_cast<uint32_t>(mesh.patches.size());
+          mesh.patches.push_back(p);
+          // Counter-clockwise about n: cross(U, U + V) = cross(U + V, V) = cross(U, V).
+          mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
+          mesh.trianglePatch.push_back(patchId);
+          mesh.trianglePatch.push_back(patchId);
+        }
+        if (double(mesh.patches.size()) > maxPatches) {
+          throw std::length_error("buildPatchMesh: shadow-boundary refinement to " +
+                                  std::to_string(refineTo) + " m makes more than " +
+                                  std::to_string(static_cast<uint64_t>(maxPatches)) + " patches");
+        }
       }
     }
   }

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -126,6 +127,11 @@ class RoomDescription {
 
   std::vector<Quad> quads;
   std::vector<Aabb> solids;
+  // Shadow-boundary refinement (scene key "shadow_boundary_patch_size";
+  // scene/shadow_boundary_refinement.h): buildPatchMesh halves a non-emitting cell, down
+  // to patches of at most this size, while the emitters' static visibility changes across
+  // it. 0: off.
+  double shadowBoundaryPatchSize = 0;
 };
 
 // One patch: a grid cell of a quad, drawn as two triangles.
@@ -156,7 +162,15 @@ struct PatchMesh {
 // (each region's own size inside it), two triangles per patch. Grid lines pass through
 // every region boundary so each patch has one material; a region's finer spacing runs
 // across its whole quad as strips, which keeps the grid conforming (no T-junctions).
-PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize);
+// With room.shadowBoundaryPatchSize > 0, grid cells straddling a shadow boundary are then
+// cut as quadtrees (scene/shadow_boundary_refinement.h). Those meet their coarser
+// neighbours in T-junctions: the id buffer gives every pixel one triangle, so no pixel is
+// drawn twice or missed, and the shares on either side of such an edge differ by less than
+// the test's significance at its midpoint. A quad whose cells all stay whole keeps the
+// grid's vertices, patches and triangles exactly. Throws std::length_error when the
+// refined mesh would hold more than `maxPatches` patches.
+PatchMesh buildPatchMesh(const RoomDescription& room, double targetPatchSize,
+                         double maxPatches = std::numeric_limits<double>::infinity());
 
 // The number of patches buildPatchMesh() would make, counted without building them (in
 // double: a hostile room or patch size gives a huge or infinite count, never an overflow).

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -172,6 +174,89 @@ TEST(PatchMesh, ContactRefinementNeedsABoxOnTheQuad) {
   EXPECT_NEAR(near.quads[0].refinements[0].t1, 2.2 / 4, 1e-12);
   EXPECT_THROW(room.refineAroundSolids(0), std::invalid_argument);
   EXPECT_THROW(room.refineAroundSolids(std::nan("")), std::invalid_argument);
+}
+
+// The vertices of quad `q`'s patches, each distinct position once (T-junctions included).
+size_t distinctVertices(const PatchMesh& mesh, uint32_t q, bool& duplicated) {
+  std::vector<uint32_t> used;
+  for (const Patch& p : mesh.patches) {
+    if (p.quad != q) continue;
+    for (uint32_t k = 0; k < 6; ++k) used.push_back(mesh.indices[3 * p.firstTriangle + k]);
+  }
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<std::array<double, 3>> at;
+  for (uint32_t v : used)
+    at.push_back({mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z});
+  std::sort(at.begin(), at.end());
+  duplicated = std::adjacent_find(at.begin(), at.end()) != at.end();
+  return used.size();
+}
+
+TEST(PatchMesh, ShadowBoundaryRefinementCutsOnlyWhereTheLightsAreHidden) {
+  // testRoom()'s light panel (x 1.8-2.4, z 1.5-2.1, on the ceiling) and its desk (x 4-5.5,
+  // z 3-4, 0.75 m high): the desk hides the panel from the floor behind it, on the side
+  // away from the panel; the floor by the x = 0 wall sees the whole panel.
+  RoomDescription room = testRoom();
+  room.shadowBoundaryPatchSize = 0.1;
+  const PatchMesh mesh = buildPatchMesh(room, 0.45);
+  const PatchMesh plain = buildPatchMesh(testRoom(), 0.45);
+  size_t fine = 0, lights = 0, plainLights = 0;
+  for (const Patch& p : mesh.patches) {
+    const glm::dvec2 sides = patchSides(mesh, p);
+    // Cells are halved while they straddle and are larger than 0.1 m: never below half.
+    EXPECT_GE(std::min(sides.x, sides.y), 0.05 - 1e-9);
+    fine += std::max(sides.x, sides.y) <= 0.1 + 1e-9;
+    lights += p.emits();
+    // Nothing near the x = 0 wall has the desk between it and the panel: the grid's
+    // 0.42 x 0.43 m cells stay whole there.
+    if (p.quad == 0 && p.centre.x < 1.5) {
+      EXPECT_GT(std::min(sides.x, sides.y), 0.4) << p.centre.x << " " << p.centre.z;
+    }
+  }
+  for (const Patch& p : plain.patches) plainLights += p.emits();
+  EXPECT_EQ(lights, plainLights);  // the lights themselves are never cut
+  EXPECT_GT(fine, 0u);
+  // Far fewer patches than cutting the whole floor that finely: 30 m^2 at 0.1 m = 3,000.
+  EXPECT_LT(mesh.patches.size(), plain.patches.size() + 1000);
+  // Areas still cover every quad exactly, and each position is one vertex.
+  std::vector<double> sums(room.quads.size(), 0.0);
+  for (const Patch& p : mesh.patches) sums[p.quad] += p.area;
+  for (uint32_t q = 0; q < room.quads.size(); ++q) {
+    EXPECT_NEAR(sums[q], room.quads[q].area(), 1e-9 * room.quads[q].area()) << room.quads[q].name;
+    bool duplicated = false;
+    distinctVertices(mesh, q, duplicated);
+    EXPECT_FALSE(duplicated) << room.quads[q].name;
+  }
+  // Every vertex is used, and the build is deterministic.
+  std::vector<bool> used(mesh.positions.size(), false);
+  for (uint32_t v : mesh.indices) used[v] = true;
+  EXPECT_EQ(std::count(used.begin(), used.end(), false), 0);
+  const PatchMesh again = buildPatchMesh(room, 0.45);
+  EXPECT_EQ(again.indices, mesh.indices);
+  EXPECT_EQ(again.positions, mesh.positions);
+}
+
+TEST(PatchMesh, ShadowBoundaryRefinementKeepsTheGridWhereNothingIsHidden) {
+  // Without solids the shell is convex: no light is hidden anywhere, no cell is cut, and
+  // the mesh is the grid's, vertex for vertex.
+  RoomDescription room;
+  room.addRoomShell(Aabb{glm::dvec3(0), glm::dvec3(4, 3, 4)}, Material{}, Material{}, Material{});
+  room.quads[1].regions.push_back(
+      Region{"light", 0.4, 0.6, 0.4, 0.6, Material{glm::dvec3(0), glm::dvec3(10)}, 0.2});
+  const PatchMesh plain = buildPatchMesh(room, 0.4);
+  room.shadowBoundaryPatchSize = 0.05;
+  const PatchMesh refined = buildPatchMesh(room, 0.4);
+  EXPECT_EQ(refined.positions, plain.positions);
+  EXPECT_EQ(refined.indices, plain.indices);
+  EXPECT_EQ(refined.patches.size(), plain.patches.size());
+}
+
+TEST(PatchMesh, ShadowBoundaryRefinementPastThePatchLimitThrows) {
+  RoomDescription room = testRoom();
+  room.shadowBoundaryPatchSize = 0.02;
+  const double gridPatches = static_cast<double>(buildPatchMesh(testRoom(), 0.45).patches.size());
+  EXPECT_THROW(buildPatchMesh(room, 0.45, gridPatches + 10), std::length_error);
 }
 
 TEST(PatchMesh, RayHitsNearestQuad) {

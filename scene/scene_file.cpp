@@ -101,7 +101,8 @@ class SceneParser {
 
   SceneDescription parse(const JsonValue& doc) {
     doc.object({"format", "version", "image", "camera", "materials", "room", "patch_size",
-                "contact_patch_size", "power_share", "tone", "products", "start_pose"});
+                "contact_patch_size", "shadow_boundary_patch_size", "power_share", "tone",
+                "products", "start_pose"});
     const JsonValue format = doc["format"];
     if (!format.json().is_string() || format.string() != "penumbra-scene") {
       format.fail("must be \"penumbra-scene\"");
@@ -125,6 +126,9 @@ class SceneParser {
     if (const auto contact = doc.find("contact_patch_size")) {
       s.contactPatchSize = patchSize(*contact);
       s.room.refineAroundSolids(s.contactPatchSize);
+    }
+    if (const auto boundary = doc.find("shadow_boundary_patch_size")) {
+      s.room.shadowBoundaryPatchSize = patchSize(*boundary);
     }
     const double patches = patchCount(s.room, s.patchSize);
     if (patches > kMaxPatches) {

@@ -232,6 +232,10 @@ TEST(SceneFile, BadValuesAreNamed) {
               {"contact_patch_size: 0.001 is not in [0.02, 10]"});
   expectError([](json& d) { d["contact_patch_size"] = "fine"; },
               {"contact_patch_size: expected a number, got a string"});
+  expectError([](json& d) { d["shadow_boundary_patch_size"] = 0.01; },
+              {"shadow_boundary_patch_size: 0.01 is not in [0.02, 10]"});
+  expectError([](json& d) { d["shadow_boundary_patch_size"] = nullptr; },
+              {"shadow_boundary_patch_size: expected a number"});
   expectError([](json& d) { d["tone"]["exposure"] = -1; }, {"tone.exposure: must be positive"});
   expectError([](json& d) { d["products"][2]["scale"] = "big"; },
               {"products[2].scale: expected a number, got a string"});
