@@ -458,6 +458,14 @@ CaptureResult runCapture(const CaptureManifest& m, PrecomputeOptions options,
   // --- photographs --------------------------------------------------------------------
   begin("photographs");
   scene::SceneDescription scene = scene::loadSceneFile(m.scene);
+  // The refinement needs the lights before the room is cut into patches; a capture finds
+  // them afterwards, in the probe's projection onto those patches.
+  if (scene.room.shadowBoundaryPatchSize > 0) {
+    s.warnings.push_back(
+        "shadow_boundary_patch_size: not applied: a capture finds its lights in the probe, "
+        "after the room is cut into patches");
+    scene.room.shadowBoundaryPatchSize = 0;
+  }
   const std::vector<Exposure> bracket = readBracket(m, src);
   const int width = bracket[0].image.width, height = bracket[0].image.height;
   endStage();

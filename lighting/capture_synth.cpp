@@ -105,7 +105,10 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& scenePath,
                                        const std::filesystem::path& dir,
                                        const SyntheticCaptureOptions& o) {
   std::filesystem::create_directories(dir);
-  const scene::SceneDescription sc = scene::loadSceneFile(scenePath);
+  scene::SceneDescription sc = scene::loadSceneFile(scenePath);
+  // The truth is the mesh a capture rebuilds, and a capture cuts no shadow boundaries
+  // (lighting/capture.cpp: its lights come from the probe, after the mesh).
+  sc.room.shadowBoundaryPatchSize = 0;
   SyntheticCapture out;
 
   // The true camera: the scene file's view, principal point at the centre, square pixels.
