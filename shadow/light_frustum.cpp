@@ -101,25 +101,21 @@ std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight
   return out;
 }
 
+uint8_t clipOutcode(const glm::dmat4& lightViewProj, const glm::dvec3& p) {
+  const glm::dvec4 clip = lightViewProj * glm::dvec4(p, 1.0);
+  uint8_t code = 0;
+  for (int plane = 0; plane < 6; ++plane) {
+    const double sign = plane % 2 == 0 ? 1.0 : -1.0;
+    if (!(clip.w + sign * clip[plane / 2] >= 0)) code |= uint8_t(1u << plane);
+  }
+  return code;
+}
+
 bool triangleMayReceive(const glm::dmat4& lightViewProj, const glm::dvec3& a, const glm::dvec3& b,
                         const glm::dvec3& c) {
-  const std::array<glm::dvec4, 3> clip = {lightViewProj * glm::dvec4(a, 1.0),
-                                          lightViewProj * glm::dvec4(b, 1.0),
-                                          lightViewProj * glm::dvec4(c, 1.0)};
-  // Signed distances to w + x >= 0, w - x >= 0, w + y, w - y, w + z (near), w - z (far).
-  for (int plane = 0; plane < 6; ++plane) {
-    const int axis = plane / 2;
-    const double sign = plane % 2 == 0 ? 1.0 : -1.0;
-    bool allOutside = true;
-    for (const glm::dvec4& p : clip) {
-      if (p.w + sign * p[axis] >= 0) {
-        allOutside = false;
-        break;
-      }
-    }
-    if (allOutside) return false;
-  }
-  return true;
+  // All three outside one plane: that plane's bit survives the AND.
+  return (clipOutcode(lightViewProj, a) & clipOutcode(lightViewProj, b) &
+          clipOutcode(lightViewProj, c)) == 0;
 }
 
 }  // namespace penumbra::shadow

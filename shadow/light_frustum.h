@@ -4,6 +4,7 @@
 // source patch").
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -59,5 +60,11 @@ std::optional<LightFrustum> fitDirectionalFrustum(const glm::dvec3& towardsLight
 // in homogeneous coordinates. A true result may still receive no shadow.
 bool triangleMayReceive(const glm::dmat4& lightViewProj, const glm::dvec3& a, const glm::dvec3& b,
                         const glm::dvec3& c);
+
+// The planes of that clip volume `p` lies outside of, as bits (bit k: plane k of w + x,
+// w - x, w + y, w - y, w + z, w - z >= 0). triangleMayReceive(a, b, c) is exactly
+// (clipOutcode(a) & clipOutcode(b) & clipOutcode(c)) == 0, so a mesh's triangles can share
+// their vertices' codes: one transform per vertex instead of one per corner.
+uint8_t clipOutcode(const glm::dmat4& lightViewProj, const glm::dvec3& p);
 
 }  // namespace penumbra::shadow

@@ -97,5 +97,19 @@ TEST(LightFrustum, ReceiverTestIsConservative) {
                                   dvec3(0, 2.5, 0.1)));
 }
 
+TEST(LightFrustum, OutcodesNameThePlanesAPointIsOutside) {
+  const scene::Aabb box{dvec3(-0.2, 0, -0.2), dvec3(0.2, 0.5, 0.2)};
+  const auto f = fitLightFrustum(dvec3(0, 3, 0), box, 10);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(clipOutcode(f->viewProj, dvec3(0, 0, 0)), 0);  // under the object
+  // Between the light and the object: in front of the near plane (bit 4) only.
+  EXPECT_EQ(clipOutcode(f->viewProj, dvec3(0, 2.9, 0)), 1 << 4);
+  // Far to one side: outside one x or y plane and no other.
+  const uint8_t side = clipOutcode(f->viewProj, dvec3(5, 0, 0));
+  EXPECT_NE(side, 0);
+  EXPECT_EQ(side & (side - 1), 0);
+  EXPECT_EQ(side & 0x30, 0);
+}
+
 }  // namespace
 }  // namespace penumbra::shadow

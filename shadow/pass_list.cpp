@@ -144,16 +144,22 @@ void PassList::fillPasses(const PassListOptions& options, PatchesOf patchesOf, s
     pass.objectTriangles.reserve(productTriangles);
     pass.objectS.reserve(3 * productTriangles);
   }
-  core::forEachChunk(pool_, used, 1, [&](size_t i, size_t, int) {
+  const size_t workers = pool_ ? size_t(pool_->threads()) : 1;
+  outcodes_.resize(workers);
+  for (OutcodeScratch& scratch : outcodes_) {
+    scratch.codes.resize(mesh_.positions.size(), kUnknownCode);
+    scratch.coded.reserve(mesh_.positions.size());
+  }
+  core::forEachChunk(pool_, used, 1, [&](size_t i, size_t, int worker) {
     addReceivers(options, passViewProj_[i], patchesOf(passCluster_[i]), s, passCluster_[i],
-                 passes[i]);
+                 passes[i], worker);
   });
   addProduct(product, s, passes);
 }
 
 void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
                             std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
-                            raster::ShadowPass& pass) const {
+                            raster::ShadowPass& pass, int worker) {
   pass.receiverTriangles.clear();
   pass.receiverS.clear();
   // A receiver wholly outside one side of the light's frustum can get no shadow from this
@@ -162,15 +168,22 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
   // the map's inscribed circle, so the map's edge texels hold no occluder anyway.
   const glm::dmat4 cull =
       glm::scale(glm::dmat4(1.0), glm::dvec3(1.0 / 1.05, 1.0 / 1.05, 1.0)) * lightViewProj;
+  // triangleMayReceive's test from each vertex's code, computed once per pass: a receiver
+  // vertex is a corner of up to 8 triangles (more at a T-junction).
+  std::vector<uint8_t>& codes = outcodes_[size_t(worker)].codes;
+  std::vector<uint32_t>& coded = outcodes_[size_t(worker)].coded;
+  const auto codeOf = [&](uint32_t v) {
+    if (codes[v] == kUnknownCode) {
+      codes[v] = clipOutcode(cull, mesh_.positions[v]);
+      coded.push_back(v);
+    }
+    return codes[v];
+  };
   for (uint32_t p : receiverPatches) {
     const uint32_t first = mesh_.patches[p].firstTriangle;
     for (uint32_t t = first; t < first + 2; ++t) {
       const uint32_t* v = &mesh_.indices[3 * size_t(t)];
-      if (options.cullReceivers &&
-          !triangleMayReceive(cull, mesh_.positions[v[0]], mesh_.positions[v[1]],
-                              mesh_.positions[v[2]])) {
-        continue;
-      }
+      if (options.cullReceivers && (codeOf(v[0]) & codeOf(v[1]) & codeOf(v[2])) != 0) continue;
       std::array<core::Rgb16, 3> corners{};
       for (int c = 0; c < 3; ++c) {
         const uint32_t rv = s.receiverVertexOf[v[c]];
@@ -182,6 +195,8 @@ void PassList::addReceivers(const PassListOptions& options, const glm::dmat4& li
       pass.receiverS.insert(pass.receiverS.end(), corners.begin(), corners.end());
     }
   }
+  for (uint32_t v : coded) codes[v] = kUnknownCode;
+  coded.clear();
 }
 
 // Self-shadowing (§7.2): the product's own triangles, when its vertices have S. Each vertex's

@@ -86,9 +86,10 @@ class PassList {
   void fillPasses(const PassListOptions& options, PatchesOf patchesOf, size_t mostPatches,
                   const core::Mesh& product, const VertexS& s,
                   std::vector<raster::ShadowPass>& passes);
+  // `worker`: whose outcode scratch to use (fillPasses sizes one per pool thread).
   void addReceivers(const PassListOptions& options, const glm::dmat4& lightViewProj,
                     std::span<const uint32_t> receiverPatches, const VertexS& s, size_t k,
-                    raster::ShadowPass& pass) const;
+                    raster::ShadowPass& pass, int worker);
   void addProduct(const core::Mesh& product, const VertexS& s,
                   std::vector<raster::ShadowPass>& passes);
 
@@ -100,6 +101,16 @@ class PassList {
   core::JobPool* pool_ = nullptr;
   // Per product vertex: the clusters with S there, as bits; per cluster: its triangles, as bits.
   std::vector<uint64_t> vertexClusters_, clusterTriangles_;
+  // Per pool thread: each mesh vertex's clipOutcode in the pass being filled (kUnknownCode
+  // until a receiver triangle asks), and the vertices to reset after the pass. A cache line
+  // each: the vectors' headers change with every push_back, and two threads writing one
+  // line made the 2-thread pass list slower than the transforms it saves.
+  static constexpr uint8_t kUnknownCode = 0xff;
+  struct alignas(64) OutcodeScratch {
+    std::vector<uint8_t> codes;
+    std::vector<uint32_t> coded;
+  };
+  std::vector<OutcodeScratch> outcodes_;
 };
 
 }  // namespace penumbra::shadow
