@@ -11,6 +11,7 @@
 #include <tuple>
 #include <utility>
 
+#include "core/colour.h"
 #include "scene/shadow_boundary_refinement.h"
 
 namespace penumbra::scene {
@@ -312,9 +313,7 @@ std::vector<LightSample> emittingCells(const RoomDescription& room, double targe
         if (!m.emits()) continue;
         const double area =
             q.area() * (grid.ss[i + 1] - grid.ss[i]) * (grid.ts[j + 1] - grid.ts[j]);
-        const glm::dvec3 e = m.emission;
-        lights.push_back(
-            {q.point(sc, tc), q.normal(), area, 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z});
+        lights.push_back({q.point(sc, tc), q.normal(), area, core::luminance(m.emission)});
       }
     }
   }
