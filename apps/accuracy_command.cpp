@@ -125,6 +125,11 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--depth-bias", cmd->options.depthBias, "receivers' shadow-map depth bias")
       ->check(cli::NumberRange(0.0, 1.0))
       ->capture_default_str();
+  c->add_option("--fine-proxy-passes", cmd->options.fineProxyPasses,
+                "passes (the most energetic first) that draw the product's fine shadow proxy, "
+                "when the bundle has one")
+      ->check(cli::NumberRange(0, 100000))
+      ->capture_default_str();
   c->add_option("--contact-radius", cmd->options.contactRadius,
                 "contact band: shadow pixels this close to the product (pixels)")
       ->check(cli::NumberRange(1, 256))

@@ -18,6 +18,10 @@ void SteadyTimebase::sleepUntil(int64_t ns) {
 
 namespace {
 
+// A fine proxy is drawn by CompositorOptions::fineProxyPasses (16) passes a frame: 160,000
+// triangles at this limit, half what 64 passes of the largest proxy accepted above draw.
+constexpr size_t kMaxFineProxyTriangles = 10000;
+
 bool meshUsable(const core::Mesh& m, std::string& why) {
   if (m.positions.empty() || m.indices.empty() || m.indices.size() % 3 != 0) {
     why = "empty or not triangles";
@@ -68,6 +72,14 @@ std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
       why.push_back(name.append("shadow proxy has ")
                         .append(std::to_string(p.proxy.triangleCount()))
                         .append(" triangles (Gibson 2003 §7.2 uses 100-500)"));
+    } else if (!p.fineProxy.indices.empty() && !meshUsable(p.fineProxy, reason)) {
+      why.push_back(name.append("fine shadow proxy ").append(reason));
+    } else if (p.fineProxy.triangleCount() > kMaxFineProxyTriangles) {
+      why.push_back(name.append("fine shadow proxy has ")
+                        .append(std::to_string(p.fineProxy.triangleCount()))
+                        .append(" triangles (at most ")
+                        .append(std::to_string(kMaxFineProxyTriangles))
+                        .append(")"));
     } else {
       usable.push_back(i);
     }

@@ -201,7 +201,8 @@ class KioskLoop {
 };
 
 // The products of `bundle` the kiosk can show: non-empty meshes and proxies, indices in
-// range, finite positions. Each refused product is named in `why` (one line each).
+// range, finite positions, a proxy of at most 5,000 triangles and a fine proxy (when there
+// is one) of at most 10,000. Each refused product is named in `why` (one line each).
 std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
                                        std::vector<std::string>& why);
 

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <fstream>
 
+#include "kiosk/kiosk_loop.h"
 #include "tests/scratch_dir.h"
 
 namespace penumbra::kiosk {
@@ -32,6 +33,26 @@ std::string refusal(const fs::path& file) {
     return e.what();
   }
   return "accepted";
+}
+
+// A bundle's products are checked before the kiosk shows them: a fine proxy that is not
+// usable, or too large to draw 16 times a frame, refuses its product with one line.
+TEST(ProductFiles, ABundleProductWithABadFineProxyIsRefused) {
+  shadow::SceneBundle bundle;
+  bundle.products = {current(), current(), current()};
+  bundle.products[1].name = "lamp";
+  bundle.products[1].fineProxy = bundle.products[1].mesh;
+  bundle.products[1].fineProxy.indices = {0, 1, 7};
+  bundle.products[2].name = "sofa";
+  for (uint32_t t = 0; t < 10001; ++t) {
+    for (uint32_t c = 0; c < 3; ++c) bundle.products[2].fineProxy.indices.push_back(c);
+  }
+  bundle.products[2].fineProxy.positions = bundle.products[2].mesh.positions;
+  std::vector<std::string> why;
+  EXPECT_EQ(validateProducts(bundle, why), (std::vector<uint32_t>{0}));
+  ASSERT_EQ(why.size(), 2u);
+  EXPECT_EQ(why[0], "product lamp: fine shadow proxy index 7 past 3 vertices");
+  EXPECT_EQ(why[1], "product sofa: fine shadow proxy has 10001 triangles (at most 10000)");
 }
 
 TEST(ProductFiles, FaultyModelsAreRefusedNamingFileAndReason) {

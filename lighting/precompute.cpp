@@ -170,6 +170,7 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
     m.name = p.name;
     m.mesh = toRaster(p.mesh);
     m.proxy = toRaster(p.proxy);
+    m.fineProxy = toRaster(p.fineProxy);
     for (const glm::dvec3& n : p.mesh.normals) m.normals.push_back(glm::vec3(n));
     for (const glm::dvec3& r : p.mesh.reflectances) m.reflectances.push_back(glm::vec3(r));
     m.reflectance = glm::vec3(p.reflectance);

@@ -110,6 +110,7 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   measured.accumulation = o.accumulation;
   measured.perClusterShares = o.perClusterShares;
   measured.depthBias = o.depthBias;
+  measured.fineProxyPasses = o.fineProxyPasses;
   // The shadow-free frame (background + product): the region rule's and contact band's base.
   shadow::FrameLoop zero(bundle, measured, o.render);
   zero.still(pose, 0);
@@ -179,6 +180,7 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
   return {{"bundle", bundlePath},
           {"reference", report.reference},
           {"shadow_map", o.shadowMapSize},
+          {"fine_proxy_passes", o.fineProxyPasses},
           {"flip_ppd", o.pixelsPerDegree},
           {"width", report.width},
           {"height", report.height},

@@ -43,10 +43,11 @@ struct AccuracyOptions {
   raster::RenderOptions render;
   // The pipeline measured (shadow::CompositorOptions): how the passes are summed, one
   // occluded share per cluster (or per vertex), the receivers' depth bias, and the radius
-  // of the contact band in pixels.
+  // of the contact band in pixels, and how many passes draw the fine proxy.
   raster::Accumulation accumulation = raster::Accumulation::kLinear;
   bool perClusterShares = true;
   float depthBias = shadow::CompositorOptions{}.depthBias;
+  uint32_t fineProxyPasses = shadow::CompositorOptions{}.fineProxyPasses;
   int contactRadius = 8;
 
   std::string referencePath;       // a reference PNG of the view's size; empty: rendered

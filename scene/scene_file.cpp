@@ -340,7 +340,8 @@ class SceneParser {
 
   Product parseProduct(const JsonValue& v) {
     v.object({"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour",
-              "proxy_triangles", "specular", "specular_exponent", "crease_angle_deg"});
+              "proxy_triangles", "fine_proxy_triangles", "specular", "specular_exponent",
+              "crease_angle_deg"});
     Product p;
     p.name = v["name"].nonEmptyString();
     const std::string model = v["model"].nonEmptyString();
@@ -349,6 +350,12 @@ class SceneParser {
     if (const auto rot = v.find("rotate_y_deg")) p.rotateYDegrees = rot->number();
     if (const auto rest = v.find("rest_on_floor")) p.restOnFloor = rest->boolean();
     if (const auto n = v.find("proxy_triangles")) p.proxyTriangles = count(*n, 4, 100000);
+    if (const auto n = v.find("fine_proxy_triangles")) {
+      p.fineProxyTriangles = count(*n, 4, 100000);
+      if (p.fineProxyTriangles <= p.proxyTriangles) {
+        n->fail("must be more than proxy_triangles (" + std::to_string(p.proxyTriangles) + ")");
+      }
+    }
     if (const auto a = v.find("crease_angle_deg")) p.creaseAngleDegrees = a->number(0, 180);
     std::string ext = p.model.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -398,6 +405,7 @@ class SceneParser {
       p.warnings.push_back(*w);
     }
     p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles);
+    if (p.fineProxyTriangles > 0) p.fineProxy = simplifyForShadows(p.mesh, p.fineProxyTriangles);
     return p;
   }
 

@@ -87,13 +87,17 @@ struct Product {
   glm::dvec3 specular{0.0};
   double specularExponent = 0;
   size_t proxyTriangles = 300;
+  // `fine_proxy_triangles`: a second, finer shadow proxy that the frame's most energetic
+  // passes draw (shadow/pass_list.h); 0 (the default) gives none. More than proxyTriangles.
+  size_t fineProxyTriangles = 0;
   // Normals a model does not give are split at this angle (mesh_io.h), `crease_angle_deg`.
   double creaseAngleDegrees = kDefaultCreaseAngleDegrees;
   // The model in product space: scaled, rotated about +y, its bounding box centred on
   // x = z = 0 and, with restOnFloor, its lowest point at y = 0 (so a pose (x, z, yaw)
   // places it standing on the floor).
   TriangleMesh mesh;
-  TriangleMesh proxy;  // simplifyForShadows(mesh, proxyTriangles), same space (positions only)
+  TriangleMesh proxy;      // simplifyForShadows(mesh, proxyTriangles), same space (positions only)
+  TriangleMesh fineProxy;  // simplifyForShadows(mesh, fineProxyTriangles), or empty
   // The loader's warnings and the size check's (product_size.h), each naming the model file.
   std::vector<std::string> warnings;
 };

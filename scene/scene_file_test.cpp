@@ -101,6 +101,16 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
     EXPECT_NEAR(b.centre().z, 0.0, 1e-12) << p.name;
     EXPECT_LE(p.proxy.triangleCount(), p.proxyTriangles) << p.name;
     EXPECT_GE(p.proxy.triangleCount(), 100u) << p.name;
+    // The fine proxy: the model simplified to its own budget, or the whole model below it.
+    if (p.fineProxyTriangles > 0) {
+      EXPECT_LE(p.fineProxy.triangleCount(), p.fineProxyTriangles) << p.name;
+      EXPECT_GT(p.fineProxy.triangleCount(), p.proxy.triangleCount()) << p.name;
+      EXPECT_GE(p.fineProxy.triangleCount(),
+                std::min(p.fineProxyTriangles * 9 / 10, p.mesh.triangleCount()))
+          << p.name;
+    } else {
+      EXPECT_EQ(p.fineProxy.triangleCount(), 0u) << p.name;
+    }
     EXPECT_TRUE(p.model.is_absolute() || p.model.has_parent_path()) << p.name;
   }
   EXPECT_EQ(s.products[0].name, "chair");
@@ -249,6 +259,10 @@ TEST(SceneFile, BadValuesAreNamed) {
               {"products[0].colour[2]: 1.5 is not in [0, 1]"});
   expectError([](json& d) { d["products"][0]["proxy_triangles"] = 2; },
               {"products[0].proxy_triangles"});
+  expectError([](json& d) { d["products"][1]["fine_proxy_triangles"] = 300; },
+              {"products[1].fine_proxy_triangles: must be more than proxy_triangles (300)"});
+  expectError([](json& d) { d["products"][1]["fine_proxy_triangles"] = "many"; },
+              {"products[1].fine_proxy_triangles"});
   expectError([](json& d) { d["products"][0]["rest_on_floor"] = 1; },
               {"products[0].rest_on_floor: expected true or false, got 1"});
   expectError([](json& d) { d["start_pose"]["product"] = 3; }, {"start_pose.product"});

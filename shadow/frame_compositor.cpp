@@ -99,8 +99,10 @@ void FrameCompositor::frameContent(std::span<const uint8_t> background,
   out.objects.resize(1);
   out.objects[0].mesh = placement_.mesh();
   out.objects[0].colours.assign(shading_.colours().begin(), shading_.colours().end());
-  out.occluders.resize(1);
+  const bool fine = !placement_.fineProxy().indices.empty();
+  out.occluders.resize(fine ? 2 : 1);
   out.occluders[0] = placement_.proxy();
+  if (fine) out.occluders[1] = placement_.fineProxy();
   out.accumulation = options_.accumulation;
   if (options_.accumulation == raster::Accumulation::kLinear) {
     out.shadeTable.assign(shadeTable_.begin(), shadeTable_.end());
@@ -196,8 +198,14 @@ void FrameCompositor::productModelChanged(uint32_t product) {
 }
 
 PassListOptions FrameCompositor::passListOptions() const {
-  return {options_.shadowMapSize, options_.depthBias, options_.pcf2x2, options_.cullReceivers,
-          options_.objectDepthBias};
+  PassListOptions o;
+  o.shadowMapSize = options_.shadowMapSize;
+  o.depthBias = options_.depthBias;
+  o.pcf2x2 = options_.pcf2x2;
+  o.cullReceivers = options_.cullReceivers;
+  o.objectDepthBias = options_.objectDepthBias;
+  o.fineProxyPasses = placement_.fineProxy().indices.empty() ? 0 : options_.fineProxyPasses;
+  return o;
 }
 
 }  // namespace penumbra::shadow

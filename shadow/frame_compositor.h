@@ -42,6 +42,9 @@ struct CompositorOptions {
   uint32_t shadowMapSize = 256;  // Gibson 2003 §7.2
   float depthBias = 0.002f;      // light window-depth units
   bool pcf2x2 = true;
+  // Passes that draw the product's fine proxy when its model has one
+  // (PassListOptions::fineProxyPasses).
+  uint32_t fineProxyPasses = 16;
   uint64_t setSeed = 1;  // Fig. 4's set assignment (stable per source patch)
   // Beyond Fig. 4 (docs/fig3.md): where the previous frame measured how much of a receiver
   // vertex's light the product blocked (observe()), take its intensity transfers at that

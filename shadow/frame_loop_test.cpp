@@ -45,6 +45,35 @@ TEST(FrameLoop, StepIsComposeRenderObserveWithNumberedFrames) {
   EXPECT_EQ(linear.stats.gradedVertices, 0u);
 }
 
+// The showroom's bunny has a fine proxy: the frame carries it placed as occluder 1 and its
+// 16 most energetic passes draw it; the chair's proxy is its whole mesh, so it has none.
+TEST(FrameLoop, TheMostEnergeticPassesDrawTheFineProxy) {
+  const SceneBundle& b = testing::showroomBundle();
+  ASSERT_GT(b.products[1].fineProxy.triangleCount(), b.products[1].proxy.triangleCount());
+  ASSERT_TRUE(b.products[0].fineProxy.indices.empty());
+  FrameCompositor compositor(b, {});
+  raster::FrameContent frame;
+  CompositeStats stats;
+  const ProductPose bunny{1, 5.6f, 3.05f, 0.0f};
+  compositor.compose(bunny, 50, 1, frame, stats);
+  ASSERT_EQ(frame.occluders.size(), 2u);
+  core::Mesh placed;
+  placeMesh(b.products[1].fineProxy, bunny, placed);
+  EXPECT_EQ(frame.occluders[1], placed);
+  ASSERT_GT(frame.passes.size(), 16u);
+  for (size_t k = 0; k < frame.passes.size(); ++k) {
+    EXPECT_EQ(frame.passes[k].occluder, k < 16 ? 1u : 0u) << k;
+  }
+  CompositorOptions none;
+  none.fineProxyPasses = 0;
+  FrameCompositor coarse(b, none);
+  coarse.compose(bunny, 50, 1, frame, stats);
+  for (const raster::ShadowPass& pass : frame.passes) EXPECT_EQ(pass.occluder, 0u);
+  compositor.compose({0, 3.0f, 2.4f, 0.0f}, 50, 2, frame, stats);
+  EXPECT_EQ(frame.occluders.size(), 1u);
+  for (const raster::ShadowPass& pass : frame.passes) EXPECT_EQ(pass.occluder, 0u);
+}
+
 TEST(FrameLoop, ControllerDecisionsSetTheMapSizeFromThatFrameOn) {
   FrameLoop loop(testing::showroomBundle(), 256, {});
   FrameRateController::Decision d;

@@ -117,13 +117,14 @@ void PassList::beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes
 void PassList::addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
                        float depthBias, float objectDepthBias,
                        std::vector<raster::ShadowPass>& passes) {
-  raster::ShadowPass& pass = passes[passCluster_.size()];
+  const size_t index = passCluster_.size();
+  raster::ShadowPass& pass = passes[index];
   passCluster_.push_back(static_cast<uint32_t>(column));
   pass.lightViewProj = frustum.rasterViewProj;
   pass.shadowMapSize = options.shadowMapSize;
   pass.depthBias = depthBias;
   pass.pcf2x2 = options.pcf2x2;
-  pass.occluder = 0;
+  pass.occluder = index < options.fineProxyPasses ? 1 : 0;
   pass.objectDepthBias = objectDepthBias;
   passViewProj_.push_back(frustum.viewProj);
 }

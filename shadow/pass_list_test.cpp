@@ -144,6 +144,31 @@ TEST(PassList, ALightInsideTheProductsSphereGetsNoPass) {
   EXPECT_TRUE(passes[0].objectTriangles.empty());
 }
 
+// The first fineProxyPasses passes built (not clusters: a cluster without a pass does not
+// count) draw occluder 1, the product's fine proxy; the rest its proxy.
+TEST(PassList, TheFirstPassesDrawTheFineProxy) {
+  Floor f;
+  f.bundle.patches[3].centre = {0, 3, 1};
+  PassList list(f.bundle, f.mesh, kRoom);
+  PassListOptions options;
+  std::vector<raster::ShadowPass> passes;
+  for (uint32_t fine : {0u, 1u, 2u, 5u}) {
+    options.fineProxyPasses = fine;
+    list.build(options, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes);
+    ASSERT_EQ(passes.size(), 2u);
+    for (uint32_t k = 0; k < 2; ++k) EXPECT_EQ(passes[k].occluder, k < fine ? 1u : 0u) << fine;
+  }
+  // Cluster 0's light inside the product's sphere: cluster 1's pass is the first.
+  f.bundle.patches[2].centre = {0, 0.2f, 0};
+  options.fineProxyPasses = 1;
+  EXPECT_EQ(list.build(options, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(),
+                       passes),
+            1u);
+  ASSERT_EQ(passes.size(), 1u);
+  EXPECT_EQ(list.passCluster()[0], 1u);
+  EXPECT_EQ(passes[0].occluder, 1u);
+}
+
 // A cluster's map is cast from its sources' centroid weighted by their average transfers;
 // one source casts from its patch centre exactly; a centroid inside the product's sphere
 // falls back to the representative patch.

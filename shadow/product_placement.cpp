@@ -24,6 +24,7 @@ PlacementChange ProductPlacement::place(const ProductPose& pose) {
   const ProductModel& model = products_[pose.product];
   placeMesh(model.mesh, pose, mesh_);
   placeMesh(model.proxy, pose, proxy_);
+  placeMesh(model.fineProxy, pose, fineProxy_);
   normals_ = shadingNormals(model, mesh_, pose);
   bounds_ = scene::Aabb::emptyBox();
   for (const core::Vec3& p : mesh_.positions) bounds_.extend({p.x, p.y, p.z});

@@ -3,7 +3,7 @@
 // bounding box of the placed mesh — the box the shaft traversal (§6.1) tests and the light
 // frusta (§7.2) enclose, and the normals the product is shaded with. Placement is redone only
 // when the pose or the model changes.
-// Cost: one placeMesh() of the mesh and of the proxy and one placeNormals() when it moves;
+// Cost: one placeMesh() of the mesh and of each proxy and one placeNormals() when it moves;
 // nothing otherwise.
 #pragma once
 
@@ -40,13 +40,14 @@ class ProductPlacement {
   // Per mesh vertex, world space: the model's normals turned by the yaw, or area-weighted
   // face-normal sums for a model without them (shadingNormals).
   const std::vector<glm::vec3>& normals() const { return normals_; }
-  const core::Mesh& proxy() const { return proxy_; }     // world space
-  const scene::Aabb& bounds() const { return bounds_; }  // of mesh()
+  const core::Mesh& proxy() const { return proxy_; }          // world space
+  const core::Mesh& fineProxy() const { return fineProxy_; }  // world space; may be empty
+  const scene::Aabb& bounds() const { return bounds_; }       // of mesh()
 
  private:
   const std::vector<ProductModel>& products_;
   ProductPose pose_{~0u, 0, 0, 0};
-  core::Mesh mesh_, proxy_;
+  core::Mesh mesh_, proxy_, fineProxy_;
   std::vector<glm::vec3> normals_;
   scene::Aabb bounds_;
 };

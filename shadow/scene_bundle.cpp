@@ -162,6 +162,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
     const std::string p = "products." + std::to_string(i);
     addMesh(w, p + ".mesh", b.products[i].mesh);
     addMesh(w, p + ".proxy", b.products[i].proxy);
+    addMesh(w, p + ".fine_proxy", b.products[i].fineProxy);
     w.add<glm::vec3>(p + ".normals", b.products[i].normals);
     w.add<glm::vec3>(p + ".reflectances", b.products[i].reflectances);
     w.addValue<glm::vec3>(p + ".reflectance", b.products[i].reflectance);
@@ -223,6 +224,7 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     at += lengths[i];
     m.mesh = readMesh(r, p + ".mesh");
     m.proxy = readMesh(r, p + ".proxy");
+    if (r.version() >= 6) m.fineProxy = readMesh(r, p + ".fine_proxy");
     if (r.version() >= 5) readVertexAttributes(r, p, m);
     m.reflectance = r.getValue<glm::vec3>(p + ".reflectance");
     m.specular = r.getValue<glm::vec3>(p + ".specular");

@@ -23,7 +23,8 @@ namespace penumbra::shadow {
 // 4: the irradiance volume (Gibson & Chalmers 2003 §5) and the products' specular terms.
 // 5: the products' per-vertex normals and reflectances (issue 15 item 6). Version 4 bundles
 // still load: their products have neither (area-weighted normals, one reflectance).
-inline constexpr uint32_t kBundleVersion = 5;
+// 6: the products' fine shadow proxies (`fine_proxy_triangles`); older bundles load without.
+inline constexpr uint32_t kBundleVersion = 6;
 inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
@@ -45,6 +46,10 @@ struct ProductModel {
   std::string name;
   core::Mesh mesh;
   core::Mesh proxy;
+  // A finer proxy, or empty: the frame's most energetic passes draw it instead of `proxy`
+  // (PassListOptions::fineProxyPasses), where a light carries enough of a contact shadow
+  // for the coarse proxy's feet and base to show.
+  core::Mesh fineProxy;
   glm::vec3 reflectance{0.6f};
   glm::vec3 specular{0.0f};               // specular reflectance per channel, in [0, 1]
   float specularExponent = 0.0f;          // Phong exponent of the lobe, >= 0

@@ -35,8 +35,10 @@ SceneBundle smallBundle() {
   b.transfers.entryVertex = {1, 3};
   b.transfers.entryTransfer = {{0.5f, 0.5f, 0.5f}, {0.25f, 0.25f, 0.25f}};
   b.transfers.sourceAverage = {0.2f};
-  ProductModel chair{"chair", b.view.staticMesh, b.view.staticMesh, {0.3f, 0.2f, 0.1f}};
-  b.products = {chair, ProductModel{"lamp", b.view.staticMesh, b.view.staticMesh, {}}};
+  core::Mesh proxy = b.view.staticMesh;
+  proxy.indices.resize(3);  // one triangle; the fine proxy is the whole quad
+  ProductModel chair{"chair", b.view.staticMesh, proxy, b.view.staticMesh, {0.3f, 0.2f, 0.1f}};
+  b.products = {chair, ProductModel{"lamp", b.view.staticMesh, proxy, {}, {}}};
   b.startPose = {1, 0.5f, -0.25f, 30.0f};
   return b;
 }
@@ -60,6 +62,8 @@ TEST(SceneBundle, RoundTripIsExact) {
   ASSERT_EQ(r.products.size(), 2u);
   EXPECT_EQ(r.products[1].name, "lamp");
   EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);
+  EXPECT_EQ(r.products[0].fineProxy, b.products[0].fineProxy);
+  EXPECT_TRUE(r.products[1].fineProxy.indices.empty());
   EXPECT_EQ(r.startPose.product, 1u);
   EXPECT_EQ(r.startPose.yawDegrees, 30.0f);
   fs::remove(path);
@@ -253,55 +257,69 @@ std::vector<RawSection> readSections(const fs::path& path) {
   return out;
 }
 
-// A version 4 bundle (before per-vertex normals and reflectances) still loads: its products
-// have neither, and shade with area-weighted normals and their one reflectance.
-TEST(SceneBundle, Version4BundlesStillLoad) {
+// Version 4 and 5 bundles still load: a version 4 bundle (before per-vertex normals and
+// reflectances) has neither, and shades with area-weighted normals and its one reflectance;
+// neither has fine proxies (version 6), so every pass draws the proxy.
+TEST(SceneBundle, Version4And5BundlesStillLoad) {
   SceneBundle b = smallBundle();
   b.products[0].normals.assign(4, {0, 1, 0});
-  const fs::path path = tempPath("penumbra-scene-bundle-v4-compat.bundle");
-  saveBundle(b, path);
-  // Rewritten as version 4: the same sections without the new ones, rehashed.
-  std::string body;
-  uint32_t kept = 0;
-  const auto put = [&](const auto& v) {
-    body.append(reinterpret_cast<const char*>(&v), sizeof(v));
-  };
-  for (const RawSection& sec : readSections(path)) {
-    if (sec.name.ends_with(".normals") || sec.name.ends_with(".reflectances")) continue;
-    put(static_cast<uint32_t>(sec.name.size()));
-    body += sec.name;
-    put(sec.elementSize);
-    put(sec.count);
-    body += sec.data;
-    ++kept;
+  const fs::path path = tempPath("penumbra-scene-bundle-old-compat.bundle");
+  for (const uint32_t version : {4u, 5u}) {
+    saveBundle(b, path);
+    // Rewritten as `version`: the same sections without the newer ones, rehashed.
+    const auto newer = [&](const std::string& name) {
+      if (name.find(".fine_proxy.") != std::string::npos) return true;
+      return version < 5 && (name.ends_with(".normals") || name.ends_with(".reflectances"));
+    };
+    std::string body;
+    uint32_t kept = 0, dropped = 0;
+    const auto put = [&](const auto& v) {
+      body.append(reinterpret_cast<const char*>(&v), sizeof(v));
+    };
+    for (const RawSection& sec : readSections(path)) {
+      if (newer(sec.name)) {
+        ++dropped;
+        continue;
+      }
+      put(static_cast<uint32_t>(sec.name.size()));
+      body += sec.name;
+      put(sec.elementSize);
+      put(sec.count);
+      body += sec.data;
+      ++kept;
+    }
+    // Two products: positions and indices of each fine proxy, and in version 4 also
+    // normals and reflectances.
+    EXPECT_EQ(dropped, version < 5 ? 8u : 4u);
+    scene::Sha256 hash;
+    hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
+    const auto digest = hash.finish();
+    {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      out.write("PENUMBRA-BUNDLE", 16);
+      out.write(reinterpret_cast<const char*>(&version), 4);
+      out.write(reinterpret_cast<const char*>(&kept), 4);
+      out.write(reinterpret_cast<const char*>(digest.data()), std::streamsize(digest.size()));
+      out << body;
+    }
+    const SceneBundle r = loadBundle(path);
+    ASSERT_EQ(r.products.size(), 2u);
+    EXPECT_EQ(r.products[0].normals.empty(), version < 5) << version;
+    EXPECT_TRUE(r.products[0].reflectances.empty());
+    EXPECT_TRUE(r.products[0].fineProxy.indices.empty()) << version;
+    EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
+    EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);
+    EXPECT_EQ(r.products[0].reflectance, b.products[0].reflectance);
   }
-  EXPECT_EQ(kept + 4, readSections(path).size());  // two products, two new sections each
-  scene::Sha256 hash;
-  hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
-  const auto digest = hash.finish();
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    const uint32_t version = 4;
-    out.write("PENUMBRA-BUNDLE", 16);
-    out.write(reinterpret_cast<const char*>(&version), 4);
-    out.write(reinterpret_cast<const char*>(&kept), 4);
-    out.write(reinterpret_cast<const char*>(digest.data()), std::streamsize(digest.size()));
-    out << body;
-  }
-  const SceneBundle r = loadBundle(path);
-  ASSERT_EQ(r.products.size(), 2u);
-  EXPECT_TRUE(r.products[0].normals.empty());
-  EXPECT_TRUE(r.products[0].reflectances.empty());
-  EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
-  EXPECT_EQ(r.products[0].reflectance, b.products[0].reflectance);
-  // Version 3 and a future version 6 are refused, naming both ends of what is read.
+  // Version 3 is refused, naming both ends of what is read.
   scene::BundleWriter v3(3);
   v3.write(path);
   try {
     loadBundle(path);
     ADD_FAILURE() << "accepted version 3";
   } catch (const scene::BundleError& e) {
-    EXPECT_NE(std::string(e.what()).find("version 3, this program reads version 4 to 5"),
+    EXPECT_NE(std::string(e.what()).find("version 3, this program reads version 4 to " +
+                                         std::to_string(kBundleVersion)),
               std::string::npos)
         << e.what();
   }
