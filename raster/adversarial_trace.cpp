@@ -251,6 +251,8 @@ FrameTrace adversarialTrace(uint64_t seed) {
     pass.depthBias = static_cast<float>(r.chance(0.5) ? r.range(-0.03, -0.0005) : r.range(0, 0.01));
     pass.pcf2x2 = r.chance(0.5);
     pass.occluder = static_cast<uint32_t>(r.integer(0, 1));
+    // Every third pass culls (not drawn from the stream, so the traces stay as they were).
+    pass.cullBackFaces = p % 3 == 2;
     std::vector<uint8_t> listed(staticTriangles, 0);
     for (uint32_t t = 0; t < staticTriangles; ++t) listed[t] = r.chance(0.7) ? 1 : 0;
     for (const auto& [t, copy] : duplicates) {

@@ -390,6 +390,7 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
     pass.depthBias = static_cast<float>(pj["depth_bias"].number());
     pass.pcf2x2 = pj["pcf2x2"].boolean();
     pass.occluder = Reader::count<uint32_t>(pj["occluder"]);
+    if (pj.has("cull_back_faces")) pass.cullBackFaces = pj["cull_back_faces"].boolean();
     r.view(pj["receiver_triangles"], 1, pass.receiverTriangles);
     r.transfers(pj["receiver_s"], version, pass.receiverS);
     if (pj.has("object_triangles")) {  // optional: self-shadowing (§7.2)
@@ -447,6 +448,7 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
          {"occluder", p.occluder},
          {"receiver_triangles", w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
          {"receiver_s", w.transfers(p.receiverS, version)}});
+    if (p.cullBackFaces) doc["passes"].back()["cull_back_faces"] = true;
     if (!p.objectTriangles.empty()) {
       json& pj = doc["passes"].back();
       pj["object_triangles"] = w.view(p.objectTriangles.data(), p.objectTriangles.size(), 1);

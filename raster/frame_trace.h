@@ -37,6 +37,10 @@ struct ShadowPass {
   float depthBias = 0.0f;        // in light window depth ([0, 1]) units
   bool pcf2x2 = false;           // fractional 2x2 mask instead of a binary one
   uint32_t occluder = 0;         // index into FrameContent::occluders
+  // Draw only the occluder's triangles that face the light (not facesAwayOnMap): the same
+  // map for a closed surface wound counter-clockwise from outside (raster/closed_surface.h),
+  // half the triangles.
+  bool cullBackFaces = false;
   std::vector<uint32_t> receiverTriangles;  // indices into StaticView::staticMesh triangles
   // Intensity transfers S in 8.8 levels (core::Rgb16), 3 per receiver triangle, in corner
   // order. With u8 accumulation each pixel's S is rounded to whole levels (spec §5).

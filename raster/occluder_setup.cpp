@@ -74,7 +74,7 @@ bool SnapInside(const core::Mat4& m, const core::Vec3* points, size_t count, uin
 // bounding box divides exact integers by 256, also exact. The depth plane is binary64
 // there too, operation for operation.
 size_t SetupTriangles(const int32_t* x, const int32_t* y, const float* z, const uint32_t* indices,
-                      size_t count, uint32_t size, SetupTriangle* out) {
+                      size_t count, uint32_t size, bool cullBackFaces, SetupTriangle* out) {
   const hn::ScalableTag<double> dd;
   using VD = hn::Vec<decltype(dd)>;
   const size_t lanes = hn::Lanes(dd);
@@ -110,8 +110,9 @@ size_t SetupTriangles(const int32_t* x, const int32_t* y, const float* z, const 
         hn::Min(limit, hn::Add(floorDiv256(hn::Sub(hn::Max(y0, hn::Max(y1, y2)), k128)), one));
     const VD det0 = hn::Sub(hn::Mul(hn::Sub(x1, x0), hn::Sub(y2, y0)),
                             hn::Mul(hn::Sub(x2, x0), hn::Sub(y1, y0)));
-    const auto accepted =
-        hn::And(hn::And(hn::Lt(minX, maxX), hn::Lt(minY, maxY)), hn::Ne(det0, zero));
+    // det0 < 0 faces the light (facesAwayOnMap is det0 > 0); det0 = 0 is never drawn.
+    const auto drawn = cullBackFaces ? hn::Lt(det0, zero) : hn::Ne(det0, zero);
+    const auto accepted = hn::And(hn::And(hn::Lt(minX, maxX), hn::Lt(minY, maxY)), drawn);
     if (hn::AllFalse(dd, accepted)) continue;
     // Counter-clockwise order: v1 and v2 swap where det < 0.
     const auto flip = hn::Lt(det0, zero);
@@ -207,7 +208,7 @@ bool snapInsideScalar(const core::Mat4& m, const core::Vec3* points, size_t coun
 
 size_t setupTrianglesScalar(const int32_t* x, const int32_t* y, const float* z,
                             const uint32_t* indices, size_t count, uint32_t size,
-                            SetupTriangle* out) {
+                            bool cullBackFaces, SetupTriangle* out) {
   size_t written = 0;
   for (size_t k = 0; k < count; ++k) {
     std::array<SnappedVertex, 3> v;
@@ -215,6 +216,7 @@ size_t setupTrianglesScalar(const int32_t* x, const int32_t* y, const float* z,
       const uint32_t i = indices[3 * k + c];
       v[c] = {x[i], y[i], z[i], {65536, 0, 0}};
     }
+    if (cullBackFaces && facesAwayOnMap(v)) continue;
     if (setupTriangle(v, size, size, out[written])) ++written;
   }
   return written;

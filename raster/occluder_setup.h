@@ -29,9 +29,10 @@ struct OccluderKernels {
   // setupTriangle for each triangle k < count of vertices indices[3k], [3k + 1], [3k + 2]
   // among snapped vertices (x, y, z) whose corner weights are {65536, 0, 0} (snapInside's):
   // writes the triangles it accepts to out[0, n), in order, and returns n. `out` must have
-  // room for `count`.
+  // room for `count`. With cullBackFaces it also leaves out the triangles that face away
+  // from the light (facesAwayOnMap).
   size_t (*setupTriangles)(const int32_t* x, const int32_t* y, const float* z,
-                           const uint32_t* indices, size_t count, uint32_t size,
+                           const uint32_t* indices, size_t count, uint32_t size, bool cullBackFaces,
                            SetupTriangle* out);
 };
 

@@ -131,7 +131,7 @@ TEST_P(OccluderSetupOnTarget, SetupTrianglesMatchesScalar) {
   const OccluderKernels& ref = occluderKernelsFor(simd::Isa::kScalar);
   const OccluderKernels& k = occluderKernelsFor(GetParam());
   std::mt19937 rng(3);
-  size_t accepted = 0, offered = 0;
+  size_t accepted = 0, culledAccepted = 0, offered = 0;
   for (uint32_t size : {256u, 4096u}) {
     const int32_t band = static_cast<int32_t>(5 * 128 * size);  // |x| of a guard-band vertex
     for (int scale : {40, 800, 20000, band}) {
@@ -174,22 +174,27 @@ TEST_P(OccluderSetupOnTarget, SetupTrianglesMatchesScalar) {
           indices[3 * t + 1] = t % 9 == 4 ? a : pick(rng);  // degenerate: repeated vertex
           indices[3 * t + 2] = pick(rng);
         }
-        std::vector<SetupTriangle> expected(count), actual(count);
-        const size_t n = ref.setupTriangles(x.data(), y.data(), z.data(), indices.data(), count,
-                                            size, expected.data());
-        ASSERT_EQ(k.setupTriangles(x.data(), y.data(), z.data(), indices.data(), count, size,
-                                   actual.data()),
-                  n)
-            << "size " << size << " scale " << scale << " count " << count;
-        for (size_t t = 0; t < n; ++t) expectSameTriangle(expected[t], actual[t], t);
-        accepted += n;
-        offered += count;
+        for (const bool cull : {false, true}) {
+          std::vector<SetupTriangle> expected(count), actual(count);
+          const size_t n = ref.setupTriangles(x.data(), y.data(), z.data(), indices.data(), count,
+                                              size, cull, expected.data());
+          ASSERT_EQ(k.setupTriangles(x.data(), y.data(), z.data(), indices.data(), count, size,
+                                     cull, actual.data()),
+                    n)
+              << "size " << size << " scale " << scale << " count " << count << " cull " << cull;
+          for (size_t t = 0; t < n; ++t) expectSameTriangle(expected[t], actual[t], t);
+          (cull ? culledAccepted : accepted) += n;
+          if (!cull) offered += count;
+        }
       }
     }
   }
-  // Both outcomes occur: most triangles are accepted, some are refused.
+  // Both outcomes occur: most triangles are accepted, some are refused; culling keeps the
+  // ones of one winding, about half of them.
   EXPECT_GT(accepted, offered / 2);
   EXPECT_LT(accepted, offered);
+  EXPECT_GT(culledAccepted, accepted / 3);
+  EXPECT_LT(culledAccepted, 2 * accepted / 3);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllTargets, OccluderSetupOnTarget,

@@ -423,7 +423,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     w.mapTriangles.resize(occluder.triangleCount());
     const size_t accepted = occluderKernels->setupTriangles(
         w.mapX.data(), w.mapY.data(), w.mapZ.data(), occluder.indices.data(),
-        occluder.triangleCount(), size, w.mapTriangles.data());
+        occluder.triangleCount(), size, pass.cullBackFaces, w.mapTriangles.data());
     for (size_t t = 0; t < accepted; ++t) draw(w.mapTriangles[t]);
   } else {
     w.clip.resize(vertices);
@@ -435,6 +435,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
       w.fan.clear();
       clipAndSnapTriangle({w.clip[idx[0]], w.clip[idx[1]], w.clip[idx[2]]}, size, size, w.fan);
       for (const auto& tri : w.fan) {
+        if (pass.cullBackFaces && facesAwayOnMap(tri)) continue;
         if (setupTriangle(tri, size, size, w.setup)) draw(w.setup);
       }
     }

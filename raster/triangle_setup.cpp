@@ -173,6 +173,12 @@ void clipAndSnapTriangle(const std::array<ClipVertex, 3>& tri, uint32_t width, u
   for (int i = 1; i + 1 < n; ++i) out.push_back({snapped[0], snapped[i], snapped[i + 1]});
 }
 
+bool facesAwayOnMap(const std::array<SnappedVertex, 3>& v) {
+  return int64_t{v[1].x - v[0].x} * (v[2].y - v[0].y) -
+             int64_t{v[2].x - v[0].x} * (v[1].y - v[0].y) >
+         0;
+}
+
 bool setupTriangle(const std::array<SnappedVertex, 3>& vin, uint32_t width, uint32_t height,
                    SetupTriangle& t) {
   // Shadow maps set up ~24 k triangles per frame, many covering no pixel centre: the

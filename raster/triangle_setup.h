@@ -88,6 +88,12 @@ struct SetupTriangle {
   int32_t originY() const { return minY; }
 };
 
+// True when the snapped triangle has det > 0 as it comes (before setupTriangle orders its
+// corners). Window y points down, so for a mesh wound counter-clockwise seen from outside
+// these are the triangles facing away from the eye (the light, for a shadow map). Clipping
+// keeps a triangle's winding, so it holds for each triangle of a clipped fan too.
+bool facesAwayOnMap(const std::array<SnappedVertex, 3>& v);
+
 // False when the triangle is degenerate (det = 0) or covers no pixel centre of the
 // viewport's bounding box.
 bool setupTriangle(const std::array<SnappedVertex, 3>& v, uint32_t width, uint32_t height,

@@ -36,7 +36,7 @@ SceneDescription parse(const json& doc) {
   return parseSceneFile(doc.dump(), showroomPath());
 }
 
-std::string errorOf(const std::function<void()>& f) {
+std::string sceneFileErrorOf(const std::function<void()>& f) {
   try {
     f();
   } catch (const SceneFileError& e) {
@@ -50,7 +50,7 @@ std::string errorOf(const std::function<void()>& f) {
 void expectError(const std::function<void(json&)>& edit, std::initializer_list<const char*> parts) {
   json doc = showroomJson();
   edit(doc);
-  const std::string msg = errorOf([&] { parse(doc); });
+  const std::string msg = sceneFileErrorOf([&] { parse(doc); });
   ASSERT_FALSE(msg.empty()) << "no SceneFileError for " << doc.dump();
   EXPECT_NE(msg.find("showroom.json: "), std::string::npos) << msg;
   for (const char* part : parts) EXPECT_NE(msg.find(part), std::string::npos) << msg;
@@ -162,7 +162,7 @@ TEST(SceneFile, CreaseAngleAndColourOverride) {
   doc["products"][0]["crease_angle_deg"] = 60;
   EXPECT_GT(at30, parse(doc).products[0].mesh.positions.size());
   doc["products"][0]["crease_angle_deg"] = 181;
-  const std::string msg = errorOf([&] { parse(doc); });
+  const std::string msg = sceneFileErrorOf([&] { parse(doc); });
   EXPECT_NE(msg.find("products[0].crease_angle_deg"), std::string::npos) << msg;
 #ifdef PENUMBRA_HAVE_GLTF
   // A glTF's per-vertex colours, unless the scene's colour overrides them.
@@ -384,11 +384,12 @@ TEST(SceneFile, CameraAndProductLimits) {
 }
 
 TEST(SceneFile, FileLevelErrors) {
-  const std::string missing = errorOf([] { loadSceneFile(dataDir() / "showroom" / "nope.json"); });
+  const std::string missing =
+      sceneFileErrorOf([] { loadSceneFile(dataDir() / "showroom" / "nope.json"); });
   EXPECT_NE(missing.find("nope.json: cannot open"), std::string::npos) << missing;
-  const std::string syntax = errorOf([] { parseSceneFile("{\"format\": ", "bad.json"); });
+  const std::string syntax = sceneFileErrorOf([] { parseSceneFile("{\"format\": ", "bad.json"); });
   EXPECT_NE(syntax.find("bad.json: line 1: "), std::string::npos) << syntax;
-  const std::string notObject = errorOf([] { parseSceneFile("[1, 2]", "arr.json"); });
+  const std::string notObject = sceneFileErrorOf([] { parseSceneFile("[1, 2]", "arr.json"); });
   EXPECT_NE(notObject.find("arr.json: expected an object, got an array of 2"), std::string::npos)
       << notObject;
 }

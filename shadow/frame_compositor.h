@@ -45,6 +45,9 @@ struct CompositorOptions {
   // Passes that draw the product's fine proxy when its model has one
   // (PassListOptions::fineProxyPasses).
   uint32_t fineProxyPasses = 16;
+  // Draw a closed proxy's front faces only (PassListOptions::closedOccluders): the same
+  // frames, half the shadow-map triangles. False draws every triangle (the A/B of tests).
+  bool cullClosedProxies = true;
   uint64_t setSeed = 1;  // Fig. 4's set assignment (stable per source patch)
   // Beyond Fig. 4 (docs/fig3.md): where the previous frame measured how much of a receiver
   // vertex's light the product blocked (observe()), take its intensity transfers at that

@@ -1,6 +1,7 @@
 // The per-frame loop on the bundled showroom: compose -> render -> observe with numbered
 // frames, the controller's decisions, a camera background and a replaced product model.
 #include "shadow/frame_loop.h"
+#include "raster/closed_surface.h"
 #include "tests/showroom_bundle.h"
 
 #include <gtest/gtest.h>
@@ -72,6 +73,27 @@ TEST(FrameLoop, TheMostEnergeticPassesDrawTheFineProxy) {
   compositor.compose({0, 3.0f, 2.4f, 0.0f}, 50, 2, frame, stats);
   EXPECT_EQ(frame.occluders.size(), 1u);
   for (const raster::ShadowPass& pass : frame.passes) EXPECT_EQ(pass.occluder, 0u);
+}
+
+// The showroom's bunny and chair proxies are closed and wound outward, the teapot's are not
+// (the Utah teapot has holes): culling their back faces draws the same frames, bit for bit.
+TEST(FrameLoop, ClosedProxiesDrawTheSameFramesFrontFacesOnly) {
+  const SceneBundle& b = testing::showroomBundle();
+  EXPECT_TRUE(raster::isClosedOutwardSurface(b.products[0].proxy));
+  EXPECT_TRUE(raster::isClosedOutwardSurface(b.products[1].proxy));
+  EXPECT_TRUE(raster::isClosedOutwardSurface(b.products[1].fineProxy));
+  EXPECT_FALSE(raster::isClosedOutwardSurface(b.products[2].proxy));
+  CompositorOptions all;
+  all.cullClosedProxies = false;
+  FrameLoop culled(b, CompositorOptions{}, {simd::bestIsa(), 2, 32});
+  FrameLoop drawn(b, all, {simd::bestIsa(), 2, 32});
+  for (const ProductPose& pose :
+       {ProductPose{0, 5.45f, 2.9f, 90.0f}, ProductPose{1, 5.6f, 3.05f, 0},
+        ProductPose{1, 3.0f, 2.4f, 120.0f}}) {
+    culled.step(pose, 50);
+    drawn.step(pose, 50);
+    EXPECT_EQ(culled.rgba, drawn.rgba) << pose.product << " " << pose.x;
+  }
 }
 
 TEST(FrameLoop, ControllerDecisionsSetTheMapSizeFromThatFrameOn) {

@@ -125,6 +125,7 @@ void PassList::addPass(const PassListOptions& options, const LightFrustum& frust
   pass.depthBias = depthBias;
   pass.pcf2x2 = options.pcf2x2;
   pass.occluder = index < options.fineProxyPasses ? 1 : 0;
+  pass.cullBackFaces = options.closedOccluders[pass.occluder];
   pass.objectDepthBias = objectDepthBias;
   passViewProj_.push_back(frustum.viewProj);
 }

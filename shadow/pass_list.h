@@ -10,6 +10,7 @@
 // triangle; the passes' vectors are reused between frames.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -42,6 +43,10 @@ struct PassListOptions {
   // of a 2,500-triangle proxy, against 0.701 / 5 with all 50 passes of its full mesh
   // (docs/accuracy.md).
   uint32_t fineProxyPasses = 0;
+  // Per occluder (0 the proxy, 1 the fine proxy): a closed surface wound counter-clockwise
+  // from outside (raster/closed_surface.h), whose passes draw only the triangles facing the
+  // light — the same map from half the triangles.
+  std::array<bool, 2> closedOccluders{};
 };
 
 class PassList {

@@ -167,6 +167,17 @@ TEST(PassList, TheFirstPassesDrawTheFineProxy) {
   ASSERT_EQ(passes.size(), 1u);
   EXPECT_EQ(list.passCluster()[0], 1u);
   EXPECT_EQ(passes[0].occluder, 1u);
+  EXPECT_FALSE(passes[0].cullBackFaces);
+  // A closed occluder's passes cull back faces, per occluder.
+  f.bundle.patches[2].centre = {0, 3, 0};
+  options.fineProxyPasses = 1;
+  for (const std::array<bool, 2> closed : {std::array{true, false}, std::array{false, true}}) {
+    options.closedOccluders = closed;
+    list.build(options, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes);
+    ASSERT_EQ(passes.size(), 2u);
+    EXPECT_EQ(passes[0].cullBackFaces, closed[1]);  // draws occluder 1
+    EXPECT_EQ(passes[1].cullBackFaces, closed[0]);
+  }
 }
 
 // A cluster's map is cast from its sources' centroid weighted by their average transfers;

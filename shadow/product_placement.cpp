@@ -1,5 +1,7 @@
 #include "shadow/product_placement.h"
 
+#include "raster/closed_surface.h"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -22,6 +24,10 @@ PlacementChange ProductPlacement::place(const ProductPose& pose) {
   const PlacementChange change =
       pose.product != pose_.product ? PlacementChange::kNewModel : PlacementChange::kMoved;
   const ProductModel& model = products_[pose.product];
+  if (change == PlacementChange::kNewModel) {
+    proxyClosed_ = raster::isClosedOutwardSurface(model.proxy);
+    fineProxyClosed_ = raster::isClosedOutwardSurface(model.fineProxy);
+  }
   placeMesh(model.mesh, pose, mesh_);
   placeMesh(model.proxy, pose, proxy_);
   placeMesh(model.fineProxy, pose, fineProxy_);

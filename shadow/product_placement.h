@@ -42,12 +42,17 @@ class ProductPlacement {
   const std::vector<glm::vec3>& normals() const { return normals_; }
   const core::Mesh& proxy() const { return proxy_; }          // world space
   const core::Mesh& fineProxy() const { return fineProxy_; }  // world space; may be empty
-  const scene::Aabb& bounds() const { return bounds_; }       // of mesh()
+  // Whether the proxy and the fine proxy are closed surfaces wound counter-clockwise from
+  // outside (raster::isClosedOutwardSurface; placing turns and moves, so it keeps that).
+  bool proxyClosed() const { return proxyClosed_; }
+  bool fineProxyClosed() const { return fineProxyClosed_; }
+  const scene::Aabb& bounds() const { return bounds_; }  // of mesh()
 
  private:
   const std::vector<ProductModel>& products_;
   ProductPose pose_{~0u, 0, 0, 0};
   core::Mesh mesh_, proxy_, fineProxy_;
+  bool proxyClosed_ = false, fineProxyClosed_ = false;
   std::vector<glm::vec3> normals_;
   scene::Aabb bounds_;
 };

@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <map>
+#include <tuple>
 
+#include "raster/closed_surface.h"
+#include "simd/targets.h"
 #include "tests/test_scenes.h"
 
 namespace penumbra {
@@ -116,6 +120,51 @@ TEST(Renderer, FixedPointAccumulationDiffersOnlyInThePerPassRounding) {
     }
     EXPECT_GT(differ, 0u) << "interpolated S must round differently";
   }
+}
+
+// The test scene's box with corners shared by index: a closed surface.
+core::Mesh welded(const core::Mesh& m) {
+  core::Mesh out;
+  std::map<std::tuple<float, float, float>, uint32_t> index;
+  for (const uint32_t i : m.indices) {
+    const core::Vec3& p = m.positions[i];
+    const auto [it, added] =
+        index.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(out.positions.size()));
+    if (added) out.positions.push_back(p);
+    out.indices.push_back(it->second);
+  }
+  return out;
+}
+
+// Culling back faces (ShadowPass::cullBackFaces) draws the same frame for a closed occluder
+// wound counter-clockwise from outside, room and self-shadowing receivers alike, on every
+// target; for an open one (the box without its top, lit from above) it loses shadow.
+TEST(Renderer, CullingAClosedOccludersBackFacesDrawsTheSameFrame) {
+  testing::TestSceneOptions o;
+  o.pcf2x2 = true;
+  raster::FrameTrace all = testing::makeTestScene(o);
+  all.frame.occluders[0] = welded(all.frame.occluders[0]);
+  ASSERT_TRUE(raster::isClosedOutwardSurface(all.frame.occluders[0]));
+  raster::FrameTrace culled = all;
+  for (raster::ShadowPass& pass : culled.frame.passes) pass.cullBackFaces = true;
+  const auto expected = raster::renderTrace(all, {simd::Isa::kScalar, 1, 32});
+  for (const simd::Isa isa : simd::supportedIsas()) {
+    for (const int threads : {1, 2}) {
+      EXPECT_EQ(raster::renderTrace(culled, {isa, threads, 32}), expected)
+          << simd::isaName(isa) << " " << threads;
+    }
+  }
+  // Open at the top (the +y quad is the fifth): rays from above meet only faces wound away.
+  for (raster::FrameTrace* t : {&all, &culled}) {
+    core::Mesh& box = t->frame.occluders[0];
+    box.indices.erase(box.indices.begin() + 24, box.indices.begin() + 30);
+  }
+  ASSERT_FALSE(raster::isClosedOutwardSurface(all.frame.occluders[0]));
+  const auto open = raster::renderTrace(all, {simd::bestIsa(), 1, 32});
+  const auto openCulled = raster::renderTrace(culled, {simd::bestIsa(), 1, 32});
+  size_t lighter = 0;
+  for (size_t i = 0; i < open.size(); ++i) lighter += openCulled[i] > open[i];
+  EXPECT_GT(lighter, 100u);
 }
 
 TEST(Renderer, RejectsBadOptions) {

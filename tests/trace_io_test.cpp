@@ -48,6 +48,12 @@ class TraceFiles : public ::testing::Test {
 
 TEST_F(TraceFiles, RoundTripIsExact) {
   EXPECT_EQ(raster::loadTrace(dir_ / "scene.json"), trace_);
+  // cull_back_faces is written only when set, and read back.
+  EXPECT_FALSE(doc_["passes"][0].contains("cull_back_faces"));
+  raster::FrameTrace culled = trace_;
+  culled.frame.passes[1].cullBackFaces = true;
+  raster::saveTrace(culled, dir_ / "culled.json");
+  EXPECT_EQ(raster::loadTrace(dir_ / "culled.json"), culled);
 }
 
 TEST_F(TraceFiles, MissingFieldsAreNamed) {

@@ -404,7 +404,7 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   stream_.clear();
   mapStream_.clear();
   auto setupMesh = [&](const core::Mesh& mesh, const core::Mat4& m, uint32_t w, uint32_t h,
-                       auto&& each) {
+                       bool cullBackFaces, auto&& each) {
     clip_.resize(mesh.positions.size());
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
       clip_[i] = raster::transformPoint(m, mesh.positions[i]);
@@ -415,6 +415,7 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
       raster::clipAndSnapTriangle({clip_[idx[0]], clip_[idx[1]], clip_[idx[2]]}, w, h, fan_);
       for (const auto& tri : fan_) {
         SetupTriangle st;
+        if (cullBackFaces && raster::facesAwayOnMap(tri)) continue;
         if (raster::setupTriangle(tri, w, h, st)) each(t, st);
       }
     }
@@ -425,7 +426,7 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
   std::vector<std::pair<SetupTriangle, uint32_t>> objectSubs;  // (triangle, g)
   uint32_t g0 = 0;
   for (const raster::ShadedMesh& object : frame.objects) {
-    setupMesh(object.mesh, view_.cameraViewProj, view_.width, view_.height,
+    setupMesh(object.mesh, view_.cameraViewProj, view_.width, view_.height, false,
               [&](size_t t, const SetupTriangle& st) {
                 const uint32_t* idx = &object.mesh.indices[3 * t];
                 const core::Rgb8 c0 = object.colours[idx[0]], c1 = object.colours[idx[1]],
@@ -459,7 +460,7 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
       target.viewport = targetFor(pass.shadowMapSize, pass.shadowMapSize);
     r.mapFirst = static_cast<int>(mapStream_.size());
     setupMesh(frame.occluders[pass.occluder], pass.lightViewProj, pass.shadowMapSize,
-              pass.shadowMapSize, [&](size_t /*t*/, const SetupTriangle& st) {
+              pass.shadowMapSize, pass.cullBackFaces, [&](size_t /*t*/, const SetupTriangle& st) {
                 scratch_.clear();
                 emit(st, target.viewport, 0, nullptr, scratch_);
                 for (const Vertex& v : scratch_) {
