@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "scene/hole_capping.h"
+
 namespace penumbra::scene {
 
 namespace {
@@ -115,11 +117,12 @@ TriangleMesh weldVertices(const TriangleMesh& mesh) {
   return compact(positions, indices);
 }
 
-TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles) {
+TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles, bool solid) {
   if (targetTriangles < 4) {
     throw std::invalid_argument("simplifyForShadows: target must be at least 4 triangles");
   }
   TriangleMesh welded = weldVertices(mesh);
+  if (solid) capHoles(welded);  // unchanged when its boundary is not simple loops
   if (welded.triangleCount() <= targetTriangles) return welded;
 
   const std::vector<float> fp = toFloat(welded.positions);

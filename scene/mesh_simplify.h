@@ -27,6 +27,10 @@ TriangleMesh weldVertices(const TriangleMesh& mesh);
 // triangle). 0 for an empty model or proxy. O(vertices × triangles).
 double medianDistanceOutside(const TriangleMesh& model, const TriangleMesh& proxy);
 
-TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles);
+// With `solid`, the welded mesh's holes are capped first (capHoles, when its boundary is a
+// set of simple loops), so that a closed proxy comes from a closed model, within the same
+// budget.
+TriangleMesh simplifyForShadows(const TriangleMesh& mesh, size_t targetTriangles,
+                                bool solid = false);
 
 }  // namespace penumbra::scene

@@ -11,6 +11,7 @@
 
 #include "core/json_reader.h"
 #include "scene/gltf_io.h"
+#include "scene/hole_capping.h"
 #include "scene/mesh_simplify.h"
 #include "scene/product_size.h"
 
@@ -340,7 +341,7 @@ class SceneParser {
 
   Product parseProduct(const JsonValue& v) {
     v.object({"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour",
-              "proxy_triangles", "fine_proxy_triangles", "specular", "specular_exponent",
+              "proxy_triangles", "fine_proxy_triangles", "solid", "specular", "specular_exponent",
               "crease_angle_deg"});
     Product p;
     p.name = v["name"].nonEmptyString();
@@ -356,6 +357,7 @@ class SceneParser {
         n->fail("must be more than proxy_triangles (" + std::to_string(p.proxyTriangles) + ")");
       }
     }
+    if (const auto s = v.find("solid")) p.solid = s->boolean();
     if (const auto a = v.find("crease_angle_deg")) p.creaseAngleDegrees = a->number(0, 180);
     std::string ext = p.model.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -404,8 +406,18 @@ class SceneParser {
     if (const auto w = productSizeWarning(p.model.string(), largest, p.scale, gltf)) {
       p.warnings.push_back(*w);
     }
-    p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles);
-    if (p.fineProxyTriangles > 0) p.fineProxy = simplifyForShadows(p.mesh, p.fineProxyTriangles);
+    if (p.solid) {
+      TriangleMesh capped = weldVertices(p.mesh);
+      if (!capHoles(capped)) {
+        p.warnings.push_back(p.model.string() +
+                             ": solid: the model's holes are not simple loops; its shadow "
+                             "proxies are left open (drawn with both faces)");
+      }
+    }
+    p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles, p.solid);
+    if (p.fineProxyTriangles > 0) {
+      p.fineProxy = simplifyForShadows(p.mesh, p.fineProxyTriangles, p.solid);
+    }
     return p;
   }
 

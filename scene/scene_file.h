@@ -90,6 +90,10 @@ struct Product {
   // `fine_proxy_triangles`: a second, finer shadow proxy that the frame's most energetic
   // passes draw (shadow/pass_list.h); 0 (the default) gives none. More than proxyTriangles.
   size_t fineProxyTriangles = 0;
+  // `solid`: the product is a solid object, so its proxies' holes are capped
+  // (scene/hole_capping.h) and they can be drawn front faces only. False by default: a
+  // lampshade's openings let light through.
+  bool solid = false;
   // Normals a model does not give are split at this angle (mesh_io.h), `crease_angle_deg`.
   double creaseAngleDegrees = kDefaultCreaseAngleDegrees;
   // The model in product space: scaled, rotated about +y, its bounding box centred on

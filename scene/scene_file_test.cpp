@@ -1,4 +1,5 @@
 #include "scene/scene_file.h"
+#include "scene/hole_capping.h"
 
 #include <gtest/gtest.h>
 
@@ -111,6 +112,9 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
     } else {
       EXPECT_EQ(p.fineProxy.triangleCount(), 0u) << p.name;
     }
+    // Solid products: their proxies have no hole left to cap (the teapot's were capped).
+    EXPECT_TRUE(p.solid) << p.name;
+    for (TriangleMesh proxy : {p.proxy, p.fineProxy}) EXPECT_EQ(capHoles(proxy), 0u) << p.name;
     EXPECT_TRUE(p.model.is_absolute() || p.model.has_parent_path()) << p.name;
   }
   EXPECT_EQ(s.products[0].name, "chair");
@@ -261,6 +265,8 @@ TEST(SceneFile, BadValuesAreNamed) {
               {"products[0].proxy_triangles"});
   expectError([](json& d) { d["products"][1]["fine_proxy_triangles"] = 300; },
               {"products[1].fine_proxy_triangles: must be more than proxy_triangles (300)"});
+  expectError([](json& d) { d["products"][2]["solid"] = 1; },
+              {"products[2].solid: expected true or false, got 1"});
   expectError([](json& d) { d["products"][1]["fine_proxy_triangles"] = "many"; },
               {"products[1].fine_proxy_triangles"});
   expectError([](json& d) { d["products"][0]["rest_on_floor"] = 1; },
