@@ -108,6 +108,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_flag("--pixel-centres", cmd->options.rays.pixelCentres,
               "ray-traced reference: every camera ray through the pixel centre, as Penumbra "
               "samples (default: jittered over the pixel, anti-aliased)");
+  c->add_flag("--point-lights", cmd->options.rays.pointLights,
+              "ray-traced reference: every shadow ray aimed at its emitter's centre, as "
+              "Penumbra's passes cast (the cost of point sources, docs/accuracy.md)");
   c->add_option("--bounces", cmd->options.rays.bounces, "ray-traced reference: indirect bounces")
       ->check(cli::NumberRange(0, 16))
       ->capture_default_str();

@@ -157,6 +157,9 @@ std::vector<Command> addReferenceCommands([[maybe_unused]] CLI::App& app) {
   r->add_flag("--pixel-centres", ref->options.pixelCentres,
               "every camera ray through the pixel centre, as Penumbra samples (default: "
               "jittered over the pixel, anti-aliased)");
+  r->add_flag("--point-lights", ref->options.pointLights,
+              "every shadow ray aimed at its emitter's centre, as Penumbra's passes cast "
+              "(default: spread over each emitting patch)");
   r->add_option("--bounces", ref->options.bounces, "indirect bounces (path tracing)")
       ->check(cli::NumberRange(0, 16))
       ->capture_default_str();

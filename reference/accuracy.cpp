@@ -58,6 +58,7 @@ core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOpti
             {"spp", o.rays.samplesPerPixel},
             {"light_samples", o.rays.lightSamples},
             {"pixel_centres", o.rays.pixelCentres},
+            {"point_lights", o.rays.pointLights},
             {"bounces", o.rays.bounces},
             {"seed", o.rays.seed},
             {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}};

@@ -233,12 +233,29 @@ class Tracer {
           static_cast<size_t>(std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin());
       j = std::min(j, count - 1);
       while (j > 0 && formFactor[j] == 0) --j;  // a rounding overshoot onto a dark emitter
-      const double su = rng.next(), sv = rng.next();
+      // Both variates are drawn either way, so the stream stays in step with the default's.
+      double su = rng.next(), sv = rng.next();
+      if (options_.pointLights) su = sv = 0.5;
       const Emitter& e = emitters_[j];
       const dvec3 y =
           e.polygon[0] + su * (e.polygon[1] - e.polygon[0]) + sv * (e.polygon[3] - e.polygon[0]);
       const double pj = core::luminance(e.emission) * formFactor[j] / total;
       if (!(pj > 0)) continue;
+      if (options_.pointLights) {
+        // A centre behind the surface, or facing away, is not a direction light comes from.
+        const dvec3 toCentre = y - hit.x;
+        if (!(glm::dot(hit.n, toCentre) > 0) || !(glm::dot(e.normal, toCentre) < 0)) continue;
+        // The whole patch's light, F_j E_j, over the samples it expects (pj n): the blocked
+        // sum is then exactly the light of the emitters whose centre is hidden, once every
+        // emitter gets its share of the samples.
+        const dvec3 weight = e.emission * (formFactor[j] / (pj * n));
+        if (room_.occluded(origin, y)) {
+          blockedByRoom += weight;
+        } else if ((active & kPresent) && object_ && object_->occluded(origin, y)) {
+          blockedByObject += weight;
+        }
+        continue;
+      }
       const dvec3 d = y - hit.x;
       const double r2 = glm::dot(d, d);
       if (!(r2 > 0)) continue;

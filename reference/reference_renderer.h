@@ -81,8 +81,14 @@ struct ReferenceOptions {
   // which also counts a point-sampled image's aliasing at silhouettes and contact lines.
   bool pixelCentres = false;
   int lightSamples = 32;  // shadow rays per surface point, over all emitters
-  int bounces = 0;        // indirect bounces (0: direct light only)
-  unsigned threads = 0;   // 0 = hardware concurrency; the bytes do not depend on it
+  // Every shadow ray aimed at its emitter's centre: each emitting patch is then blocked or
+  // not as a whole, as seen from its centre, while its unblocked light stays the polygon's
+  // closed form. That is the light of Penumbra's passes, each cast from a point; the
+  // difference to the default (rays spread over each patch) is what the point sources cost
+  // (docs/accuracy.md: where the remaining error comes from).
+  bool pointLights = false;
+  int bounces = 0;       // indirect bounces (0: direct light only)
+  unsigned threads = 0;  // 0 = hardware concurrency; the bytes do not depend on it
   uint64_t seed = 1;
   double normalOffset = 1e-4;  // metres: shadow and bounce rays start this far off a surface
   // Only the pixels x in [x0, x1), y in [y0, y1) are rendered; the others are left as pixels

@@ -118,6 +118,36 @@ TEST(ReferenceRenderer, MatchesClosedFormFormFactorWithinMonteCarloError) {
   EXPECT_EQ(image.objectCoverage[0], 0.0f);
 }
 
+// Point lights: each emitter is blocked or not as seen from its centre, so the 1 m lamp over
+// the sheet's edge is either all there or all gone, with its closed-form light.
+TEST(ReferenceRenderer, PointLightsBlockEachEmitterAsAWholeFromItsCentre) {
+  ReferenceOptions o;
+  o.samplesPerPixel = 4;
+  o.lightSamples = 16;
+  o.threads = 1;
+  o.pointLights = true;
+  // From (0.2, 0, 0.1) the ray to the lamp's centre (0, 2, 0) crosses the sheet's height at
+  // x = 0.1, past its edge; from (-0.2, 0, 0.1), at x = -0.1, through it.
+  for (const double x : {0.2, -0.2}) {
+    const dvec3 target(x, 0, 0.1);
+    ReferenceScene scene = onePixelScene({x + 1.4, 0.6, 0.1}, target);
+    scene.object = ReferenceObject{occluderSheet(), dvec3(0.3)};
+    const ReferenceImage image = renderReference(scene, o);
+    const double full = rectangleFormFactor(target, -0.5, 0.5);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(image.noObject[0][c], kRho * kEmission[c] * full, 1e-5 * kEmission[c]) << c;
+      const double lit = x > 0 ? image.noObject[0][c] : 0.0;
+      EXPECT_NEAR(image.withObject[0][c], lit, 1e-5 * kEmission[c]) << x << " " << c;
+    }
+  }
+  // The default spreads the rays over the lamp: from (0.2, 0, 0.1) the sheet hides part of it.
+  o.pointLights = false;
+  ReferenceScene scene = onePixelScene({1.6, 0.6, 0.1}, {0.2, 0, 0.1});
+  scene.object = ReferenceObject{occluderSheet(), dvec3(0.3)};
+  const ReferenceImage area = renderReference(scene, o);
+  EXPECT_LT(area.withObject[0][0], 0.9 * area.noObject[0][0]);
+}
+
 // Issue 15 item 6: the reference shades the product as the frame path does, with the
 // model's vertex normals and reflectances interpolated at the hit. A small quad at 0.5 m
 // under the lamp, seen by a one-pixel camera at its centre, with every vertex normal tilted
