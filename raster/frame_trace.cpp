@@ -320,6 +320,17 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
     if (!std::isfinite(pass.objectDepthBias)) {
       throw TraceError(where, field + ".object_depth_bias", "is not finite");
     }
+    if (!(pass.penumbraScale >= 0 && pass.penumbraScale < 1e30f)) {
+      throw TraceError(where, field + ".penumbra_scale", "must be finite and not negative");
+    }
+    if (!std::isfinite(pass.penumbraBlocker)) {
+      throw TraceError(where, field + ".penumbra_blocker", "is not finite");
+    }
+    if (pass.penumbraScale > 0 && (!pass.pcf2x2 || pass.shadowMapSize > kMaxAreaPenumbraMapSize)) {
+      throw TraceError(where, field + ".penumbra_scale",
+                       "needs pcf2x2 and a shadow map of at most " +
+                           std::to_string(kMaxAreaPenumbraMapSize) + " texels");
+    }
   }
 }
 
@@ -391,6 +402,10 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
     pass.pcf2x2 = pj["pcf2x2"].boolean();
     pass.occluder = Reader::count<uint32_t>(pj["occluder"]);
     if (pj.has("cull_back_faces")) pass.cullBackFaces = pj["cull_back_faces"].boolean();
+    if (pj.has("penumbra_scale")) {  // optional: area-light penumbrae, both fields
+      pass.penumbraScale = static_cast<float>(pj["penumbra_scale"].number());
+      pass.penumbraBlocker = static_cast<float>(pj["penumbra_blocker"].number());
+    }
     r.view(pj["receiver_triangles"], 1, pass.receiverTriangles);
     r.transfers(pj["receiver_s"], version, pass.receiverS);
     if (pj.has("object_triangles")) {  // optional: self-shadowing (§7.2)
@@ -449,6 +464,10 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
          {"receiver_triangles", w.view(p.receiverTriangles.data(), p.receiverTriangles.size(), 1)},
          {"receiver_s", w.transfers(p.receiverS, version)}});
     if (p.cullBackFaces) doc["passes"].back()["cull_back_faces"] = true;
+    if (p.penumbraScale > 0) {
+      doc["passes"].back()["penumbra_scale"] = static_cast<double>(p.penumbraScale);
+      doc["passes"].back()["penumbra_blocker"] = static_cast<double>(p.penumbraBlocker);
+    }
     if (!p.objectTriangles.empty()) {
       json& pj = doc["passes"].back();
       pj["object_triangles"] = w.view(p.objectTriangles.data(), p.objectTriangles.size(), 1);

@@ -51,8 +51,19 @@ struct ShadowPass {
   std::vector<uint32_t> objectTriangles;
   std::vector<core::Rgb16> objectS;
   float objectDepthBias = 0.0f;
+  // Area-light penumbrae (docs/pipeline-spec.md §7): with penumbraScale > 0 each receiver
+  // pixel behind every occluder texel takes the share of the map's occluder texels in a box
+  // of half-width penumbraScale * (d - penumbraBlocker) texels around its lookup, the
+  // penumbra a light of the cluster's extent casts, instead of the 2x2 PCF. Needs pcf2x2
+  // and a map of at most kMaxAreaPenumbraMapSize texels a side.
+  float penumbraScale = 0.0f;    // texels of half-width per unit of window depth
+  float penumbraBlocker = 0.0f;  // the occluder's window depth the half-width grows from
   bool operator==(const ShadowPass&) const = default;
 };
+
+// The largest map an area-penumbra pass may use: its coverage sums, weighted in 1/64
+// texel, then stay below 2^31 (spec §7).
+inline constexpr uint32_t kMaxAreaPenumbraMapSize = 512;
 
 struct StaticView {
   uint32_t width = 0, height = 0;

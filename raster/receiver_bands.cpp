@@ -67,9 +67,9 @@ int32_t floorToInt(float v) {
 // 0 <= u < size; both monotone. Clamping to [-2, size + 1] first changes no valid lane's
 // value and keeps infinities out of the conversion. False when no lane can be valid.
 bool footprintRange(float lo, float hi, float lo3, float hi3, const ShadowLookup& lookup,
-                    int32_t& first, int32_t& last) {
-  float least = lo / (lo >= 0 ? hi3 : lo3);
-  float most = hi / (hi >= 0 ? lo3 : hi3);
+                    float margin, int32_t& first, int32_t& last) {
+  float least = lo / (lo >= 0 ? hi3 : lo3) - margin;
+  float most = hi / (hi >= 0 ? lo3 : hi3) + margin;
   if (lookup.pcf2x2) {
     least = least - 0.5f;
     most = most - 0.5f;
@@ -92,8 +92,8 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b) {
           a.matched + b.matched};
 }
 
-LightFootprint::LightFootprint(const ShadowLookup& lookup, const ShadowMap& map)
-    : lookup_(lookup), map_(map), bounded_(true) {
+LightFootprint::LightFootprint(const ShadowLookup& lookup, const ShadowMap& map, int32_t margin)
+    : lookup_(lookup), map_(map), bounded_(true), margin_(static_cast<float>(margin)) {
   for (float entry : lookup.p) bounded_ = bounded_ && std::fabs(entry) <= kLimit;
 }
 
@@ -113,8 +113,8 @@ bool LightFootprint::unwritten(const ReceiverBand& band) const {
   lightRowRange(p, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo0, hi0);
   lightRowRange(p + 4, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo1, hi1);
   int32_t i0, i1, j0, j1;
-  if (!footprintRange(lo0, hi0, lo3, hi3, lookup_, i0, i1)) return true;
-  if (!footprintRange(lo1, hi1, lo3, hi3, lookup_, j0, j1)) return true;
+  if (!footprintRange(lo0, hi0, lo3, hi3, lookup_, margin_, i0, i1)) return true;
+  if (!footprintRange(lo1, hi1, lo3, hi3, lookup_, margin_, j0, j1)) return true;
   return !map_.blocksWritten(i0, j0, i1, j1);
 }
 

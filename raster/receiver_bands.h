@@ -48,13 +48,16 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b);
 // band is then drawn as usual. About 40 binary32 operations per band.
 class LightFootprint {
  public:
-  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map);
+  // `margin` texels are added on every side of the lanes' footprints: an area-penumbra
+  // pass's boxes (spec §7) reach up to kMaxPenumbraHalfWidth texels past them.
+  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map, int32_t margin = 0);
   bool unwritten(const ReceiverBand& band) const;
 
  private:
   const ShadowLookup& lookup_;
   const ShadowMap& map_;
   bool bounded_;  // every entry of the lookup's matrix within kLimit (receiver_bands.cpp)
+  float margin_;
 };
 
 }  // namespace penumbra::raster

@@ -455,7 +455,23 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   lookup.blocks = w.shadowMap.blocks();
   lookup.blocksPerRow = w.shadowMap.blocksPerRow();
   w.shadowMap.sumBlocks();
-  const LightFootprint footprint(lookup, w.shadowMap);
+  const bool areaPenumbra = pass.penumbraScale > 0;
+  if (areaPenumbra) {
+    w.shadowMap.sumCoverage(w.mapX0, w.mapY0, w.mapX1, w.mapY1);
+    const ShadowMap::Rect& r = w.shadowMap.coverageRect();
+    lookup.farthest = w.shadowMap.farthest();
+    lookup.penumbraBlocker = pass.penumbraBlocker;
+    lookup.coverage = w.shadowMap.coverage();
+    lookup.coverageStride = w.shadowMap.coverageStride();
+    lookup.coverageX0 = r.x0;
+    lookup.coverageY0 = r.y0;
+    lookup.coverageX1 = r.x1;
+    lookup.coverageY1 = r.y1;
+  }
+  // An area-penumbra pass's boxes reach up to kMaxPenumbraHalfWidth texels (plus one for the
+  // floors) past the 2x2 footprint; a box meeting no written texel gives W = 0 as well.
+  const LightFootprint footprint(
+      lookup, w.shadowMap, areaPenumbra ? static_cast<int32_t>(kMaxPenumbraHalfWidth) + 1 : 0);
   // A band without a matching pixel adds nothing; one whose footprint meets no written texel
   // adds nothing either (W = 0, receiver_bands.h), and outside the tiles with objects its
   // pixels match exactly as they did in the static cache, so its count is the band's own.
@@ -550,7 +566,9 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
       flush();
     }
   }
+  lookup.penumbraScale = pass.penumbraScale;  // the room's receivers only (spec §7)
   sweep(pass.depthBias);
+  lookup.penumbraScale = 0;
 
   // The objects' own receivers (self-shadowing, Gibson 2003 §7.2), with their own bias. Their
   // pixels hold object ids, so they never meet the room's runs: the two sweeps are disjoint.

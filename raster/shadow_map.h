@@ -73,6 +73,81 @@ class ShadowMap {
                blockSums_[by1 * side + bx0] + blockSums_[by0 * side + bx0] !=
            0;
   }
+  // Area-light penumbrae (spec §7): after the last texel of a pass is written, given a
+  // rectangle [x0, x1) x [y0, y1) holding every written texel, the counts N(i, j) of written
+  // (finite) texels left of column i and above row j for x0 <= i <= x1, y0 <= j <= y1, and
+  // the farthest written depth. N is 0 on the rectangle's top and left edges and constant
+  // past its right and bottom ones, so lookups clamp to it: coverage()[(j - y0) *
+  // coverageStride() + (i - x0)] is N(i, j), with one more column and row repeating the
+  // last (a weight-0 neighbour may be read there).
+  void sumCoverage(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    x0 = std::clamp(x0, 0, size_);
+    y0 = std::clamp(y0, 0, size_);
+    x1 = std::clamp(x1, x0, size_);
+    y1 = std::clamp(y1, y0, size_);
+    coverageRect_ = {x0, y0, x1, y1};
+    const int32_t w = x1 - x0, h = y1 - y0, cs = w + 2;
+    coverage_.resize(size_t(cs) * size_t(h + 2));
+    std::fill(coverage_.begin(), coverage_.begin() + cs, 0);  // N(i, y0) = 0
+    rowCounts_.resize(size_t(w));
+    // Each row in two loops the compiler vectorizes: written flags and the farthest depth,
+    // then the row above plus the row's running count. Written depths lie in [0, 1], where a
+    // float's bits order as an int32's, and an integer max vectorizes where a float one (with
+    // its NaN rules) does not. The running count needs a scalar chain only across segments
+    // of 8 texels neither all written nor all unwritten (the occluder's outline); the others
+    // add 0 or 1, 2, ..., 8 to it.
+    int32_t farthest = 0;
+    const int32_t segments = (w + 7) / 8;
+    rowCounts_.resize(size_t(segments) * 8 + 8);
+    for (int32_t j = 0; j < h; ++j) {
+      const float* row = origin() + rowOffset(y0 + j) + x0;
+      int32_t* flags = rowCounts_.data();
+      for (int32_t i = 0; i < w; ++i) {
+        int32_t bits;
+        std::memcpy(&bits, &row[i], sizeof bits);
+        const bool written = bits < kInfinityBits;
+        flags[i] = written ? 1 : 0;
+        farthest = std::max(farthest, written ? bits : 0);
+      }
+      for (int32_t i = w; i < segments * 8; ++i) flags[i] = 0;
+      const int32_t* above = &coverage_[size_t(j) * size_t(cs)] + 1;
+      int32_t* out = &coverage_[size_t(j + 1) * size_t(cs)] + 1;
+      out[-1] = 0;
+      int32_t run = 0;
+      for (int32_t g = 0; g < segments; ++g) {
+        const int32_t* f = flags + 8 * g;
+        int32_t inSegment = 0;
+        for (int32_t k = 0; k < 8; ++k) inSegment += f[k];
+        // Past the row's end (the last segment) `out` has room: the table's next row, which
+        // the next row's pass writes again, or the repeated last row written below.
+        int32_t* o = out + 8 * g;
+        const int32_t* a = above + 8 * g;
+        if (inSegment == 0) {
+          for (int32_t k = 0; k < 8; ++k) o[k] = a[k] + run;
+        } else if (inSegment == 8) {
+          for (int32_t k = 0; k < 8; ++k) o[k] = a[k] + run + k + 1;
+        } else {
+          int32_t r = run;
+          for (int32_t k = 0; k < 8; ++k) {
+            r += f[k];
+            o[k] = a[k] + r;
+          }
+        }
+        run += inSegment;
+      }
+      out[w] = out[w - 1 < 0 ? -1 : w - 1];
+    }
+    std::memcpy(&farthest_, &farthest, sizeof farthest_);
+    std::memcpy(&coverage_[size_t(h + 1) * size_t(cs)], &coverage_[size_t(h) * size_t(cs)],
+                sizeof(int32_t) * size_t(cs));
+  }
+  const int32_t* coverage() const { return coverage_.data(); }
+  int32_t coverageStride() const { return coverageRect_.x1 - coverageRect_.x0 + 2; }
+  struct Rect {
+    int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  };
+  const Rect& coverageRect() const { return coverageRect_; }
+  float farthest() const { return farthest_; }  // 0 when no texel is written
   // Texels [x0, x1) x [y0, y1) back to +inf, and every block to "not written".
   // Copies from a row of +inf: g++ -O2 leaves std::fill of a float value as a scalar loop
   // (a 256x256 map is then 65,536 single stores per pass); memcpy runs in vectors.
@@ -94,6 +169,7 @@ class ShadowMap {
 
  private:
   static constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  static constexpr int32_t kInfinityBits = 0x7f800000;  // +inf's bits
   static constexpr size_t kSlackRows = 3;
   static constexpr size_t kVectorSlack = 16;
   std::ptrdiff_t rowOffset(int32_t y) const { return std::ptrdiff_t(y) * stride(); }
@@ -104,7 +180,11 @@ class ShadowMap {
   struct BlockRect {
     int32_t bx0 = 0, by0 = 0, bx1 = -1, by1 = -1;  // inclusive; empty by default
   };
-  BlockRect lastMarked_;  // the blocks the last markWritten set
+  BlockRect lastMarked_;            // the blocks the last markWritten set
+  std::vector<int32_t> coverage_;   // sumCoverage()
+  std::vector<int32_t> rowCounts_;  // its scratch
+  Rect coverageRect_;
+  float farthest_ = 0.0f;
   int32_t size_ = 0;
 };
 

@@ -443,27 +443,34 @@ HWY_INLINE MI occludes(const ShadowLookup& s, VI i, VI j, VF d, MI valid) {
   return hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(texel, hn::Set(df, s.bias)))));
 }
 
-// The texels at `index` and `index + 1` for every lane (see coverageAt). Invalid lanes carry
-// index 0 and read texels (0, 0) and (1, 0), which the caller masks.
-HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& second) {
-  const DF df;
+// The 4-byte elements at `index` and `index + 1` of `base` for every lane (texels of a map,
+// coverage counts): one 64-bit gather per half vector, half the gathered elements of two
+// 32-bit gathers, same values. Invalid lanes carry index 0 and read elements 0 and 1, which
+// the caller masks.
+template <class D>
+HWY_INLINE void adjacentPairs(D d, const hn::TFromD<D>* base, VI index, hn::Vec<D>& first,
+                              hn::Vec<D>& second) {
 #if HWY_TARGET == HWY_SCALAR  // one lane: no halves to split (a target we do not dispatch to)
   const DI di;
-  first = hn::GatherIndex(df, s.map, index);
-  second = hn::GatherIndex(df, s.map, hn::Add(index, hn::Set(di, 1)));
+  first = hn::GatherIndex(d, base, index);
+  second = hn::GatherIndex(d, base, hn::Add(index, hn::Set(di, 1)));
 #else
   const DU du;
   const hn::Repartition<uint64_t, DU> d64;
   const hn::RebindToSigned<decltype(d64)> di64;
   const hn::Half<DI> dh;
-  const VI bytes = hn::ShiftLeft<2>(index);  // byte offsets of 4-byte texels
-  const auto* base = reinterpret_cast<const uint64_t*>(s.map);
-  const auto lo = hn::GatherOffset(d64, base, hn::PromoteTo(di64, hn::LowerHalf(dh, bytes)));
-  const auto hi = hn::GatherOffset(d64, base, hn::PromoteTo(di64, hn::UpperHalf(dh, bytes)));
-  // Little-endian: the even 32-bit lane of each pair is texel `index`, the odd one `index + 1`.
-  first = hn::BitCast(df, hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
-  second = hn::BitCast(df, hn::ConcatOdd(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
+  const VI bytes = hn::ShiftLeft<2>(index);  // byte offsets of 4-byte elements
+  const auto* pairs = reinterpret_cast<const uint64_t*>(base);
+  const auto lo = hn::GatherOffset(d64, pairs, hn::PromoteTo(di64, hn::LowerHalf(dh, bytes)));
+  const auto hi = hn::GatherOffset(d64, pairs, hn::PromoteTo(di64, hn::UpperHalf(dh, bytes)));
+  // Little-endian: the even 32-bit lane of each pair is element `index`, the odd one `+ 1`.
+  first = hn::BitCast(d, hn::ConcatEven(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
+  second = hn::BitCast(d, hn::ConcatOdd(du, hn::BitCast(du, hi), hn::BitCast(du, lo)));
 #endif
+}
+
+HWY_INLINE void texelPairs(const ShadowLookup& s, VI index, VF& first, VF& second) {
+  adjacentPairs(DF(), s.map, index, first, second);
 }
 
 // False when no valid lane's footprint, starting at texel (i, j), can reach a written texel
@@ -479,6 +486,122 @@ HWY_INLINE bool anyBlockWritten(const ShadowLookup& s, VI i, VI j, MI valid) {
               hn::ShiftRight<3>(hn::Add(i, eight)));
   const VU written = hn::GatherIndex(du, s.blocks, hn::IfThenElseZero(valid, block));
   return !hn::AllFalse(di, hn::And(valid, hn::RebindMask(di, hn::Ne(written, hn::Zero(du)))));
+}
+
+// The 2x2 PCF of spec §7 for the lanes of `front` (q3 > 0 and marked); `depth()` gives
+// d = q2 / q3, divided only once some lane may see a written texel.
+template <class Depth>
+HWY_INLINE VI pcf2x2At(const ShadowLookup& s, VF u, VF v, hn::Mask<DF> front, Depth depth) {
+  const DF df;
+  const DI di;
+  const VF size = hn::Set(df, static_cast<float>(s.size));
+  const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
+  const VF up = hn::Sub(u, half), vp = hn::Sub(v, half);
+  const auto inside = hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
+                                             hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
+  if (hn::AllFalse(df, inside)) return hn::Zero(di);  // no gather for a vector outside the map
+  const MI valid = hn::RebindMask(di, inside);
+  const VF fu = hn::Floor(hn::IfThenElseZero(inside, up));
+  const VF fv = hn::Floor(hn::IfThenElseZero(inside, vp));
+  const VI i = hn::ConvertTo(di, fu), j = hn::ConvertTo(di, fv);
+  if (!anyBlockWritten(s, i, j, valid)) return hn::Zero(di);
+  const VF d = depth();
+  const VF k256 = hn::Set(df, 256.0f);
+  const VI wu =
+      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
+  const VI wv =
+      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
+  const VI full = hn::Set(di, 256);
+  const VI iu = hn::Sub(full, wu), iv = hn::Sub(full, wv);
+  // Texels (i, j) and (i + 1, j) are adjacent in memory (and inside the +inf border for
+  // valid lanes), so one 64-bit gather per row fetches both: half the gathered elements of
+  // four 32-bit gathers, same values.
+  const VF bias = hn::Set(df, s.bias);
+  auto occludedPair = [&](VI texelRow, VI& left, VI& right) {
+    VF t0, t1;
+    texelPairs(s, hn::IfThenElseZero(valid, hn::Add(hn::Mul(texelRow, hn::Set(di, s.stride)), i)),
+               t0, t1);
+    left = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t0, bias)))));
+    right = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t1, bias)))));
+  };
+  VI o00, o10, o01, o11;
+  occludedPair(j, o00, o10);
+  occludedPair(hn::Add(j, hn::Set(di, 1)), o01, o11);
+  return hn::Add(hn::Add(hn::And(o00, hn::Mul(iu, iv)), hn::And(o10, hn::Mul(wu, iv))),
+                 hn::Add(hn::And(o01, hn::Mul(iu, wv)), hn::And(o11, hn::Mul(wu, wv))));
+}
+
+// Spec §7's C: the written texels' area in [0, x / 64] x [0, y / 64] texels, in 1/4096
+// texel², for x, y in [0, 64 size]; the counts N bilinear in 1/64 texel. The clamp to the
+// counts' rectangle changes no value (N is 0 before it and constant past it). Every product
+// stays below 2^30: N <= 512² = 2^18 and the weights sum to 64 on each axis.
+HWY_INLINE VI coveredAreaAt(const ShadowLookup& s, VI x, VI y) {
+  const DI di;
+  const VI ox = hn::Set(di, s.coverageX0 * kPenumbraSubtexels);
+  const VI oy = hn::Set(di, s.coverageY0 * kPenumbraSubtexels);
+  x = hn::Sub(hn::Min(hn::Max(x, ox), hn::Set(di, s.coverageX1 * kPenumbraSubtexels)), ox);
+  y = hn::Sub(hn::Min(hn::Max(y, oy), hn::Set(di, s.coverageY1 * kPenumbraSubtexels)), oy);
+  const VI mask = hn::Set(di, kPenumbraSubtexels - 1), full = hn::Set(di, kPenumbraSubtexels);
+  const VI a = hn::And(x, mask), b = hn::And(y, mask);
+  const VI index =
+      hn::Add(hn::Mul(hn::ShiftRight<6>(y), hn::Set(di, s.coverageStride)), hn::ShiftRight<6>(x));
+  VI n00, n10, n01, n11;
+  adjacentPairs(di, s.coverage, index, n00, n10);
+  adjacentPairs(di, s.coverage + s.coverageStride, index, n01, n11);
+  const VI ia = hn::Sub(full, a), ib = hn::Sub(full, b);
+  return hn::Add(hn::Mul(hn::Add(hn::Mul(n00, ia), hn::Mul(n10, a)), ib),
+                 hn::Mul(hn::Add(hn::Mul(n01, ia), hn::Mul(n11, a)), b));
+}
+
+// The area-light lookup of spec §7 for the lanes of `front`: W where it answers (the lanes
+// set in `answered`), the 2x2 PCF's lanes left to the caller.
+HWY_INLINE VI areaPenumbraAt(const ShadowLookup& s, VF u, VF v, VF d, hn::Mask<DF> front,
+                             hn::Mask<DF>& answered) {
+  const DF df;
+  const DI di;
+  const VF t = hn::Mul(hn::Set(df, s.penumbraScale), hn::Sub(d, hn::Set(df, s.penumbraBlocker)));
+  // Behind every occluder texel, and a box wider than the 2x2 footprint.
+  answered = hn::And(front, hn::And(hn::Gt(d, hn::Set(df, s.farthest + s.bias)),
+                                    hn::Gt(t, hn::Set(df, kMinPenumbraHalfWidth))));
+  if (hn::AllFalse(df, answered)) return hn::Zero(di);
+  const VF maxHalf = hn::Set(df, kMaxPenumbraHalfWidth);
+  VF w = hn::IfThenElse(hn::Lt(t, maxHalf), t, maxHalf);
+  const VF zero = hn::Zero(df), size = hn::Set(df, static_cast<float>(s.size));
+  // A box wholly outside the map covers nothing (W = 0), nor does one wholly outside the
+  // written texels' rectangle inside it (its C terms cancel): the boxes are tested against
+  // the rectangle, so that a vector of such boxes needs no gathers. Their lanes compute on
+  // u = v = 0.
+  const VF rx0 = hn::Set(df, static_cast<float>(s.coverageX0));
+  const VF rx1 = hn::Set(df, static_cast<float>(s.coverageX1));
+  const VF ry0 = hn::Set(df, static_cast<float>(s.coverageY0));
+  const VF ry1 = hn::Set(df, static_cast<float>(s.coverageY1));
+  const auto meets =
+      hn::And(answered, hn::And(hn::And(hn::Gt(hn::Add(u, w), rx0), hn::Lt(hn::Sub(u, w), rx1)),
+                                hn::And(hn::Gt(hn::Add(v, w), ry0), hn::Lt(hn::Sub(v, w), ry1))));
+  if (hn::AllFalse(df, meets)) return hn::Zero(di);
+  u = hn::IfThenElseZero(meets, u);
+  v = hn::IfThenElseZero(meets, v);
+  w = hn::IfThenElse(meets, w, hn::Set(df, 1.0f));
+  const VF sub = hn::Set(df, static_cast<float>(kPenumbraSubtexels));
+  const VF limit = hn::Mul(size, sub);
+  const VF fx0 = hn::Floor(hn::Mul(hn::Sub(u, w), sub)),
+           fx1 = hn::Floor(hn::Mul(hn::Add(u, w), sub));
+  const VF fy0 = hn::Floor(hn::Mul(hn::Sub(v, w), sub)),
+           fy1 = hn::Floor(hn::Mul(hn::Add(v, w), sub));
+  // Clamped to [0, 64 size] by comparisons (Min and Max differ across ISAs on NaN).
+  auto clampSub = [&](VF f) {
+    return hn::ConvertTo(
+        di, hn::IfThenElse(hn::Gt(f, zero), hn::IfThenElse(hn::Lt(f, limit), f, limit), zero));
+  };
+  const VI x0 = clampSub(fx0), x1 = clampSub(fx1), y0 = clampSub(fy0), y1 = clampSub(fy1);
+  const VI box = hn::Add(hn::Sub(hn::Sub(coveredAreaAt(s, x1, y1), coveredAreaAt(s, x0, y1)),
+                                 coveredAreaAt(s, x1, y0)),
+                         coveredAreaAt(s, x0, y0));
+  const VF area = hn::Mul(hn::Sub(fx1, fx0), hn::Sub(fy1, fy0));
+  const VI weight = hn::ConvertTo(
+      di, hn::Add(hn::Mul(hn::Div(hn::ConvertTo(df, box), area), hn::Set(df, 65536.0f)),
+                  hn::Set(df, 0.5f)));
+  return hn::IfThenElseZero(hn::RebindMask(di, meets), hn::Min(weight, hn::Set(di, 65536)));
 }
 
 // The occluded weight W of spec §7 as int32 lanes in [0, 65536] (the mask before its
@@ -512,40 +635,16 @@ HWY_INLINE VI coverageAt(const ShadowLookup& s, VF sx, VF sy, VF z, MI marked) {
     const VF d = hn::Div(row(2), q3);
     return hn::IfThenElseZero(occludes(s, i, j, d, valid), hn::Set(di, 65536));
   }
-  const VF half = hn::Set(df, 0.5f), minusOne = hn::Set(df, -1.0f);
-  const VF up = hn::Sub(u, half), vp = hn::Sub(v, half);
-  const auto inside = hn::And(front, hn::And(hn::And(hn::Gt(up, minusOne), hn::Lt(up, size)),
-                                             hn::And(hn::Gt(vp, minusOne), hn::Lt(vp, size))));
-  if (hn::AllFalse(df, inside)) return hn::Zero(di);  // as above
-  const MI valid = hn::RebindMask(di, inside);
-  const VF fu = hn::Floor(hn::IfThenElseZero(inside, up));
-  const VF fv = hn::Floor(hn::IfThenElseZero(inside, vp));
-  const VI i = hn::ConvertTo(di, fu), j = hn::ConvertTo(di, fv);
-  if (!anyBlockWritten(s, i, j, valid)) return hn::Zero(di);
-  const VF d = hn::Div(row(2), q3);
-  const VF k256 = hn::Set(df, 256.0f);
-  const VI wu =
-      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, up), fu), k256), half));
-  const VI wv =
-      hn::ConvertTo(di, hn::Add(hn::Mul(hn::Sub(hn::IfThenElseZero(inside, vp), fv), k256), half));
-  const VI full = hn::Set(di, 256);
-  const VI iu = hn::Sub(full, wu), iv = hn::Sub(full, wv);
-  // Texels (i, j) and (i + 1, j) are adjacent in memory (and inside the +inf border for
-  // valid lanes), so one 64-bit gather per row fetches both: half the gathered elements of
-  // four 32-bit gathers, same values.
-  const VF bias = hn::Set(df, s.bias);
-  auto occludedPair = [&](VI texelRow, VI& left, VI& right) {
-    VF t0, t1;
-    texelPairs(s, hn::IfThenElseZero(valid, hn::Add(hn::Mul(texelRow, hn::Set(di, s.stride)), i)),
-               t0, t1);
-    left = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t0, bias)))));
-    right = hn::VecFromMask(di, hn::And(valid, hn::RebindMask(di, hn::Gt(d, hn::Add(t1, bias)))));
-  };
-  VI o00, o10, o01, o11;
-  occludedPair(j, o00, o10);
-  occludedPair(hn::Add(j, hn::Set(di, 1)), o01, o11);
-  return hn::Add(hn::Add(hn::And(o00, hn::Mul(iu, iv)), hn::And(o10, hn::Mul(wu, iv))),
-                 hn::Add(hn::And(o01, hn::Mul(iu, wv)), hn::And(o11, hn::Mul(wu, wv))));
+  if (s.penumbraScale > 0) {
+    const VF d = hn::Div(row(2), q3);
+    hn::Mask<DF> area;
+    const VI wide = areaPenumbraAt(s, u, v, d, front, area);
+    const auto rest = hn::AndNot(area, front);
+    if (hn::AllFalse(df, rest)) return wide;
+    return hn::IfThenElse(hn::RebindMask(di, area), wide,
+                          pcf2x2At(s, u, v, rest, [&] { return d; }));
+  }
+  return pcf2x2At(s, u, v, front, [&] { return hn::Div(row(2), q3); });
 }
 
 uint32_t InterpolateS(uint32_t* sOut, const uint32_t* id, int32_t xa, int32_t xb, int32_t y,

@@ -32,7 +32,22 @@ struct ShadowLookup {
   // block is zero (all their texels are +inf, so nothing occludes: the same M).
   const uint32_t* blocks = nullptr;
   int32_t blocksPerRow = 0;
+  // Area-light penumbrae (spec §7) when penumbraScale > 0: ShadowMap::sumCoverage's counts,
+  // their rectangle [coverageX0, coverageX1] x [coverageY0, coverageY1] (texels) and the
+  // farthest written depth. `blocks` still serves the lanes the 2x2 PCF answers.
+  float penumbraScale = 0;
+  float penumbraBlocker = 0;
+  float farthest = 0;
+  const int32_t* coverage = nullptr;
+  int32_t coverageStride = 0;
+  int32_t coverageX0 = 0, coverageY0 = 0, coverageX1 = 0, coverageY1 = 0;
 };
+
+// Area-light penumbrae's constants (spec §7): box corners in 1/kPenumbraSubtexels texel, the
+// box's half-width at most kMaxPenumbraHalfWidth texels, the 2x2 PCF up to kMinPenumbra.
+inline constexpr int32_t kPenumbraSubtexels = 64;
+inline constexpr float kMaxPenumbraHalfWidth = 32.0f;
+inline constexpr float kMinPenumbraHalfWidth = 0.5f;
 
 // One triangle's interpolants, with the plane origin (ox, oy) of spec §5.
 struct SpanPlanes {

@@ -34,6 +34,44 @@ bool occludes(const ShadowLookup& s, int32_t i, int32_t j, float d) {
          d > s.map[ptrdiff_t{j} * s.stride + i] + s.bias;
 }
 
+// Written texels' area in [0, X / 64] x [0, Y / 64] texels, in 1/4096 texel² (spec §7's C):
+// the counts N bilinear in 1/64 texel, X and Y clamped to the counts' rectangle (N is 0
+// before it and constant past it, so the clamp changes no value).
+int32_t coveredArea(const ShadowLookup& s, int32_t x, int32_t y) {
+  x = std::clamp(x, s.coverageX0 * kPenumbraSubtexels, s.coverageX1 * kPenumbraSubtexels) -
+      s.coverageX0 * kPenumbraSubtexels;
+  y = std::clamp(y, s.coverageY0 * kPenumbraSubtexels, s.coverageY1 * kPenumbraSubtexels) -
+      s.coverageY0 * kPenumbraSubtexels;
+  const int32_t i = x >> 6, a = x & 63, j = y >> 6, b = y & 63;
+  const int32_t* n = s.coverage + ptrdiff_t{j} * s.coverageStride + i;
+  const int32_t* below = n + s.coverageStride;
+  return (n[0] * (64 - a) + n[1] * a) * (64 - b) + (below[0] * (64 - a) + below[1] * a) * b;
+}
+
+// The area-light lookup of spec §7, or -1 where the 2x2 PCF answers instead.
+int32_t areaPenumbraAt(const ShadowLookup& s, float u, float v, float d) {
+  if (!(d > s.farthest + s.bias)) return -1;  // among the occluder's depths: contact
+  const float t = s.penumbraScale * (d - s.penumbraBlocker);
+  if (!(t > kMinPenumbraHalfWidth)) return -1;
+  const float w = t < kMaxPenumbraHalfWidth ? t : kMaxPenumbraHalfWidth;
+  const float size = static_cast<float>(s.size);
+  // A box wholly outside the map (or NaN) covers nothing: no texel there occludes.
+  if (!(u + w > 0.0f && u - w < size && v + w > 0.0f && v - w < size)) return 0;
+  const float sub = static_cast<float>(kPenumbraSubtexels), limit = size * sub;
+  const float fx0 = std::floor((u - w) * sub), fx1 = std::floor((u + w) * sub);
+  const float fy0 = std::floor((v - w) * sub), fy1 = std::floor((v + w) * sub);
+  auto clampSub = [&](float f) {
+    return static_cast<int32_t>(f > 0.0f ? (f < limit ? f : limit) : 0.0f);
+  };
+  const int32_t x0 = clampSub(fx0), x1 = clampSub(fx1), y0 = clampSub(fy0), y1 = clampSub(fy1);
+  const int32_t box = coveredArea(s, x1, y1) - coveredArea(s, x0, y1) - coveredArea(s, x1, y0) +
+                      coveredArea(s, x0, y0);
+  const float area = (fx1 - fx0) * (fy1 - fy0);
+  // NOLINTNEXTLINE(bugprone-incorrect-roundings): trunc(x + 0.5) is the spec's rounding
+  const int32_t weight = static_cast<int32_t>(static_cast<float>(box) / area * 65536.0f + 0.5f);
+  return std::min(weight, 65536);
+}
+
 // The occluded weight W in [0, 65536] of spec §7 (M = round(255 W / 65536)).
 uint32_t coverageAt(const ShadowLookup& s, float sx, float sy, float z) {
   const float* p = s.p;
@@ -47,6 +85,10 @@ uint32_t coverageAt(const ShadowLookup& s, float sx, float sy, float z) {
   if (!s.pcf2x2) {
     if (!(u >= 0.0f && u < size && v >= 0.0f && v < size)) return 0;
     return occludes(s, static_cast<int32_t>(u), static_cast<int32_t>(v), d) ? 65536u : 0u;
+  }
+  if (s.penumbraScale > 0) {
+    const int32_t area = areaPenumbraAt(s, u, v, d);
+    if (area >= 0) return static_cast<uint32_t>(area);
   }
   const float up = u - 0.5f, vp = v - 0.5f;
   if (!(up > -1.0f && up < size && vp > -1.0f && vp < size)) return 0;

@@ -370,73 +370,185 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsMatchesScalar) {
   }
 }
 
+// A new map for the block and area tests: `triangles` small triangles drawn by the
+// reference's depthTriangle in one part of `map` (blocks marked as the renderer marks
+// them), the rest +inf. Returns the rectangle [x0, x1) x [y0, y1) of their bounding boxes.
+std::array<int32_t, 4> drawPatchyMap(ShadowMap& map, int triangles, std::mt19937& rng) {
+  const int32_t size = map.size();
+  std::uniform_int_distribution<int32_t> corner(0, 40 * 256), extent(0, 12 * 256);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  map.clear(0, 0, size, size);
+  std::array<int32_t, 4> rect{size, size, 0, 0};
+  const int32_t cx = corner(rng), cy = corner(rng);
+  for (int n = 0; n < triangles; ++n) {
+    std::array<SnappedVertex, 3> v;
+    for (auto& p : v) {
+      p.x = cx + extent(rng);
+      p.y = cy + extent(rng);
+      p.z = 0.3f + 0.2f * (f(rng) + 1.0f);
+    }
+    SetupTriangle t;
+    if (!setupTriangle(v, uint32_t(size), uint32_t(size), t)) continue;
+    scalarSpanKernels().depthTriangle(map.origin(), nullptr, size_t(map.stride()), t, 0);
+    map.markWritten(t.minX, t.minY, t.maxX, t.maxY);
+    rect = {std::min(rect[0], t.minX), std::min(rect[1], t.minY), std::max(rect[2], t.maxX),
+            std::max(rect[3], t.maxY)};
+  }
+  return rect;
+}
+
+// Random rows of a sweep for the block and area tests: depths in [0.1, 1], marked pixels
+// with every channel odd, and a lookup sending pixels (0..111, 0..5) to texels around
+// (-2..50): across the drawn part of `map` and its border.
+void randomSweep(std::mt19937& rng, const ShadowMap& map, int32_t rows, std::vector<float>& depth,
+                 std::vector<uint32_t>& s, std::vector<uint16_t>& acc, std::vector<int32_t>& xa,
+                 std::vector<int32_t>& xb, ShadowLookup& lookup) {
+  std::uniform_int_distribution<int32_t> pos(0, 111);
+  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  const size_t plane = size_t{kRow} * size_t(rows);
+  depth.assign(plane, 0.0f);
+  s.assign(plane, 0);
+  acc.assign(3 * plane, 0);
+  for (float& v : depth) v = 0.55f + 0.45f * f(rng);
+  for (auto& v : acc) v = static_cast<uint16_t>(bits(rng) % 30000);
+  xa.assign(size_t(rows), 0);
+  xb.assign(size_t(rows), 0);
+  for (int32_t r = 0; r < rows; ++r) {
+    xa[size_t(r)] = pos(rng);
+    xb[size_t(r)] = pos(rng);
+    if (xa[size_t(r)] > xb[size_t(r)]) std::swap(xa[size_t(r)], xb[size_t(r)]);
+    for (int32_t x = xa[size_t(r)]; x < xb[size_t(r)]; ++x) {
+      if (bits(rng) % 5 != 0) s[size_t(r) * kRow + size_t(x)] = bits(rng) | 1u;
+    }
+  }
+  lookup = ShadowLookup{};
+  lookup.p[0] = 0.45f + 0.02f * f(rng);
+  lookup.p[1] = 0.05f * f(rng);
+  lookup.p[3] = -2.0f + 2.0f * f(rng);
+  lookup.p[4] = 0.05f * f(rng);
+  lookup.p[5] = 1.0f + 0.5f * f(rng);
+  lookup.p[7] = 48.0f * (f(rng) + 1.0f) / 2.0f;
+  lookup.p[10] = 1.0f;
+  lookup.p[15] = 1.0f;
+  lookup.map = map.origin();
+  lookup.size = map.size();
+  lookup.stride = map.stride();
+  lookup.bias = 0.005f;
+  lookup.blocks = map.blocks();
+  lookup.blocksPerRow = map.blocksPerRow();
+}
+
+// 1500 sweeps over maps redrawn every 50 by drawPatchyMap: without `area`, 2x2 PCF and binary
+// lookups with the block table; with it, area-light lookups (their coverage counts summed as
+// the renderer sums them) with depths in front of, among and behind the occluder's, boxes
+// from under a texel to past the 32-texel cap and wholly off the map, NaN and infinite depths.
+void expectSameOnPatchyMaps(const SpanKernels& k, uint32_t seed, bool area) {
+  const SpanKernels& ref = scalarSpanKernels();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  const int32_t rows = 6;
+  const size_t plane = size_t{kRow} * rows;
+  ShadowMap map;
+  map.reset(48);
+  std::vector<float> depth;
+  std::vector<uint32_t> sA;
+  std::vector<uint16_t> accA;
+  std::vector<int32_t> xa, xb;
+  ShadowLookup lookup;
+  for (int trial = 0; trial < 1500; ++trial) {
+    if (trial % 50 == 0) {  // with `area`, trial 0 draws an empty map
+      const std::array<int32_t, 4> rect = drawPatchyMap(map, area ? trial % 9 : 1 + trial % 7, rng);
+      map.sumBlocks();
+      map.sumCoverage(rect[0], rect[1], rect[2], rect[3]);
+    }
+    randomSweep(rng, map, rows, depth, sA, accA, xa, xb, lookup);
+    lookup.pcf2x2 = area || trial % 3 != 0;
+    if (area) {
+      for (float& d : depth) d = 0.1f + 0.9f * (f(rng) + 1.0f) / 2.0f;
+      depth[9] = std::numeric_limits<float>::quiet_NaN();
+      depth[kRow + 3] = std::numeric_limits<float>::infinity();
+      if (trial % 11 == 0) lookup.p[3] += 200.0f;
+      lookup.penumbraScale = trial % 4 == 0 ? 400.0f * (f(rng) + 1.0f) : 40.0f * (f(rng) + 1.0f);
+      lookup.penumbraBlocker = 0.4f + 0.1f * f(rng);
+      lookup.farthest = map.farthest();
+      lookup.coverage = map.coverage();
+      lookup.coverageStride = map.coverageStride();
+      lookup.coverageX0 = map.coverageRect().x0;
+      lookup.coverageY0 = map.coverageRect().y0;
+      lookup.coverageX1 = map.coverageRect().x1;
+      lookup.coverageY1 = map.coverageRect().y1;
+    }
+    expectSameAccumulation(ref, k, depth, sA, accA, plane, rows, xa, xb, lookup, trial);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
 // The block table lets kernels skip lanes whose texels are all +inf. Maps drawn by
 // depthTriangle over part of the map (blocks marked as the renderer marks them), lookups
 // sweeping across drawn, undrawn and border texels: the same sums as the reference, which
 // ignores the table.
 TEST_P(SpanKernelsOnTarget, AccumulateRowsWithBlocksMatchesScalar) {
-  const SpanKernels& ref = scalarSpanKernels();
-  const SpanKernels& k = spanKernelsFor(GetParam());
-  std::mt19937 rng(16);
-  std::uniform_int_distribution<int32_t> pos(0, 111), corner(0, 40 * 256), extent(0, 12 * 256);
-  std::uniform_int_distribution<uint32_t> bits(0, 0xFFFFFFu);
-  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
-  const int32_t size = 48, rows = 6;
-  const size_t plane = size_t{kRow} * rows;
+  expectSameOnPatchyMaps(spanKernelsFor(GetParam()), 16, false);
+}
+
+// Area-light penumbrae (spec §7): the same sums as the reference.
+TEST_P(SpanKernelsOnTarget, AccumulateRowsWithAreaPenumbraeMatchesScalar) {
+  expectSameOnPatchyMaps(spanKernelsFor(GetParam()), 19, true);
+}
+
+// What the area lookup computes (spec §7), on the reference: an occluder filling columns
+// [0, 24) of a 48-texel map at depth 0.3, receivers at depth 0.7 with a 4-texel half-width
+// box, along a row of texel centres. Its weight falls linearly from 65536 four texels inside
+// the edge to 0 four texels past it, through a half at the edge; a receiver among the
+// occluder's depths keeps the 2x2 PCF's hard edge.
+TEST(AreaPenumbra, BoxCoverageRampsAcrossAnEdge) {
+  const int32_t size = 48;
   ShadowMap map;
   map.reset(size);
-  for (int trial = 0; trial < 1500; ++trial) {
-    if (trial % 50 == 0) {
-      // A new map: a few small triangles in one part, the rest +inf.
-      map.clear(0, 0, size, size);
-      const int32_t cx = corner(rng), cy = corner(rng);
-      for (int n = 0; n < 1 + trial % 7; ++n) {
-        std::array<SnappedVertex, 3> v;
-        for (auto& p : v) {
-          p.x = cx + extent(rng);
-          p.y = cy + extent(rng);
-          p.z = 0.3f + 0.2f * (f(rng) + 1.0f);
-        }
-        SetupTriangle t;
-        if (!setupTriangle(v, uint32_t(size), uint32_t(size), t)) continue;
-        ref.depthTriangle(map.origin(), nullptr, size_t(map.stride()), t, 0);
-        map.markWritten(t.minX, t.minY, t.maxX, t.maxY);
-      }
-    }
-    std::vector<float> depth(plane);
-    std::vector<uint32_t> sA(plane, 0);
-    std::vector<uint16_t> accA(3 * plane);
-    for (float& v : depth) v = 0.55f + 0.45f * f(rng);
-    for (auto& v : accA) v = static_cast<uint16_t>(bits(rng) % 30000);
-    std::vector<int32_t> xa(rows), xb(rows);
-    for (int r = 0; r < rows; ++r) {
-      xa[r] = pos(rng);
-      xb[r] = pos(rng);
-      if (xa[r] > xb[r]) std::swap(xa[r], xb[r]);
-      for (int32_t x = xa[r]; x < xb[r]; ++x) {
-        if (bits(rng) % 5 != 0) sA[size_t(r) * kRow + size_t(x)] = bits(rng) | 1u;
-      }
-    }
-    ShadowLookup lookup{};
-    // Pixels (0..111, 0..5) to texels around (-2..50): across the drawn part and the border.
-    lookup.p[0] = 0.45f + 0.02f * f(rng);
-    lookup.p[1] = 0.05f * f(rng);
-    lookup.p[3] = -2.0f + 2.0f * f(rng);
-    lookup.p[4] = 0.05f * f(rng);
-    lookup.p[5] = 1.0f + 0.5f * f(rng);
-    lookup.p[7] = 48.0f * (f(rng) + 1.0f) / 2.0f;
-    lookup.p[10] = 1.0f;
-    lookup.p[15] = 1.0f;
-    lookup.map = map.origin();
-    lookup.size = size;
-    lookup.stride = map.stride();
-    lookup.bias = 0.005f;
-    lookup.pcf2x2 = trial % 3 != 0;
-    lookup.blocks = map.blocks();
-    lookup.blocksPerRow = map.blocksPerRow();
-    expectSameAccumulation(ref, k, depth, sA, accA, plane, rows, xa, xb, lookup, trial);
-    if (::testing::Test::HasFatalFailure()) return;
+  for (int32_t j = 0; j < size; ++j) {
+    for (int32_t i = 0; i < 24; ++i) map.origin()[j * map.stride() + i] = 0.3f;
   }
+  map.sumCoverage(0, 0, 24, size);
+  EXPECT_EQ(map.farthest(), 0.3f);
+  ShadowLookup lookup{};
+  lookup.p[0] = 1.0f;  // pixel x -> texel u = x - 32 + 0.5 (pixel centres), v = 20.5
+  lookup.p[3] = -32.0f;
+  lookup.p[7] = 20.0f;
+  lookup.p[10] = 1.0f;  // d = the pixel's depth
+  lookup.p[15] = 1.0f;
+  lookup.map = map.origin();
+  lookup.size = size;
+  lookup.stride = map.stride();
+  lookup.bias = 0.001f;
+  lookup.pcf2x2 = true;
+  lookup.penumbraScale = 10.0f;  // 10 (0.7 - 0.3) = 4 texels
+  lookup.penumbraBlocker = 0.3f;
+  lookup.farthest = map.farthest();
+  lookup.coverage = map.coverage();
+  lookup.coverageStride = map.coverageStride();
+  lookup.coverageX1 = 24;
+  lookup.coverageY1 = size;
+  const size_t plane = kRow;
+  auto weights = [&](float d) {
+    std::vector<float> depth(plane, d);
+    // S = 255 in red only: the sum gains round(255 W / 65536)-ish per pixel (spec §8, u8).
+    std::vector<uint32_t> s(plane, 0xFFu);
+    std::vector<uint16_t> acc(3 * plane, 0);
+    const int32_t xa = 40, xb = 72;  // u from 8.5 to 39.5
+    scalarSpanKernels().accumulateRows(depth.data(), s.data(), acc.data(), plane, kRow, 0, 1, &xa,
+                                       &xb, lookup);
+    return acc;
+  };
+  const std::vector<uint16_t> soft = weights(0.7f);
+  EXPECT_EQ(soft[40 + 11], 255);                 // u = 19.5: the box [15.5, 23.5] is all occluder
+  EXPECT_EQ(soft[40 + 20], 0);                   // u = 28.5: [24.5, 32.5], none
+  EXPECT_NEAR(soft[40 + 15], 255 * 4.5 / 8, 1);  // u = 23.5: 4.5 of the box's 8 texels
+  EXPECT_NEAR(soft[40 + 17], 255 * 2.5 / 8, 1);  // u = 25.5
+  for (int x = 41; x < 72; ++x) EXPECT_LE(soft[size_t(x)], soft[size_t(x) - 1]) << x;
+  // Depth 0.25 is in front of the occluder: the 2x2 PCF, which sees nothing in front of it.
+  const std::vector<uint16_t> front = weights(0.25f);
+  for (int x = 40; x < 72; ++x) EXPECT_EQ(front[size_t(x)], 0) << x;
 }
 
 using FinishKernel = decltype(SpanKernels::shadeAccumulatedLinear);

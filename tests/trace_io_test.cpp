@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "raster/frame_trace.h"
@@ -54,6 +55,44 @@ TEST_F(TraceFiles, RoundTripIsExact) {
   culled.frame.passes[1].cullBackFaces = true;
   raster::saveTrace(culled, dir_ / "culled.json");
   EXPECT_EQ(raster::loadTrace(dir_ / "culled.json"), culled);
+}
+
+// Area-light penumbrae (spec §7): written only when set, read back to the bit; a scale that
+// is negative or not finite, a blocker that is not finite, or a scale on a pass without 2x2
+// PCF or with a map over 512 texels is named.
+TEST_F(TraceFiles, AreaPenumbraFieldsRoundTripAndAreValidated) {
+  EXPECT_FALSE(doc_["passes"][0].contains("penumbra_scale"));
+  raster::FrameTrace soft = trace_;
+  soft.frame.passes[1].pcf2x2 = true;
+  soft.frame.passes[1].penumbraScale = 37.123456f;
+  soft.frame.passes[1].penumbraBlocker = 0.4999213f;
+  raster::saveTrace(soft, dir_ / "soft.json");
+  EXPECT_EQ(raster::loadTrace(dir_ / "soft.json"), soft);
+  auto fieldOf = [&](const raster::FrameTrace& t) {
+    try {
+      raster::validateTrace(t, "t.json");
+    } catch (const raster::TraceError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  raster::FrameTrace bad = soft;
+  bad.frame.passes[1].penumbraScale = -1.0f;
+  EXPECT_NE(fieldOf(bad).find("passes[1].penumbra_scale"), std::string::npos);
+  bad.frame.passes[1].penumbraScale = std::numeric_limits<float>::infinity();
+  EXPECT_NE(fieldOf(bad).find("passes[1].penumbra_scale"), std::string::npos);
+  bad = soft;
+  bad.frame.passes[1].penumbraBlocker = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(fieldOf(bad).find("passes[1].penumbra_blocker"), std::string::npos);
+  bad = soft;
+  bad.frame.passes[1].pcf2x2 = false;
+  EXPECT_NE(fieldOf(bad).find("needs pcf2x2"), std::string::npos);
+  bad = soft;
+  bad.frame.passes[1].shadowMapSize = 1024;
+  EXPECT_NE(fieldOf(bad).find("at most 512"), std::string::npos);
+  json d = doc_;
+  d["passes"][0]["penumbra_scale"] = 3.0;  // its blocker missing
+  EXPECT_NE(errorFor(d).find("penumbra_blocker"), std::string::npos);
 }
 
 TEST_F(TraceFiles, MissingFieldsAreNamed) {

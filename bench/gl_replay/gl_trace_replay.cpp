@@ -398,6 +398,13 @@ void GlTraceReplay::render(const raster::FrameContent& frame, std::span<uint8_t>
     // GL blending subtracts whole levels per pass (spec §8's u8 rule only).
     throw std::invalid_argument("GlTraceReplay::render: u8 accumulation only");
   }
+  for (const raster::ShadowPass& pass : frame.passes) {
+    if (pass.penumbraScale > 0) {
+      throw std::invalid_argument(
+          "GlTraceReplay::render: area-light penumbrae (spec §7) are "
+          "not replayed; 2x2 PCF or binary masks only");
+    }
+  }
 
   // CPU set-up of this frame's triangles (spec §3–5) into one stream: objects, then per pass
   // its occluder in the light's map, its room receivers and its object receivers.
