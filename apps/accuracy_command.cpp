@@ -23,6 +23,7 @@ struct AccuracyCommand {
   std::string pose;  // empty: the start pose's
   int product = -1;  // -1: the pose's product
   bool singleShare = false;
+  bool hardPasses = false;
   int mapSize = 256, referenceMap = 2048;
   RenderFlags render;
   reference::AccuracyOptions options;
@@ -33,6 +34,7 @@ struct AccuracyCommand {
     options.referenceMapSize = uint32_t(referenceMap);
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
+    options.areaPenumbrae = !hardPasses;
     const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
     if (!pose.empty() || product >= 0) options.pose = requestedPose(bundle, pose, product);
     const reference::AccuracyReport report =
@@ -125,6 +127,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_flag("--single-share", cmd->singleShare,
               "graded transfers with one occluded share per vertex, not one per cluster");
+  c->add_flag("--hard-passes", cmd->hardPasses,
+              "every pass's shadow edge hard (2x2 PCF), as Gibson 2003 casts them, not spread "
+              "over its light's penumbra (shadow/area_penumbra.h)");
   c->add_option("--depth-bias", cmd->options.depthBias, "receivers' shadow-map depth bias")
       ->check(cli::NumberRange(0.0, 1.0))
       ->capture_default_str();

@@ -112,6 +112,7 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   measured.perClusterShares = o.perClusterShares;
   measured.depthBias = o.depthBias;
   measured.fineProxyPasses = o.fineProxyPasses;
+  measured.areaPenumbrae = o.areaPenumbrae;
   // The shadow-free frame (background + product): the region rule's and contact band's base.
   shadow::FrameLoop zero(bundle, measured, o.render);
   zero.still(pose, 0);
@@ -182,6 +183,7 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
           {"reference", report.reference},
           {"shadow_map", o.shadowMapSize},
           {"fine_proxy_passes", o.fineProxyPasses},
+          {"area_penumbrae", o.areaPenumbrae},
           {"flip_ppd", o.pixelsPerDegree},
           {"width", report.width},
           {"height", report.height},

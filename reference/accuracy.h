@@ -48,6 +48,7 @@ struct AccuracyOptions {
   bool perClusterShares = true;
   float depthBias = shadow::CompositorOptions{}.depthBias;
   uint32_t fineProxyPasses = shadow::CompositorOptions{}.fineProxyPasses;
+  bool areaPenumbrae = shadow::CompositorOptions{}.areaPenumbrae;
   int contactRadius = 8;
 
   std::string referencePath;       // a reference PNG of the view's size; empty: rendered

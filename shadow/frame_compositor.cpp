@@ -205,6 +205,7 @@ PassListOptions FrameCompositor::passListOptions() const {
   o.cullReceivers = options_.cullReceivers;
   o.objectDepthBias = options_.objectDepthBias;
   o.fineProxyPasses = placement_.fineProxy().indices.empty() ? 0 : options_.fineProxyPasses;
+  o.areaPenumbrae = options_.areaPenumbrae;
   if (options_.cullClosedProxies) {
     o.closedOccluders = {placement_.proxyClosed(), placement_.fineProxyClosed()};
   }

@@ -48,6 +48,10 @@ struct CompositorOptions {
   // Draw a closed proxy's front faces only (PassListOptions::closedOccluders): the same
   // frames, half the shadow-map triangles. False draws every triangle (the A/B of tests).
   bool cullClosedProxies = true;
+  // Each point light's pass spreads its shadow edges over its cluster's penumbra
+  // (PassListOptions::areaPenumbrae, shadow/area_penumbra.h). Off: Gibson 2003's hard-edged
+  // passes (2x2 PCF), the A/B of docs/accuracy.md.
+  bool areaPenumbrae = true;
   uint64_t setSeed = 1;  // Fig. 4's set assignment (stable per source patch)
   // Beyond Fig. 4 (docs/fig3.md): where the previous frame measured how much of a receiver
   // vertex's light the product blocked (observe()), take its intensity transfers at that

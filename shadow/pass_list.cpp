@@ -7,6 +7,7 @@
 #include <bit>
 #include <stdexcept>
 
+#include "shadow/area_penumbra.h"
 #include "shadow/light_frustum.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -59,11 +60,14 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
     const SourceCluster& cluster = selection.clusters[k];
     const glm::dvec3 representative(
         bundle_.patches[bundle_.sets.sources[cluster.representative]].centre);
-    auto frustum =
-        fitLightFrustum(clusterCentroid(cluster, selection.sources), productBounds, farDistance_);
+    glm::dvec3 light = clusterCentroid(cluster, selection.sources);
+    auto frustum = fitLightFrustum(light, productBounds, farDistance_);
     // The centroid of a widely spread cluster can fall inside the product's bounding sphere
     // where the representative patch does not: then the map is cast from that patch (§8).
-    if (!frustum) frustum = fitLightFrustum(representative, productBounds, farDistance_);
+    if (!frustum) {
+      light = representative;
+      frustum = fitLightFrustum(light, productBounds, farDistance_);
+    }
     if (!frustum) {
       // The light sits inside the product's bounding sphere (e.g. a product larger than the
       // room): no shadow map can hold the product, so this cluster casts no shadow.
@@ -71,6 +75,15 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
       continue;
     }
     addPass(options, *frustum, k, options.depthBias, options.objectDepthBias, passes);
+    if (options.areaPenumbrae && options.pcf2x2 &&
+        options.shadowMapSize <= raster::kMaxAreaPenumbraMapSize) {
+      const glm::dvec3 axis = glm::normalize(frustum->sphereCentre - light);
+      raster::ShadowPass& pass = passes[passCluster_.size() - 1];
+      pass.penumbraScale = static_cast<float>(penumbraScale(
+          *frustum, clusterHalfWidth(bundle_, cluster, selection.sources, light, axis),
+          options.shadowMapSize));
+      pass.penumbraBlocker = static_cast<float>(blockerDepth(*frustum));
+    }
   }
   fillPasses(
       options, [&](size_t) { return receiverPatches; }, receiverPatches.size(), product, s, passes);
@@ -127,6 +140,8 @@ void PassList::addPass(const PassListOptions& options, const LightFrustum& frust
   pass.occluder = index < options.fineProxyPasses ? 1 : 0;
   pass.cullBackFaces = options.closedOccluders[pass.occluder];
   pass.objectDepthBias = objectDepthBias;
+  pass.penumbraScale = 0;  // build() sets them for area penumbrae
+  pass.penumbraBlocker = 0;
   passViewProj_.push_back(frustum.viewProj);
 }
 

@@ -47,6 +47,10 @@ struct PassListOptions {
   // from outside (raster/closed_surface.h), whose passes draw only the triangles facing the
   // light — the same map from half the triangles.
   std::array<bool, 2> closedOccluders{};
+  // Area-light penumbrae (shadow/area_penumbra.h, spec §7): each point light's pass spreads
+  // its shadow edges over the penumbra of its cluster's extent. Maps larger than
+  // raster::kMaxAreaPenumbraMapSize keep hard-edged passes. Not for distant lights.
+  bool areaPenumbrae = false;
 };
 
 class PassList {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "shadow/area_penumbra.h"
 #include "shadow/light_frustum.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -57,6 +58,47 @@ struct Floor {
 };
 
 const scene::Aabb kRoom{{-2, 0, -2}, {12, 3, 2}};
+
+// Area penumbrae: each pass carries its light's scale and blocker depth (shadow/area_penumbra.h)
+// when asked, with 2x2 PCF and a map of at most 512 texels; otherwise, and on reused passes,
+// both are 0.
+TEST(PassList, AreaPenumbraeCarryEachLightsScale) {
+  Floor f;
+  f.bundle.patches[3].centre = {0, 3, 1};
+  f.bundle.patches[2].area = 0.04f;  // 0.2 m patches
+  f.bundle.patches[3].area = 0.04f;
+  f.bundle.transfers.sourceAverage = {1.0f, 0.5f};
+  PassList list(f.bundle, f.mesh, kRoom);
+  PassListOptions options;
+  options.areaPenumbrae = true;
+  std::vector<raster::ShadowPass> passes;
+  list.build(options, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes);
+  ASSERT_EQ(passes.size(), 2u);
+  const double far = 2.0 * glm::length(kRoom.size()) + 1.0;
+  for (size_t k = 0; k < 2; ++k) {
+    const glm::dvec3 light(f.bundle.patches[f.bundle.sets.sources[k]].centre);
+    const auto frustum = fitLightFrustum(light, f.bounds, far);
+    const glm::dvec3 axis = glm::normalize(frustum->sphereCentre - light);
+    SourceCluster one = f.selection.clusters[k];
+    EXPECT_EQ(passes[k].penumbraScale,
+              static_cast<float>(penumbraScale(
+                  *frustum, clusterHalfWidth(f.bundle, one, f.selection.sources, light, axis),
+                  options.shadowMapSize)));
+    EXPECT_GT(passes[k].penumbraScale, 0.0f);
+    EXPECT_EQ(passes[k].penumbraBlocker, static_cast<float>(blockerDepth(*frustum)));
+  }
+  // Off, without 2x2 PCF, or with a larger map: hard passes, into the same (reused) passes.
+  PassListOptions binary = options, large = options;
+  binary.pcf2x2 = false;
+  large.shadowMapSize = 1024;
+  for (const PassListOptions& hard : {PassListOptions{}, binary, large}) {
+    list.build(hard, f.selection, std::vector<uint32_t>{0}, f.product, f.bounds, f.s(), passes);
+    for (const raster::ShadowPass& pass : passes) {
+      EXPECT_EQ(pass.penumbraScale, 0.0f);
+      EXPECT_EQ(pass.penumbraBlocker, 0.0f);
+    }
+  }
+}
 
 TEST(PassList, OnePassPerClusterWithSInCornerOrder) {
   Floor f;
