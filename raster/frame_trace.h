@@ -64,6 +64,11 @@ struct ShadowPass {
 // The largest map an area-penumbra pass may use: its coverage sums, weighted in 1/64
 // texel, then stay below 2^31 (spec §7).
 inline constexpr uint32_t kMaxAreaPenumbraMapSize = 512;
+// And the lookup's other constants: box corners in 1/kPenumbraSubtexels texel, the box's
+// half-width at most kMaxPenumbraHalfWidth texels, the 2x2 PCF up to kMinPenumbraHalfWidth.
+inline constexpr int32_t kPenumbraSubtexels = 64;
+inline constexpr float kMaxPenumbraHalfWidth = 32.0f;
+inline constexpr float kMinPenumbraHalfWidth = 0.5f;
 
 struct StaticView {
   uint32_t width = 0, height = 0;

@@ -48,16 +48,18 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b);
 // band is then drawn as usual. About 40 binary32 operations per band.
 class LightFootprint {
  public:
-  // `margin` texels are added on every side of the lanes' footprints: an area-penumbra
-  // pass's boxes (spec §7) reach up to kMaxPenumbraHalfWidth texels past them.
-  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map, int32_t margin = 0);
+  // With `penumbraScale` > 0 (an area-penumbra pass, spec §7) each band's footprint is
+  // widened by the largest box half-width its pixels can have, K (d - b) for the largest
+  // light depth d the band can reach (at most kMaxPenumbraHalfWidth), plus one texel.
+  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map, float penumbraScale = 0,
+                 float penumbraBlocker = 0);
   bool unwritten(const ReceiverBand& band) const;
 
  private:
   const ShadowLookup& lookup_;
   const ShadowMap& map_;
   bool bounded_;  // every entry of the lookup's matrix within kLimit (receiver_bands.cpp)
-  float margin_;
+  float penumbraScale_, penumbraBlocker_;
 };
 
 }  // namespace penumbra::raster

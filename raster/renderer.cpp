@@ -468,10 +468,9 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     lookup.coverageX1 = r.x1;
     lookup.coverageY1 = r.y1;
   }
-  // An area-penumbra pass's boxes reach up to kMaxPenumbraHalfWidth texels (plus one for the
-  // floors) past the 2x2 footprint; a box meeting no written texel gives W = 0 as well.
-  const LightFootprint footprint(
-      lookup, w.shadowMap, areaPenumbra ? static_cast<int32_t>(kMaxPenumbraHalfWidth) + 1 : 0);
+  // An area-penumbra pass's boxes reach past the 2x2 footprint (LightFootprint widens it by
+  // each band's widest box); a box meeting no written texel gives W = 0 as well.
+  const LightFootprint footprint(lookup, w.shadowMap, pass.penumbraScale, pass.penumbraBlocker);
   // A band without a matching pixel adds nothing; one whose footprint meets no written texel
   // adds nothing either (W = 0, receiver_bands.h), and outside the tiles with objects its
   // pixels match exactly as they did in the static cache, so its count is the band's own.

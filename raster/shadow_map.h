@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -87,29 +88,40 @@ class ShadowMap {
     y1 = std::clamp(y1, y0, size_);
     coverageRect_ = {x0, y0, x1, y1};
     const int32_t w = x1 - x0, h = y1 - y0, cs = w + 2;
-    coverage_.resize(size_t(cs) * size_t(h + 2));
+    coverage_.resize(size_t(cs) * size_t(h + 2) + 8);         // + the last segment's overrun
     std::fill(coverage_.begin(), coverage_.begin() + cs, 0);  // N(i, y0) = 0
-    rowCounts_.resize(size_t(w));
     // Each row in two loops the compiler vectorizes: written flags and the farthest depth,
     // then the row above plus the row's running count. Written depths lie in [0, 1], where a
     // float's bits order as an int32's, and an integer max vectorizes where a float one (with
     // its NaN rules) does not. The running count needs a scalar chain only across segments
     // of 8 texels neither all written nor all unwritten (the occluder's outline); the others
     // add 0 or 1, 2, ..., 8 to it.
-    int32_t farthest = 0;
+    // 16 running maxima, one per lane of a 16-texel step: independent chains the compiler
+    // keeps in vector registers (one chain would wait on its own latency every step).
+    std::array<int32_t, 16> farthestOf{};
     const int32_t segments = (w + 7) / 8;
-    rowCounts_.resize(size_t(segments) * 8 + 8);
+    rowCounts_.resize(size_t(segments) * 8 + 16);
     for (int32_t j = 0; j < h; ++j) {
       const float* row = origin() + rowOffset(y0 + j) + x0;
       int32_t* flags = rowCounts_.data();
-      for (int32_t i = 0; i < w; ++i) {
+      int32_t i = 0;
+      for (; i + 16 <= w; i += 16) {
+        for (int32_t k = 0; k < 16; ++k) {
+          int32_t bits;
+          std::memcpy(&bits, &row[i + k], sizeof bits);
+          const bool written = bits < kInfinityBits;
+          flags[i + k] = written ? 1 : 0;
+          farthestOf[size_t(k)] = std::max(farthestOf[size_t(k)], written ? bits : 0);
+        }
+      }
+      for (; i < w; ++i) {
         int32_t bits;
         std::memcpy(&bits, &row[i], sizeof bits);
         const bool written = bits < kInfinityBits;
         flags[i] = written ? 1 : 0;
-        farthest = std::max(farthest, written ? bits : 0);
+        farthestOf[0] = std::max(farthestOf[0], written ? bits : 0);
       }
-      for (int32_t i = w; i < segments * 8; ++i) flags[i] = 0;
+      for (i = w; i < segments * 8; ++i) flags[i] = 0;
       const int32_t* above = &coverage_[size_t(j) * size_t(cs)] + 1;
       int32_t* out = &coverage_[size_t(j + 1) * size_t(cs)] + 1;
       out[-1] = 0;
@@ -118,8 +130,8 @@ class ShadowMap {
         const int32_t* f = flags + 8 * g;
         int32_t inSegment = 0;
         for (int32_t k = 0; k < 8; ++k) inSegment += f[k];
-        // Past the row's end (the last segment) `out` has room: the table's next row, which
-        // the next row's pass writes again, or the repeated last row written below.
+        // The last segment may write up to 7 entries past the row's end: into the next rows,
+        // which are written again after it, or the 8 entries of slack past the table.
         int32_t* o = out + 8 * g;
         const int32_t* a = above + 8 * g;
         if (inSegment == 0) {
@@ -137,6 +149,7 @@ class ShadowMap {
       }
       out[w] = out[w - 1 < 0 ? -1 : w - 1];
     }
+    const int32_t farthest = *std::max_element(farthestOf.begin(), farthestOf.end());
     std::memcpy(&farthest_, &farthest, sizeof farthest_);
     std::memcpy(&coverage_[size_t(h + 1) * size_t(cs)], &coverage_[size_t(h) * size_t(cs)],
                 sizeof(int32_t) * size_t(cs));

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <utility>
 
+#include "raster/frame_trace.h"
 #include "raster/triangle_setup.h"
 #include "simd/targets.h"
 
@@ -42,12 +43,6 @@ struct ShadowLookup {
   int32_t coverageStride = 0;
   int32_t coverageX0 = 0, coverageY0 = 0, coverageX1 = 0, coverageY1 = 0;
 };
-
-// Area-light penumbrae's constants (spec §7): box corners in 1/kPenumbraSubtexels texel, the
-// box's half-width at most kMaxPenumbraHalfWidth texels, the 2x2 PCF up to kMinPenumbra.
-inline constexpr int32_t kPenumbraSubtexels = 64;
-inline constexpr float kMaxPenumbraHalfWidth = 32.0f;
-inline constexpr float kMinPenumbraHalfWidth = 0.5f;
 
 // One triangle's interpolants, with the plane origin (ox, oy) of spec §5.
 struct SpanPlanes {

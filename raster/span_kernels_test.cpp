@@ -657,13 +657,43 @@ bool footprintStart(const ShadowLookup& s, float sx, float sy, float z, int32_t&
   return true;
 }
 
+// A band of up to 13 x 7 pixels at (x0, y0), its depths spanning up to 2 `depthSpread`
+// within [0, 1].
+ReceiverBand randomBand(std::mt19937& rng, int32_t x0, int32_t y0, float depthSpread) {
+  std::uniform_int_distribution<int32_t> extent(0, 12);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  ReceiverBand band;
+  band.x0 = x0;
+  band.y0 = y0;
+  band.x1 = band.x0 + extent(rng);
+  band.y1 = band.y0 + extent(rng) / 2;
+  band.zMin = 0.5f + 0.5f * f(rng);
+  band.zMax = std::min(1.0f, band.zMin + depthSpread * (f(rng) + 1.0f));
+  band.matched = 1;
+  return band;
+}
+
+// A texel of the map within `spread` texels (each axis) of where the band's middle looks
+// at its nearest depth, or anywhere when it looks at none.
+std::pair<int32_t, int32_t> texelNear(const ShadowLookup& lookup, const ReceiverBand& band,
+                                      std::mt19937& rng, int32_t spread) {
+  std::uniform_int_distribution<int32_t> any(0, lookup.size - 1), near(-spread, spread);
+  int32_t i, j;
+  if (!footprintStart(lookup, static_cast<float>(band.x0 + band.x1) / 2 + 0.5f,
+                      static_cast<float>(band.y0 + band.y1) / 2 + 0.5f, band.zMin, i, j)) {
+    return {any(rng), any(rng)};
+  }
+  return {std::clamp(i + near(rng), 0, lookup.size - 1),
+          std::clamp(j + near(rng), 0, lookup.size - 1)};
+}
+
 // Random projective lookups over small bands, each map with one marked block: whenever a
 // band is reported unwritten, every pixel of its box at its extreme depths and at depths in
 // between (the lookup is not monotone in z as a whole, only each q_r is) misses that block.
 TEST(ReceiverBands, UnwrittenBandsNeverReachAMarkedBlock) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> f(-1.0f, 1.0f);
-  std::uniform_int_distribution<int32_t> pos(0, 600), extent(0, 12);
+  std::uniform_int_distribution<int32_t> pos(0, 600);
   const int32_t size = 64;
   ShadowMap map;
   map.reset(size);
@@ -685,23 +715,10 @@ TEST(ReceiverBands, UnwrittenBandsNeverReachAMarkedBlock) {
     lookup.p[15] = 1.0f + 0.2f * f(rng);
     lookup.size = size;
     lookup.pcf2x2 = trial % 2 == 1;
-    ReceiverBand band;
-    band.x0 = pos(rng);
-    band.y0 = pos(rng);
-    band.x1 = band.x0 + extent(rng);
-    band.y1 = band.y0 + extent(rng) / 2;
-    band.zMin = 0.5f + 0.5f * f(rng);
-    band.zMax = std::min(1.0f, band.zMin + 0.01f * (f(rng) + 1.0f));
-    band.matched = 1;
-    // The marked texel near where the band's middle looks (within 4 texels), so that bands
+    // The marked texel within 4 texels of where the band's middle looks, so that bands
     // reach it, miss it narrowly, or are far from it.
-    int32_t tx = pos(rng) % size, ty = pos(rng) % size;
-    if (int32_t i, j;
-        footprintStart(lookup, static_cast<float>(band.x0 + band.x1) / 2 + 0.5f,
-                       static_cast<float>(band.y0 + band.y1) / 2 + 0.5f, band.zMin, i, j)) {
-      tx = std::clamp(i + extent(rng) % 9 - 4, 0, size - 1);
-      ty = std::clamp(j + extent(rng) % 9 - 4, 0, size - 1);
-    }
+    const ReceiverBand band = randomBand(rng, pos(rng), pos(rng), 0.01f);
+    const auto [tx, ty] = texelNear(lookup, band, rng, 4);
     map.clear(0, 0, size, size);
     map.markWritten(tx, ty, tx + 1, ty + 1);
     map.sumBlocks();
@@ -729,6 +746,76 @@ TEST(ReceiverBands, UnwrittenBandsNeverReachAMarkedBlock) {
     }
   }
   // Both answers occur, so the check above is not vacuous.
+  EXPECT_GT(unwritten, 100);
+  EXPECT_GT(drawn, 100);
+}
+
+// Area-penumbra passes (spec §7): a band LightFootprint calls unwritten, with the box
+// half-widths its light depths allow, gets W = 0 at every pixel and depth: one occluder
+// texel written at depth 0.2 near where the band looks, the scalar reference's sums over the
+// band at 9 depths stay 0. Both answers occur.
+TEST(ReceiverBands, UnwrittenAreaPenumbraBandsAddNothing) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> f(-1.0f, 1.0f);
+  std::uniform_int_distribution<int32_t> pos(0, 100);
+  const int32_t size = 64;
+  ShadowMap map;
+  map.reset(size);
+  int unwritten = 0, drawn = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    ShadowLookup lookup{};
+    lookup.p[0] = 0.3f + 0.05f * f(rng);
+    lookup.p[1] = 0.02f * f(rng);
+    lookup.p[3] = 32.0f * f(rng);
+    lookup.p[4] = 0.02f * f(rng);
+    lookup.p[5] = 0.3f + 0.05f * f(rng);
+    lookup.p[7] = 32.0f * f(rng);
+    lookup.p[10] = 0.5f + 0.1f * f(rng);  // light depth from the pixel's
+    lookup.p[11] = 0.3f + 0.1f * f(rng);
+    lookup.p[12] = 0.0005f * f(rng);
+    lookup.p[15] = 1.0f + 0.2f * f(rng);
+    lookup.size = size;
+    lookup.stride = map.stride();
+    lookup.map = map.origin();
+    lookup.bias = 0.001f;
+    lookup.pcf2x2 = true;
+    lookup.penumbraScale = 30.0f * (f(rng) + 1.0f);
+    lookup.penumbraBlocker = 0.2f;
+    const ReceiverBand band = randomBand(rng, pos(rng), pos(rng) % 20, 0.05f);
+    const auto [tx, ty] = texelNear(lookup, band, rng, 40);
+    map.clear(0, 0, size, size);
+    map.origin()[ty * map.stride() + tx] = 0.2f;
+    map.markWritten(tx, ty, tx + 1, ty + 1);
+    map.sumBlocks();
+    map.sumCoverage(tx, ty, tx + 1, ty + 1);
+    lookup.farthest = map.farthest();
+    lookup.coverage = map.coverage();
+    lookup.coverageStride = map.coverageStride();
+    lookup.coverageX0 = tx;
+    lookup.coverageY0 = ty;
+    lookup.coverageX1 = tx + 1;
+    lookup.coverageY1 = ty + 1;
+    if (!LightFootprint(lookup, map, lookup.penumbraScale, lookup.penumbraBlocker)
+             .unwritten(band)) {
+      ++drawn;
+      continue;
+    }
+    ++unwritten;
+    const int32_t stride = band.x1 + 1, rows = band.y1 + 1;
+    const size_t plane = size_t(stride) * size_t(rows);
+    std::vector<int32_t> xa(size_t(rows), band.x0), xb(size_t(rows), band.x1 + 1);
+    for (int step = 0; step <= 8; ++step) {
+      const float z = band.zMin + (band.zMax - band.zMin) * static_cast<float>(step) / 8;
+      std::vector<float> depth(plane, z);
+      std::vector<uint32_t> sPlane(plane, 0xFFFFFFu);
+      std::vector<uint16_t> acc(3 * plane, 0);
+      scalarSpanKernels().accumulateRows(depth.data(), sPlane.data(), acc.data(), plane,
+                                         size_t(stride), band.y0, rows, &xa[size_t(band.y0)],
+                                         &xb[size_t(band.y0)], lookup);
+      ASSERT_TRUE(std::all_of(acc.begin(), acc.end(), [](uint16_t v) { return v == 0; }))
+          << "trial " << trial << " z " << z;
+    }
+  }
   EXPECT_GT(unwritten, 100);
   EXPECT_GT(drawn, 100);
 }

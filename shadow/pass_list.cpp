@@ -78,11 +78,17 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
     if (options.areaPenumbrae && options.pcf2x2 &&
         options.shadowMapSize <= raster::kMaxAreaPenumbraMapSize) {
       const glm::dvec3 axis = glm::normalize(frustum->sphereCentre - light);
-      raster::ShadowPass& pass = passes[passCluster_.size() - 1];
-      pass.penumbraScale = static_cast<float>(penumbraScale(
+      const double scale = penumbraScale(
           *frustum, clusterHalfWidth(bundle_, cluster, selection.sources, light, axis),
-          options.shadowMapSize));
-      pass.penumbraBlocker = static_cast<float>(blockerDepth(*frustum));
+          options.shadowMapSize);
+      const double blocker = blockerDepth(*frustum);
+      // A light whose box stays within half a texel up to the far plane (window depth 1)
+      // keeps its hard pass: the same bytes in the frustum, and no coverage to sum.
+      if (scale * (1.0 - blocker) > raster::kMinPenumbraHalfWidth) {
+        raster::ShadowPass& pass = passes[passCluster_.size() - 1];
+        pass.penumbraScale = static_cast<float>(scale);
+        pass.penumbraBlocker = static_cast<float>(blocker);
+      }
     }
   }
   fillPasses(
