@@ -92,13 +92,8 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b) {
           a.matched + b.matched};
 }
 
-LightFootprint::LightFootprint(const ShadowLookup& lookup, const ShadowMap& map,
-                               float penumbraScale, float penumbraBlocker)
-    : lookup_(lookup),
-      map_(map),
-      bounded_(true),
-      penumbraScale_(penumbraScale),
-      penumbraBlocker_(penumbraBlocker) {
+LightFootprint::LightFootprint(const ShadowLookup& lookup, const ShadowMap& map)
+    : lookup_(lookup), map_(map), bounded_(true) {
   for (float entry : lookup.p) bounded_ = bounded_ && std::fabs(entry) <= kLimit;
 }
 
@@ -118,12 +113,13 @@ bool LightFootprint::unwritten(const ReceiverBand& band) const {
   lightRowRange(p, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo0, hi0);
   lightRowRange(p + 4, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo1, hi1);
   float margin = 0;
-  if (penumbraScale_ > 0) {
+  if (lookup_.penumbraScale > 0) {
     // The kernels' d = fl(q2 / q3) is at most fl(hi2 / lo3) (hi2 >= 0) or fl(hi2 / hi3), and
     // fl(K fl(d - b)) is non-decreasing in d: no pixel's box is wider than t (NaN: the cap).
     float lo2, hi2;
     lightRowRange(p + 8, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo2, hi2);
-    const float t = penumbraScale_ * (hi2 / (hi2 >= 0 ? lo3 : hi3) - penumbraBlocker_);
+    const float t =
+        lookup_.penumbraScale * (hi2 / (hi2 >= 0 ? lo3 : hi3) - lookup_.penumbraBlocker);
     if (!(t <= kMinPenumbraHalfWidth)) {
       margin = (t < kMaxPenumbraHalfWidth ? t : kMaxPenumbraHalfWidth) + 1.0f;
     }

@@ -48,18 +48,17 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b);
 // band is then drawn as usual. About 40 binary32 operations per band.
 class LightFootprint {
  public:
-  // With `penumbraScale` > 0 (an area-penumbra pass, spec §7) each band's footprint is
-  // widened by the largest box half-width its pixels can have, K (d - b) for the largest
-  // light depth d the band can reach (at most kMaxPenumbraHalfWidth), plus one texel.
-  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map, float penumbraScale = 0,
-                 float penumbraBlocker = 0);
+  // With the lookup's penumbraScale > 0 (an area-penumbra pass, spec §7) each band's
+  // footprint is widened by the largest box half-width its pixels can have, K (d - b) for
+  // the largest light depth d the band can reach (at most kMaxPenumbraHalfWidth), plus one
+  // texel. The lookup is read when a band is asked about, so it may change in between.
+  LightFootprint(const ShadowLookup& lookup, const ShadowMap& map);
   bool unwritten(const ReceiverBand& band) const;
 
  private:
   const ShadowLookup& lookup_;
   const ShadowMap& map_;
   bool bounded_;  // every entry of the lookup's matrix within kLimit (receiver_bands.cpp)
-  float penumbraScale_, penumbraBlocker_;
 };
 
 }  // namespace penumbra::raster

@@ -460,6 +460,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
     w.shadowMap.sumCoverage(w.mapX0, w.mapY0, w.mapX1, w.mapY1);
     const ShadowMap::Rect& r = w.shadowMap.coverageRect();
     lookup.farthest = w.shadowMap.farthest();
+    lookup.penumbraScale = pass.penumbraScale;  // the room's receivers only: 0 for objects
     lookup.penumbraBlocker = pass.penumbraBlocker;
     lookup.coverage = w.shadowMap.coverage();
     lookup.coverageStride = w.shadowMap.coverageStride();
@@ -470,7 +471,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   }
   // An area-penumbra pass's boxes reach past the 2x2 footprint (LightFootprint widens it by
   // each band's widest box); a box meeting no written texel gives W = 0 as well.
-  const LightFootprint footprint(lookup, w.shadowMap, pass.penumbraScale, pass.penumbraBlocker);
+  const LightFootprint footprint(lookup, w.shadowMap);
   // A band without a matching pixel adds nothing; one whose footprint meets no written texel
   // adds nothing either (W = 0, receiver_bands.h), and outside the tiles with objects its
   // pixels match exactly as they did in the static cache, so its count is the band's own.
@@ -565,9 +566,8 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
       flush();
     }
   }
-  lookup.penumbraScale = pass.penumbraScale;  // the room's receivers only (spec §7)
   sweep(pass.depthBias);
-  lookup.penumbraScale = 0;
+  lookup.penumbraScale = 0;  // object triangles keep the 2x2 PCF (spec §7)
 
   // The objects' own receivers (self-shadowing, Gibson 2003 §7.2), with their own bias. Their
   // pixels hold object ids, so they never meet the room's runs: the two sweeps are disjoint.

@@ -93,34 +93,28 @@ class ShadowMap {
     // Each row in two loops the compiler vectorizes: written flags and the farthest depth,
     // then the row above plus the row's running count. Written depths lie in [0, 1], where a
     // float's bits order as an int32's, and an integer max vectorizes where a float one (with
-    // its NaN rules) does not. The running count needs a scalar chain only across segments
-    // of 8 texels neither all written nor all unwritten (the occluder's outline); the others
-    // add 0 or 1, 2, ..., 8 to it.
-    // 16 running maxima, one per lane of a 16-texel step: independent chains the compiler
-    // keeps in vector registers (one chain would wait on its own latency every step).
+    // its NaN rules) does not; 16 running maxima, one per lane of a 16-texel step, are
+    // independent chains (one chain would wait on its own latency every step). The running
+    // count needs a scalar chain only across segments of 8 texels neither all written nor all
+    // unwritten (the occluder's outline); the others add 0 or 1, 2, ..., 8 to it.
     std::array<int32_t, 16> farthestOf{};
     const int32_t segments = (w + 7) / 8;
     rowCounts_.resize(size_t(segments) * 8 + 16);
     for (int32_t j = 0; j < h; ++j) {
       const float* row = origin() + rowOffset(y0 + j) + x0;
       int32_t* flags = rowCounts_.data();
-      int32_t i = 0;
-      for (; i + 16 <= w; i += 16) {
-        for (int32_t k = 0; k < 16; ++k) {
-          int32_t bits;
-          std::memcpy(&bits, &row[i + k], sizeof bits);
-          const bool written = bits < kInfinityBits;
-          flags[i + k] = written ? 1 : 0;
-          farthestOf[size_t(k)] = std::max(farthestOf[size_t(k)], written ? bits : 0);
-        }
-      }
-      for (; i < w; ++i) {
+      auto flag = [&](int32_t i, size_t lane) {
         int32_t bits;
         std::memcpy(&bits, &row[i], sizeof bits);
         const bool written = bits < kInfinityBits;
         flags[i] = written ? 1 : 0;
-        farthestOf[0] = std::max(farthestOf[0], written ? bits : 0);
+        farthestOf[lane] = std::max(farthestOf[lane], written ? bits : 0);
+      };
+      int32_t i = 0;
+      for (; i + 16 <= w; i += 16) {
+        for (int32_t k = 0; k < 16; ++k) flag(i + k, size_t(k));
       }
+      for (; i < w; ++i) flag(i, 0);
       for (i = w; i < segments * 8; ++i) flags[i] = 0;
       const int32_t* above = &coverage_[size_t(j) * size_t(cs)] + 1;
       int32_t* out = &coverage_[size_t(j + 1) * size_t(cs)] + 1;
@@ -147,7 +141,7 @@ class ShadowMap {
         }
         run += inSegment;
       }
-      out[w] = out[w - 1 < 0 ? -1 : w - 1];
+      out[w] = out[w - 1];  // w = 0: out[-1], the 0 of column x0
     }
     const int32_t farthest = *std::max_element(farthestOf.begin(), farthestOf.end());
     std::memcpy(&farthest_, &farthest, sizeof farthest_);

@@ -795,8 +795,7 @@ TEST(ReceiverBands, UnwrittenAreaPenumbraBandsAddNothing) {
     lookup.coverageY0 = ty;
     lookup.coverageX1 = tx + 1;
     lookup.coverageY1 = ty + 1;
-    if (!LightFootprint(lookup, map, lookup.penumbraScale, lookup.penumbraBlocker)
-             .unwritten(band)) {
+    if (!LightFootprint(lookup, map).unwritten(band)) {
       ++drawn;
       continue;
     }
