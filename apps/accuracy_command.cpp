@@ -95,6 +95,8 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_option("--reference-out", cmd->options.referenceOut, "write the reference used as PNG");
   c->add_option("--mask-out", cmd->options.maskOut, "write the shadow region used as PNG");
+  c->add_option("--frames-out", cmd->options.framesOut,
+                "write each measured frame as PNG: F.png becomes F-<passes>.png");
   c->add_flag("--penumbra-reference", cmd->options.penumbraReference,
               "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
               "(the only choice when built without the ray tracer)");

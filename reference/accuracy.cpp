@@ -31,6 +31,16 @@ void writeMask(const std::string& path, const core::Image8& mask) {
   scene::writePng(path, mask.width, mask.height, rgba);
 }
 
+// "dir/f.png", 50 -> "dir/f-50.png"; a name without ".png" gets "-50.png".
+std::string framePath(const std::string& pattern, int passes) {
+  const bool png = pattern.size() >= 4 && pattern.compare(pattern.size() - 4, 4, ".png") == 0;
+  std::string out(pattern, 0, png ? pattern.size() - 4 : pattern.size());
+  out += '-';
+  out += std::to_string(passes);
+  out += ".png";
+  return out;
+}
+
 nlohmann::json orNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
 }
@@ -140,8 +150,9 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
     row.passesAsked = n;
     row.passes = f.stats.passes;
     row.msPerFrame = ms;
-    row.comparison = compareImages(
-        ref, fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes"), &mask, co);
+    const core::Image8 frame = fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes");
+    if (!o.framesOut.empty()) writeRgb(framePath(o.framesOut, n), frame);
+    row.comparison = compareImages(ref, frame, &mask, co);
     row.contact = contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, o.contactRadius);
     if (onRow) onRow(row);
     report.rows.push_back(std::move(row));

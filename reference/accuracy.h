@@ -59,6 +59,8 @@ struct AccuracyOptions {
   ReferenceOptions rays;  // the ray-traced reference's sampling
 
   std::string referenceOut, maskOut;  // when set, the reference and region used as PNG
+  // When set, each measured frame as PNG: framesOut with "-<passes asked>" before ".png".
+  std::string framesOut;
   // The product and pose measured (`--product`, `--pose`); unset: the bundle's start pose.
   std::optional<shadow::ProductPose> pose;
 };

@@ -35,6 +35,8 @@ TEST(Accuracy, AllPassesEqualTheStandInFewerDoNot) {
   std::filesystem::create_directories(dir);
   AccuracyOptions o = standIn();
   o.maskOut = (dir / "mask.png").string();
+  o.referenceOut = (dir / "reference.png").string();
+  o.framesOut = (dir / "frame.png").string();
   std::vector<int> seen;
   const AccuracyReport r = measureAccuracy(
       showroom(), o, [&](const AccuracyRow& row) { seen.push_back(row.passesAsked); });
@@ -61,6 +63,14 @@ TEST(Accuracy, AllPassesEqualTheStandInFewerDoNot) {
   uint64_t inside = 0;
   for (uint8_t v : written.pixels) inside += v ? 1 : 0;
   EXPECT_EQ(inside, few.comparison.masked->pixels);
+
+  // The frames written out are the ones measured: all passes is the stand-in, byte for byte.
+  const core::Image8 reference = loadRgb8(o.referenceOut);
+  const auto frameFile = [&](int n) {
+    return (dir / ("frame-" + std::to_string(n) + ".png")).string();
+  };
+  EXPECT_EQ(loadRgb8(frameFile(o.passes[1])).pixels, reference.pixels);
+  EXPECT_NE(loadRgb8(frameFile(o.passes[0])).pixels, reference.pixels);
 
   const nlohmann::json j = toJson("showroom.bundle", o, r);
   EXPECT_EQ(j["results"][1]["psnr"], nullptr) << "identical frames: PSNR is infinite";
