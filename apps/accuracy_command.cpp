@@ -24,18 +24,22 @@ struct AccuracyCommand {
   int product = -1;  // -1: the pose's product
   bool singleShare = false;
   bool hardPasses = false;
-  int mapSize = 256, referenceMap = 2048;
+  int mapSize = 0, referenceMap = 2048;  // mapSize 0: the bundle's
+  int fineProxyPasses = -1;              // -1: the bundle's
   RenderFlags render;
   reference::AccuracyOptions options;
 
   int run() {
     options.render = toOptions(render);
-    options.shadowMapSize = uint32_t(mapSize);
     options.referenceMapSize = uint32_t(referenceMap);
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
-    options.areaPenumbrae = !hardPasses;
     const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
+    // What the flags do not say, the bundle's settings do (as render and the kiosk use them).
+    const shadow::RenderSettings& s = bundle.settings;
+    options.shadowMapSize = mapSize != 0 ? uint32_t(mapSize) : s.shadowMapSize;
+    options.fineProxyPasses = fineProxyPasses >= 0 ? uint32_t(fineProxyPasses) : s.fineProxyPasses;
+    options.areaPenumbrae = !hardPasses && s.areaPenumbrae;
     if (!pose.empty() || product >= 0) options.pose = requestedPose(bundle, pose, product);
     const reference::AccuracyReport report =
         reference::measureAccuracy(bundle, options, [](const reference::AccuracyRow& r) {
@@ -84,9 +88,8 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--frames", cmd->options.frames, "timed frames per pass count (median)")
       ->check(cli::NumberRange(1, 10000))
       ->capture_default_str();
-  c->add_option("--shadow-map", cmd->mapSize, "shadow-map size")
-      ->check(cli::NumberRange(16, 8192))
-      ->capture_default_str();
+  c->add_option("--shadow-map", cmd->mapSize, "shadow-map size (default: the bundle's settings)")
+      ->check(cli::NumberRange(16, 8192));
   c->add_option("--reference-map", cmd->referenceMap, "map size of the Penumbra stand-in")
       ->check(cli::NumberRange(16, 8192))
       ->capture_default_str();
@@ -131,15 +134,15 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
               "graded transfers with one occluded share per vertex, not one per cluster");
   c->add_flag("--hard-passes", cmd->hardPasses,
               "every pass's shadow edge hard (2x2 PCF), as Gibson 2003 casts them, not spread "
-              "over its light's penumbra (shadow/area_penumbra.h)");
+              "over its light's penumbra (shadow/area_penumbra.h); also when the bundle's "
+              "settings say so");
   c->add_option("--depth-bias", cmd->options.depthBias, "receivers' shadow-map depth bias")
       ->check(cli::NumberRange(0.0, 1.0))
       ->capture_default_str();
-  c->add_option("--fine-proxy-passes", cmd->options.fineProxyPasses,
+  c->add_option("--fine-proxy-passes", cmd->fineProxyPasses,
                 "passes (the most energetic first) that draw the product's fine shadow proxy, "
-                "when the bundle has one")
-      ->check(cli::NumberRange(0, 100000))
-      ->capture_default_str();
+                "when the bundle has one (default: the bundle's settings)")
+      ->check(cli::NumberRange(0, 100000));
   c->add_option("--contact-radius", cmd->options.contactRadius,
                 "contact band: shadow pixels this close to the product (pixels)")
       ->check(cli::NumberRange(1, 256))

@@ -8,6 +8,8 @@
 #include <memory>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/render_flags.h"
 #include "core/cli.h"
 #include "core/clock.h"
@@ -17,6 +19,7 @@
 #include "scene/sha256.h"
 #include "shadow/frame_loop.h"
 #include "shadow/frame_runs.h"
+#include "shadow/render_settings.h"
 #include "shadow/scene_bundle.h"
 #ifdef PENUMBRA_HAVE_LIGHTING
 #include "lighting/precompute.h"
@@ -96,7 +99,7 @@ struct Session {
   explicit Session(const SceneFlags& flags)
       : bundle(shadow::loadBundle(flags.bundle)),
         pose(poseOf(flags, bundle)),
-        loop(bundle, shadow::CompositorOptions{}, toOptions(flags.render)) {}
+        loop(bundle, shadow::compositorOptions(bundle.settings), toOptions(flags.render)) {}
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -124,7 +127,8 @@ struct RenderCommand {
     if (fps > 0) {
       // Frame-rate control (Gibson 2003 §8): let the controller settle on this machine,
       // then keep its last frame.
-      n = shadow::settleFrameRate(loop, pose, shadow::renderControllerOptions(fps)).passes;
+      n = shadow::settleFrameRate(loop, pose, shadow::renderControllerOptions(fps, bundle.settings))
+              .passes;
     } else {
       // The first frame measures where the product blocks the light, the second takes its
       // intensity transfers at those occluded shares (docs/fig3.md).
@@ -166,13 +170,13 @@ struct ProfileCommand {
   SceneFlags scene;
   std::vector<int> passes{1, 5, 10, 20, 50, 100, 200};
   int frames = 20;
-  int shadowMapSize = 256;
+  int shadowMapSize = 0;  // 0: the bundle's (its settings)
   std::string csv, plot;
 
   int run() const {
     Session session(scene);
     shadow::FrameLoop& loop = session.loop;
-    loop.compositor.setShadowMapSize(static_cast<uint32_t>(shadowMapSize));
+    if (shadowMapSize != 0) loop.compositor.setShadowMapSize(static_cast<uint32_t>(shadowMapSize));
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     // ms_total: the median frame; ms_mean: the mean frame, which the stages' means (the
@@ -226,6 +230,82 @@ struct ProfileCommand {
         throw std::runtime_error("plotting failed (python3 with matplotlib is needed): " + command);
       }
     }
+    return 0;
+  }
+};
+
+// --- info --------------------------------------------------------------------------------
+
+// What a bundle holds and the settings its frames are drawn with (issue 17: `penumbra info`).
+nlohmann::json bundleInfo(const std::string& path, const shadow::SceneBundle& b) {
+  nlohmann::json products = nlohmann::json::array();
+  for (size_t i = 0; i < b.products.size(); ++i) {
+    const shadow::ProductModel& p = b.products[i];
+    products.push_back({{"index", i},
+                        {"name", p.name},
+                        {"triangles", p.mesh.triangleCount()},
+                        {"proxy_triangles", p.proxy.triangleCount()},
+                        {"fine_proxy_triangles", p.fineProxy.triangleCount()},
+                        {"vertex_normals", !p.normals.empty()},
+                        {"vertex_colours", !p.reflectances.empty()}});
+  }
+  const shadow::RenderSettings& s = b.settings;
+  const shadow::IrradianceVolume& v = b.irradiance;
+  return {{"bundle", path},
+          {"view", {{"width", b.view.width}, {"height", b.view.height}}},
+          {"room_triangles", b.view.staticMesh.triangleCount()},
+          {"patches", b.patches.size()},
+          {"sources", b.sets.sources.size()},
+          {"power_share", b.sets.powerShare},
+          {"receivers", b.sets.receivers.size()},
+          {"receiver_vertices", b.transfers.receiverVertices.size()},
+          {"transfer_entries", b.transfers.entryVertex.size()},
+          {"irradiance_volume",
+           v.empty() ? nlohmann::json(nullptr) : nlohmann::json{v.dims.x, v.dims.y, v.dims.z}},
+          {"products", products},
+          {"start_pose",
+           {{"product", b.startPose.product},
+            {"x", b.startPose.x},
+            {"lift", b.startPose.lift},
+            {"z", b.startPose.z},
+            {"yaw_deg", b.startPose.yawDegrees}}},
+          {"settings",
+           {{"tuned", s.tuned},
+            {"max_passes", s.maxPasses},
+            {"shadow_map_sizes", shadow::shadowMapLadder(s)},
+            {"fine_proxy_passes", s.fineProxyPasses},
+            {"area_penumbrae", s.areaPenumbrae}}}};
+}
+
+struct InfoCommand {
+  std::string bundle;
+  bool json = false;
+
+  int run() const {
+    const nlohmann::json j = bundleInfo(bundle, shadow::loadBundle(bundle));
+    if (json) {
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    const auto str = [](const nlohmann::json& v) { return v.dump(); };
+    std::cout << "bundle " << bundle << "\n"
+              << "view " << str(j["view"]["width"]) << "x" << str(j["view"]["height"]) << ", "
+              << str(j["room_triangles"]) << " room triangles, " << str(j["patches"])
+              << " patches\n"
+              << "light " << str(j["sources"]) << " sources (power share " << str(j["power_share"])
+              << "), " << str(j["receivers"]) << " receivers, " << str(j["receiver_vertices"])
+              << " receiver vertices, " << str(j["transfer_entries"]) << " transfers\n"
+              << "irradiance_volume " << str(j["irradiance_volume"]) << "\n";
+    for (const nlohmann::json& p : j["products"]) {
+      std::cout << "product " << str(p["index"]) << " " << p["name"].get<std::string>() << ": "
+                << str(p["triangles"]) << " triangles, proxy " << str(p["proxy_triangles"])
+                << ", fine proxy " << str(p["fine_proxy_triangles"]) << "\n";
+    }
+    const nlohmann::json& s = j["settings"];
+    std::cout << "settings " << (s["tuned"].get<bool>() ? "tuned" : "defaults") << ": max_passes "
+              << str(s["max_passes"]) << ", shadow_map_sizes " << str(s["shadow_map_sizes"])
+              << ", fine_proxy_passes " << str(s["fine_proxy_passes"]) << ", area_penumbrae "
+              << (s["area_penumbrae"].get<bool>() ? "on" : "off") << "\n";
     return 0;
   }
 };
@@ -285,6 +365,12 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
        }});
 #endif
 
+  auto info = std::make_shared<InfoCommand>();
+  CLI::App* in = app.add_subcommand("info", "What a scene bundle holds and its render settings");
+  in->add_option("BUNDLE", info->bundle, "scene bundle (penumbra precompute)")->required();
+  in->add_flag("--json", info->json, "print it as JSON");
+  commands.push_back({in, [info] { return info->run(); }});
+
   auto render = std::make_shared<RenderCommand>();
   CLI::App* r = app.add_subcommand("render", "One frame of a product in the showroom");
   addSceneFlags(r, render->scene);
@@ -313,10 +399,9 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
       ->check(cli::NumberRange(1, 10000))
       ->capture_default_str();
   p->add_option("--shadow-map-size", profile->shadowMapSize,
-                "shadow-map side in texels (a multiple of 16; the controller's ladder: 256, 128, "
-                "64)")
-      ->check(CLI::Range(16, 4096))  // and a multiple of 16: FrameCompositor::setShadowMapSize
-      ->capture_default_str();
+                "shadow-map side in texels, a multiple of 16 (default: the bundle's settings, "
+                "`penumbra info`)")
+      ->check(CLI::Range(16, 4096));  // and a multiple of 16: FrameCompositor::setShadowMapSize
   p->add_option("--csv", profile->csv, "CSV output")->required();
   p->add_option("--plot", profile->plot, "PNG chart (matplotlib)");
   commands.push_back({p, [profile] { return profile->run(); }});

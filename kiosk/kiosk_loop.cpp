@@ -8,6 +8,7 @@
 
 #include "scene/portable_trig.h"
 #include "shadow/frame_loop.h"
+#include "shadow/render_settings.h"
 
 namespace penumbra::kiosk {
 
@@ -90,7 +91,7 @@ std::vector<uint32_t> validateProducts(const shadow::SceneBundle& bundle,
 struct KioskLoop::State {
   State(const shadow::SceneBundle& b, const KioskOptions& o, const raster::RenderOptions& r)
       : debouncer(o.debounce),
-        loop(b, shadow::CompositorOptions{}, r),
+        loop(b, shadow::compositorOptions(b.settings), r),
         background(b.background),
         foreground(b.background, b.view.width, b.view.height, o.foreground) {}
 
@@ -216,10 +217,12 @@ void KioskLoop::rebuildController() {
   shadow::FrameRateController::Options o;
   o.targetFrameNs = s_->quality ? options_.qualityFrameNs : options_.fastFrameNs;
   o.fixedCostNs = options_.fixedCostNs;
-  o.minPasses = options_.minPasses;
-  o.maxPasses = options_.maxPasses;
-  o.initialPasses = options_.initialPasses;
-  o.shadowMapSizes = options_.shadowMapSizes;
+  // A bundle tuned to fewer passes than the kiosk allows caps them; the floor and the
+  // start follow the cap down.
+  o.maxPasses = std::min(options_.maxPasses, bundle_.settings.maxPasses);
+  o.minPasses = std::min(options_.minPasses, o.maxPasses);
+  o.initialPasses = std::min(options_.initialPasses, o.maxPasses);
+  o.shadowMapSizes = shadow::shadowMapLadder(bundle_.settings);
   s_->controller = std::make_unique<shadow::FrameRateController>(o);
 }
 

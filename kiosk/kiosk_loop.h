@@ -76,8 +76,9 @@ struct KioskOptions {
   int64_t fastFrameNs = 33'333'333;     // fast mode: 30 fps (issue 6 target)
   int64_t qualityFrameNs = 66'666'667;  // quality mode: 15 fps, more passes
   int64_t fixedCostNs = 0;              // the controller's F̂ (underestimate, see its .h)
+  // The bundle's settings (shadow/render_settings.h) lower maxPasses further and set the
+  // shadow maps: their size, then its half and its quarter when the frame rate needs.
   uint32_t minPasses = 4, maxPasses = 64, initialPasses = 8;
-  std::vector<uint32_t> shadowMapSizes{256, 128, 64};
   int64_t attractAfterNs = 20'000'000'000;         // idle time before attract mode
   uint32_t attractMilliDegreesPerSecond = 12'000;  // how fast attract mode walks
   float moveStepMetres = 0.1f;

@@ -5,14 +5,14 @@
 
 namespace penumbra::shadow {
 
-FrameRateController::Options renderControllerOptions(double fps) {
+FrameRateController::Options renderControllerOptions(double fps, const RenderSettings& settings) {
   if (!(fps > 0)) throw std::invalid_argument("frame rate must be positive");
   FrameRateController::Options o;
   o.targetFrameNs = static_cast<int64_t>(1e9 / fps);
-  o.maxPasses = 200;
-  o.initialPasses = 8;
-  o.minPasses = 4;
-  o.shadowMapSizes = {256, 128, 64};  // below 4 passes, smaller maps first
+  o.maxPasses = settings.maxPasses;
+  o.initialPasses = std::min(8u, o.maxPasses);
+  o.minPasses = std::min(4u, o.maxPasses);
+  o.shadowMapSizes = shadowMapLadder(settings);  // below minPasses, smaller maps first
   return o;
 }
 

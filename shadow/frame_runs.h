@@ -17,9 +17,10 @@
 
 namespace penumbra::shadow {
 
-// The controller `penumbra render --fps` uses: 8 passes to start, 4 to 200, and below 4
-// passes the 256 map halved to 128 and 64 first.
-FrameRateController::Options renderControllerOptions(double fps);
+// The controller `penumbra render --fps` uses: 8 passes to start, 4 to the bundle's pass
+// ceiling (fewer when the ceiling is lower), and below 4 passes the bundle's map halved
+// twice first (shadowMapLadder).
+FrameRateController::Options renderControllerOptions(double fps, const RenderSettings& settings);
 
 // The time a frame took, as the controller is told: the loop's measured wall time by
 // default. Tests give a cost model instead, so that what they check does not depend on how

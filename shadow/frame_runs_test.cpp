@@ -41,8 +41,10 @@ TEST(FrameRuns, ProfileSlidesTheProductAndReportsTheLastFrame) {
 TEST(FrameRuns, AGenerousBudgetRaisesThePasses) {
   const SceneBundle& b = testing::showroomBundle();
   FrameLoop loop(b, 256, {});
-  const FrameRateController::Options o = renderControllerOptions(1.0);  // one second a frame
+  // One second a frame.
+  const FrameRateController::Options o = renderControllerOptions(1.0, b.settings);
   EXPECT_EQ(o.initialPasses, 8u);
+  EXPECT_EQ(o.maxPasses, b.settings.maxPasses);
   // 1 ms a frame against a budget of one second: the controller must add passes. A cost
   // model, not the wall clock, so a loaded machine (a frame can take a second under ASan)
   // cannot change the outcome.
@@ -52,7 +54,26 @@ TEST(FrameRuns, AGenerousBudgetRaisesThePasses) {
   EXPECT_GT(d.passes, o.initialPasses);
   EXPECT_EQ(d.shadowMapSize, 256u);
   for (const raster::ShadowPass& pass : loop.frame.passes) EXPECT_EQ(pass.shadowMapSize, 256u);
-  EXPECT_THROW(renderControllerOptions(0.0), std::invalid_argument);
+  EXPECT_THROW(renderControllerOptions(0.0, b.settings), std::invalid_argument);
+}
+
+// A bundle's settings bound what the controller may pick: a tuned ceiling of 6 passes and
+// 128-texel maps hold however generous the budget.
+TEST(FrameRuns, TheBundlesSettingsBoundTheController) {
+  const SceneBundle& b = testing::showroomBundle();
+  RenderSettings tuned = b.settings;
+  tuned.maxPasses = 6;
+  tuned.shadowMapSize = 128;
+  const FrameRateController::Options o = renderControllerOptions(1.0, tuned);
+  EXPECT_EQ(o.initialPasses, 6u);
+  EXPECT_EQ(o.minPasses, 4u);
+  EXPECT_EQ(o.shadowMapSizes, (std::vector<uint32_t>{128, 64, 32}));
+  FrameLoop loop(b, compositorOptions(tuned), {});
+  const auto oneMillisecond = [](const FrameLoop&) { return int64_t{1'000'000}; };
+  const FrameRateController::Decision d = settleFrameRate(loop, b.startPose, o, 6, oneMillisecond);
+  EXPECT_EQ(d.passes, 6u);
+  EXPECT_EQ(d.shadowMapSize, 128u);
+  for (const raster::ShadowPass& pass : loop.frame.passes) EXPECT_LE(pass.shadowMapSize, 256u);
 }
 
 }  // namespace

@@ -178,6 +178,12 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   w.add<uint8_t>("irradiance.valid", v.valid);
   w.add<float>("irradiance.fallback", v.fallback);
   w.add<glm::vec3>("patch_radiance", b.patchRadiance);
+  const RenderSettings& rs = b.settings;
+  w.addValue<uint32_t>("settings.max_passes", rs.maxPasses);
+  w.addValue<uint32_t>("settings.shadow_map_size", rs.shadowMapSize);
+  w.addValue<uint32_t>("settings.fine_proxy_passes", rs.fineProxyPasses);
+  w.addValue<uint32_t>("settings.area_penumbrae", rs.areaPenumbrae ? 1u : 0u);
+  w.addValue<uint32_t>("settings.tuned", rs.tuned ? 1u : 0u);
   w.write(path);
 }
 
@@ -271,6 +277,25 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
   for (const glm::vec3& l : b.patchRadiance) {
     for (int c = 0; c < 3; ++c) {
       if (!(l[c] >= 0 && std::isfinite(l[c]))) r.fail("patch_radiance", "negative or not finite");
+    }
+  }
+
+  if (r.version() >= 7) {
+    RenderSettings& rs = b.settings;
+    rs.maxPasses = r.getValue<uint32_t>("settings.max_passes");
+    rs.shadowMapSize = r.getValue<uint32_t>("settings.shadow_map_size");
+    rs.fineProxyPasses = r.getValue<uint32_t>("settings.fine_proxy_passes");
+    const auto flag = [&](const std::string& name) {
+      const uint32_t v = r.getValue<uint32_t>(name);
+      if (v > 1) r.fail(name, "is " + std::to_string(v) + ", not 0 or 1");
+      return v == 1;
+    };
+    rs.areaPenumbrae = flag("settings.area_penumbrae");
+    rs.tuned = flag("settings.tuned");
+    try {
+      validateRenderSettings(rs);
+    } catch (const std::invalid_argument& e) {
+      r.fail("settings", e.what());
     }
   }
 

@@ -17,6 +17,7 @@
 #include "shadow/intensity_transfer.h"
 #include "shadow/irradiance_volume.h"
 #include "shadow/light_transport.h"
+#include "shadow/render_settings.h"
 
 namespace penumbra::shadow {
 
@@ -24,7 +25,8 @@ namespace penumbra::shadow {
 // 5: the products' per-vertex normals and reflectances (issue 15 item 6). Version 4 bundles
 // still load: their products have neither (area-weighted normals, one reflectance).
 // 6: the products' fine shadow proxies (`fine_proxy_triangles`); older bundles load without.
-inline constexpr uint32_t kBundleVersion = 6;
+// 7: the render settings (shadow/render_settings.h); older bundles load with the defaults.
+inline constexpr uint32_t kBundleVersion = 7;
 inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).
@@ -95,6 +97,8 @@ struct SceneBundle {
   // Outgoing radiance per patch (what the volume was gathered from): the room as the
   // products' specular environment maps show it. Empty: no specular term.
   std::vector<glm::vec3> patchRadiance;
+  // How its frames are drawn: the defaults, or what `penumbra tune` chose for this scene.
+  RenderSettings settings;
 };
 
 // The room's patch mesh as stored in the bundle (float data widened to double): what the

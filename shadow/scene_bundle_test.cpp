@@ -47,6 +47,17 @@ fs::path tempPath(const char* name) {
   return fs::temp_directory_path() / name;
 }
 
+// Saves `b` to `path` and loads it back: the refusal's message, or "accepted".
+std::string refusalOf(const SceneBundle& b, const fs::path& path) {
+  saveBundle(b, path);
+  try {
+    loadBundle(path);
+  } catch (const scene::BundleError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
 TEST(SceneBundle, RoundTripIsExact) {
   const SceneBundle b = smallBundle();
   const fs::path path = tempPath("penumbra-scene-bundle-roundtrip.bundle");
@@ -88,20 +99,37 @@ TEST(SceneBundle, InconsistentContentIsNamed) {
   fs::remove(path);
 }
 
+// v7: the render settings round-trip, and a bundle carrying unusable ones is refused with
+// the setting named.
+TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
+  const fs::path path = tempPath("penumbra-scene-bundle-settings.bundle");
+  SceneBundle b = smallBundle();
+  EXPECT_EQ(b.settings, RenderSettings{});
+  b.settings = {24, 128, 8, false, true};
+  saveBundle(b, path);
+  EXPECT_EQ(loadBundle(path).settings, b.settings);
+  const auto refusal = [&](const RenderSettings& s) {
+    b.settings = s;
+    return refusalOf(b, path);
+  };
+  EXPECT_EQ(refusal({0, 256, 16, true, false}),
+            path.string() + ": section 'settings': settings.max_passes: 0 is not in [1, 257]");
+  EXPECT_EQ(refusal({64, 200, 16, true, false}),
+            path.string() +
+                ": section 'settings': settings.shadow_map_size: 200 is not a multiple of 16 in "
+                "[64, 4096]");
+  EXPECT_EQ(
+      refusal({64, 256, 300, true, false}),
+      path.string() + ": section 'settings': settings.fine_proxy_passes: 300 is more than 257");
+  fs::remove(path);
+}
+
 // Issue 18: a bundle whose camera sees no receiver, or without a room, made `render` and
 // the kiosk segfault while building the compositor. Refused at load, as precompute refuses
 // to write it, so the kiosk falls back to its last good bundle.
 TEST(SceneBundle, BundleWithNothingToShadeIsRefused) {
   const fs::path path = tempPath("penumbra-scene-bundle-empty.bundle");
-  const auto refusal = [&](const SceneBundle& b) -> std::string {
-    saveBundle(b, path);
-    try {
-      loadBundle(path);
-    } catch (const scene::BundleError& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
+  const auto refusal = [&](const SceneBundle& b) { return refusalOf(b, path); };
   SceneBundle b = smallBundle();
   b.sets.receivers.clear();
   EXPECT_EQ(
@@ -260,15 +288,17 @@ std::vector<RawSection> readSections(const fs::path& path) {
 // Version 4 and 5 bundles still load: a version 4 bundle (before per-vertex normals and
 // reflectances) has neither, and shades with area-weighted normals and its one reflectance;
 // neither has fine proxies (version 6), so every pass draws the proxy.
-TEST(SceneBundle, Version4And5BundlesStillLoad) {
+TEST(SceneBundle, Version4To6BundlesStillLoad) {
   SceneBundle b = smallBundle();
   b.products[0].normals.assign(4, {0, 1, 0});
+  b.settings.maxPasses = 12;  // not the defaults, which the older versions must load with
   const fs::path path = tempPath("penumbra-scene-bundle-old-compat.bundle");
-  for (const uint32_t version : {4u, 5u}) {
+  for (const uint32_t version : {4u, 5u, 6u}) {
     saveBundle(b, path);
     // Rewritten as `version`: the same sections without the newer ones, rehashed.
     const auto newer = [&](const std::string& name) {
-      if (name.find(".fine_proxy.") != std::string::npos) return true;
+      if (name.starts_with("settings.")) return true;
+      if (version < 6 && name.find(".fine_proxy.") != std::string::npos) return true;
       return version < 5 && (name.ends_with(".normals") || name.ends_with(".reflectances"));
     };
     std::string body;
@@ -288,9 +318,9 @@ TEST(SceneBundle, Version4And5BundlesStillLoad) {
       body += sec.data;
       ++kept;
     }
-    // Two products: positions and indices of each fine proxy, and in version 4 also
-    // normals and reflectances.
-    EXPECT_EQ(dropped, version < 5 ? 8u : 4u);
+    // The five settings; before version 6 the two products' fine proxies (positions and
+    // indices), before 5 also their normals and reflectances.
+    EXPECT_EQ(dropped, 5u + (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u)) << version;
     scene::Sha256 hash;
     hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
     const auto digest = hash.finish();
@@ -306,7 +336,8 @@ TEST(SceneBundle, Version4And5BundlesStillLoad) {
     ASSERT_EQ(r.products.size(), 2u);
     EXPECT_EQ(r.products[0].normals.empty(), version < 5) << version;
     EXPECT_TRUE(r.products[0].reflectances.empty());
-    EXPECT_TRUE(r.products[0].fineProxy.indices.empty()) << version;
+    EXPECT_EQ(r.products[0].fineProxy.indices.empty(), version < 6) << version;
+    EXPECT_EQ(r.settings, RenderSettings{}) << version;
     EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
     EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);
     EXPECT_EQ(r.products[0].reflectance, b.products[0].reflectance);

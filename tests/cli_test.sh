@@ -17,6 +17,29 @@ for sub in "" replay isas bench-replay "${envmap_bench[@]}"; do
   check "help: penumbra $sub --help" $?
 done
 
+# info: what the showroom bundle holds and its settings (the defaults: it predates them),
+# as text and as JSON; a damaged bundle refused naming the file.
+"${run[@]}" info "$data/showroom/showroom.bundle" >"$tmp/info" 2>&1
+status=$?
+[[ $status == 0 ]] && grep -qF "settings defaults: max_passes 64, shadow_map_sizes [256,128,64]" "$tmp/info" \
+  && grep -qF "product 2 teapot:" "$tmp/info"
+check "info: the showroom's products and default settings ($(head -c 300 "$tmp/info"))" $status
+"${run[@]}" info "$data/showroom/showroom.bundle" --json >"$tmp/info.json" 2>&1
+python3 -c "
+import json, sys
+j = json.load(open(sys.argv[1]))
+s = j['settings']
+assert s == {'tuned': False, 'max_passes': 64, 'shadow_map_sizes': [256, 128, 64],
+             'fine_proxy_passes': 16, 'area_penumbrae': True}, s
+assert [p['name'] for p in j['products']] == ['chair', 'bunny', 'teapot'], j['products']
+" "$tmp/info.json"
+check "info --json: settings and products" $?
+head -c 1000 "$data/showroom/showroom.bundle" >"$tmp/cut.bundle"
+"${run[@]}" info "$tmp/cut.bundle" >/dev/null 2>"$tmp/stderr"
+status=$?
+[[ $status == 1 ]] && grep -qF "cut.bundle" "$tmp/stderr"
+check "info: a truncated bundle is refused naming it ($(head -c 200 "$tmp/stderr"))" $?
+
 want="$(awk '$1 == "tiny.json" {print $2}' "$golden")"
 got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)"
 [[ "$got" == "sha256 $want" ]]

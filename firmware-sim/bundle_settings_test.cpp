@@ -1,0 +1,46 @@
+// The kiosk draws a bundle's frames with the bundle's render settings (issue 17): a tuned
+// pass ceiling and map size hold on the simulated board however generous its budget.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "firmware-sim/session.h"
+#include "firmware-sim/sim_run.h"
+#include "shadow/scene_bundle.h"
+#include "tests/scratch_dir.h"
+
+namespace penumbra::firmware_sim {
+namespace {
+
+TEST(BundleSettings, TheKioskKeepsToATunedBundlesCeilingAndMaps) {
+  const std::filesystem::path dir = test::scratchPath("bundle-settings");
+  std::filesystem::create_directories(dir);
+  shadow::SceneBundle bundle =
+      shadow::loadBundle(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom/showroom.bundle");
+  bundle.settings.maxPasses = 6;
+  bundle.settings.shadowMapSize = 128;
+  bundle.settings.tuned = true;
+  shadow::saveBundle(bundle, dir / "tuned.bundle");
+  // A board that takes 1 ms a frame against a 33 ms budget: the controller climbs to its
+  // ceiling at once.
+  std::ofstream(dir / "session.json")
+      << R"({"format": "penumbra-session", "version": 1, "bundle": "tuned.bundle",
+      "frames": 40, "kiosk": {"max_passes": 64, "initial_passes": 8},
+      "board": {"fixed_us": 1000, "per_pass_us": 0, "per_texel_ps": 0, "per_pixel_ps": 0}})";
+  const Session session = loadSession(dir / "session.json");
+  SimRun run(session, bestTargetOneThread());
+  uint32_t most = 0;
+  for (uint32_t i = 0; i < session.frames; ++i) {
+    const kiosk::FrameReport r = run.step();
+    EXPECT_LE(r.passesAsked, 6u) << "frame " << r.frame;
+    EXPECT_EQ(r.shadowMapSize, 128u) << "frame " << r.frame;
+    most = std::max(most, r.passesAsked);
+  }
+  EXPECT_EQ(most, 6u);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace penumbra::firmware_sim

@@ -1,0 +1,44 @@
+#include "shadow/render_settings.h"
+
+#include "shadow/frame_compositor.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace penumbra::shadow {
+
+void validateRenderSettings(const RenderSettings& s) {
+  const auto bad = [](const std::string& field, const std::string& why) {
+    throw std::invalid_argument("settings." + field + ": " + why);
+  };
+  if (s.maxPasses < 1 || s.maxPasses > kMaxSettingsPasses) {
+    bad("max_passes",
+        std::to_string(s.maxPasses) + " is not in [1, " + std::to_string(kMaxSettingsPasses) + "]");
+  }
+  if (s.shadowMapSize < 64 || s.shadowMapSize > 4096 || s.shadowMapSize % 16 != 0) {
+    bad("shadow_map_size",
+        std::to_string(s.shadowMapSize) + " is not a multiple of 16 in [64, 4096]");
+  }
+  if (s.fineProxyPasses > kMaxSettingsPasses) {
+    bad("fine_proxy_passes",
+        std::to_string(s.fineProxyPasses) + " is more than " + std::to_string(kMaxSettingsPasses));
+  }
+}
+
+CompositorOptions compositorOptions(const RenderSettings& s) {
+  CompositorOptions c;
+  c.shadowMapSize = s.shadowMapSize;
+  c.fineProxyPasses = s.fineProxyPasses;
+  c.areaPenumbrae = s.areaPenumbrae;
+  return c;
+}
+
+std::vector<uint32_t> shadowMapLadder(const RenderSettings& s) {
+  // Halving a multiple of 16 that is at least 64 twice leaves a multiple of 4 of at least
+  // 16: rounded down to 16, the rungs stay valid map sizes and strictly decreasing.
+  const auto rung = [](uint32_t size) { return std::max(16u, size / 16 * 16); };
+  return {s.shadowMapSize, rung(s.shadowMapSize / 2), rung(s.shadowMapSize / 4)};
+}
+
+}  // namespace penumbra::shadow

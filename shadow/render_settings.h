@@ -1,0 +1,45 @@
+// The per-frame settings a scene bundle carries (issue 17): how many passes a frame may
+// draw, how large its shadow maps are, how many passes draw the fine proxy, whether the
+// passes spread their edges over area-light penumbrae. `penumbra precompute` writes the
+// defaults; a tuned bundle carries what its scene needs. `penumbra render`, `profile`,
+// `accuracy`, the kiosk and the simulator start from them, so the same bundle gives the
+// same frames everywhere.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace penumbra::shadow {
+
+struct CompositorOptions;  // shadow/frame_compositor.h (which includes the bundle, so not here)
+
+struct RenderSettings {
+  // The pass ceiling (Gibson 2003 §8's frame-rate control picks at most this many; the
+  // kiosk's own max_passes can only lower it).
+  uint32_t maxPasses = 64;
+  // The largest shadow map (§7.2); the kiosk's frame-rate fallbacks halve it twice.
+  // The last three: CompositorOptions' defaults (a test holds them equal).
+  uint32_t shadowMapSize = 256;
+  uint32_t fineProxyPasses = 16;
+  bool areaPenumbrae = true;
+  // Chosen for this scene by `penumbra tune` rather than the defaults above.
+  bool tuned = false;
+  bool operator==(const RenderSettings&) const = default;
+};
+
+// The largest pass ceiling a bundle may carry (the renderer's own limit on passes).
+inline constexpr uint32_t kMaxSettingsPasses = 257;
+
+// Throws std::invalid_argument naming the field: maxPasses in [1, kMaxSettingsPasses],
+// shadowMapSize a multiple of 16 in [64, 4096] (its fallbacks stay multiples of 16),
+// fineProxyPasses at most kMaxSettingsPasses.
+void validateRenderSettings(const RenderSettings& s);
+
+// The compositor's options for these settings (everything else at its default).
+CompositorOptions compositorOptions(const RenderSettings& s);
+
+// The frame-rate controller's map sizes: shadowMapSize, then its half and its quarter
+// (256: 256, 128, 64, the kiosk's ladder before settings existed).
+std::vector<uint32_t> shadowMapLadder(const RenderSettings& s);
+
+}  // namespace penumbra::shadow
