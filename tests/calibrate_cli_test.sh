@@ -127,7 +127,8 @@ fisheye_error "missing photo" 1 "$tmp/nothere.png: no such file" "$tmp/nothere.p
   -o "$tmp/no/lens.json" >"$tmp/out" 2>"$tmp/err"
 rc=$?
 [[ $rc == 1 && ! -e "$tmp/no" ]] && grep -q -- "$tmp/no/lens.json: no such folder" "$tmp/err"
-check "calibrate-fisheye: output folder missing (exit $rc): $(head -c 150 "$tmp/err")" $?
+status=$?
+check "calibrate-fisheye: output folder missing (exit $rc): $(head -c 150 "$tmp/err")" $status
 if [[ -e "$photos/left01.jpg" ]]; then
   fisheye_error "two photos" 1 "2 of 2 photos show the whole 9x6 board, need at least 3" \
     "$photos/left01.jpg" "$photos/left02.jpg" --board 9x6 --square 1

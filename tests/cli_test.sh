@@ -38,7 +38,8 @@ head -c 1000 "$data/showroom/showroom.bundle" >"$tmp/cut.bundle"
 "${run[@]}" info "$tmp/cut.bundle" >/dev/null 2>"$tmp/stderr"
 status=$?
 [[ $status == 1 ]] && grep -qF "cut.bundle" "$tmp/stderr"
-check "info: a truncated bundle is refused naming it ($(head -c 200 "$tmp/stderr"))" $?
+status=$?
+check "info: a truncated bundle is refused naming it ($(head -c 200 "$tmp/stderr"))" $status
 
 want="$(awk '$1 == "tiny.json" {print $2}' "$golden")"
 got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)"
@@ -102,7 +103,8 @@ PY
   status=$?
   [[ $status == 0 && "$(ls "$tmp/seq" | tr '\n' ' ')" == "env_0000.exr env_0001.exr env_0002.exr env_0003.exr env_0004.exr env_0005.exr " ]] \
     && ! ls -a "$tmp" | grep -q partial
-  check "envmap-sequence writes env_0000.exr ... env_0005.exr and no partial folder: $(tail -1 "$tmp/seq.out")" $?
+  status=$?
+  check "envmap-sequence writes env_0000.exr ... env_0005.exr and no partial folder: $(tail -1 "$tmp/seq.out")" $status
   python3 - "$tmp/seq/env_0003.exr" <<'PY'
 import struct, sys
 b = open(sys.argv[1], "rb").read()
@@ -244,7 +246,8 @@ PY
     "${run[@]}" precompute "$2" -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/stderr"
     local rc=$?
     [[ $rc == 1 ]] && grep -qF -- "$3" "$tmp/stderr" && [[ ! -e "$tmp/refused.bundle" ]]
-    check "precompute: $1 is refused (exit $rc: $(head -c 200 "$tmp/stderr"))" $?
+    local ok=$?
+    check "precompute: $1 is refused (exit $rc: $(head -c 200 "$tmp/stderr"))" $ok
   }
   expect_scene_error "a camera seeing no receiver" "$tmp/away.json" \
     "away.json: camera: sees no surface of the room (0 receivers)"
