@@ -10,7 +10,10 @@
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "core/cli.h"
+#include "core/progress.h"
+#include "core/replace_file.h"
 #include "reference/accuracy.h"
+#include "reference/settings_tuning.h"
 #endif
 
 namespace penumbra::apps {
@@ -62,6 +65,101 @@ struct AccuracyCommand {
   }
 };
 
+// `penumbra tune` (reference/settings_tuning.h).
+struct TuneCommand {
+  std::string bundlePath, out, report, chart, posesPath, heldOutPath;
+  std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
+  double fps = 0;
+  RenderFlags render;
+  reference::TuneOptions options;
+
+  int run() {
+    options.measure.render = toOptions(render);
+    options.target.meanAbs = maxError.at(0);
+    if (maxError.size() > 1) options.target.p99 = maxError[1];
+    if (maxError.size() > 2) options.target.flip = maxError[2];
+    if (fps > 0) options.maxBoardMs = 1000.0 / fps;
+    const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
+    if (posesPath.empty()) {
+      options.poses = {{"start", bundle.startPose}};
+    } else {
+      options.poses = reference::loadPoseSet(posesPath);
+    }
+    if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
+    core::Progress bar("tune");
+    const reference::TuneReport r = reference::tuneSettings(
+        bundle, options,
+        [&](size_t done, size_t total, const std::string&) { bar.fraction(done, total); });
+    bar.finish();
+    const nlohmann::json j = reference::toJson(options, r);
+    if (!report.empty()) core::writeFileReplacing(report, j.dump(2) + "\n");
+    if (!chart.empty()) reference::writeParetoChart(chart, options, r);
+    const auto line = [](const char* what, const reference::TunedCandidate& c) {
+      std::printf(
+          "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s | "
+          "board_ms %.2f worst_mean_abs %.3f meets %s\n",
+          what, c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
+          c.settings.areaPenumbrae ? "on" : "off", c.boardMs, c.worstMeanAbs,
+          c.meets ? "yes" : "no");
+    };
+    std::printf("candidates %zu, poses %zu, held out %zu\n", r.candidates.size(),
+                options.poses.size(), options.heldOut.size());
+    line("defaults", r.defaults);
+    if (!r.chosen) {
+      throw std::runtime_error("no candidate meets the target at every pose within the budget; " +
+                               out + " not written");
+    }
+    const reference::TunedCandidate& c = r.candidates[*r.chosen];
+    line("chosen", c);
+    if (!options.heldOut.empty()) {
+      line("held-out defaults", r.heldOutDefaults);
+      line("held-out chosen", r.heldOutChosen);
+    }
+    shadow::SceneBundle tuned = bundle;
+    tuned.settings = c.settings;
+    tuned.settings.tuned = true;
+    shadow::saveBundle(tuned, out);
+    std::printf("wrote %s\n", out.c_str());
+    return 0;
+  }
+};
+
+// The reference's flags, shared by accuracy and tune: the Penumbra stand-in or the ray
+// tracer's sampling.
+// The camera rays default to jittered over each pixel unless o.rays.pixelCentres is already
+// set (tune's default), when the flag to turn them back is --jittered.
+void addReferenceFlags(CLI::App* app, reference::AccuracyOptions& o) {
+  app->add_flag("--penumbra-reference", o.penumbraReference,
+                "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
+                "(the only choice when built without the ray tracer)");
+#ifdef PENUMBRA_HAVE_REFERENCE
+  app->add_option("--spp", o.rays.samplesPerPixel, "ray-traced reference: samples per pixel")
+      ->check(cli::NumberRange(1, 65536))
+      ->capture_default_str();
+  app->add_option("--light-samples", o.rays.lightSamples,
+                  "ray-traced reference: shadow rays per point")
+      ->check(cli::NumberRange(1, 65536))
+      ->capture_default_str();
+  if (o.rays.pixelCentres) {
+    app->add_flag_callback(
+        "--jittered", [&o] { o.rays.pixelCentres = false; },
+        "ray-traced reference: camera rays jittered over each pixel, anti-aliased (default: "
+        "every ray through the pixel centre, as Penumbra samples)");
+  } else {
+    app->add_flag("--pixel-centres", o.rays.pixelCentres,
+                  "ray-traced reference: every camera ray through the pixel centre, as Penumbra "
+                  "samples (default: jittered over the pixel, anti-aliased)");
+  }
+  app->add_flag("--point-lights", o.rays.pointLights,
+                "ray-traced reference: every shadow ray aimed at its emitter's centre, as "
+                "Penumbra's passes cast (the cost of point sources, docs/accuracy.md)");
+  app->add_option("--bounces", o.rays.bounces, "ray-traced reference: indirect bounces")
+      ->check(cli::NumberRange(0, 16))
+      ->capture_default_str();
+  app->add_option("--seed", o.rays.seed, "ray-traced reference: seed")->capture_default_str();
+#endif
+}
+
 }  // namespace
 #endif
 
@@ -100,30 +198,7 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   c->add_option("--mask-out", cmd->options.maskOut, "write the shadow region used as PNG");
   c->add_option("--frames-out", cmd->options.framesOut,
                 "write each measured frame as PNG: F.png becomes F-<passes>.png");
-  c->add_flag("--penumbra-reference", cmd->options.penumbraReference,
-              "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
-              "(the only choice when built without the ray tracer)");
-#ifdef PENUMBRA_HAVE_REFERENCE
-  c->add_option("--spp", cmd->options.rays.samplesPerPixel,
-                "ray-traced reference: samples per pixel")
-      ->check(cli::NumberRange(1, 65536))
-      ->capture_default_str();
-  c->add_option("--light-samples", cmd->options.rays.lightSamples,
-                "ray-traced reference: shadow rays per point")
-      ->check(cli::NumberRange(1, 65536))
-      ->capture_default_str();
-  c->add_flag("--pixel-centres", cmd->options.rays.pixelCentres,
-              "ray-traced reference: every camera ray through the pixel centre, as Penumbra "
-              "samples (default: jittered over the pixel, anti-aliased)");
-  c->add_flag("--point-lights", cmd->options.rays.pointLights,
-              "ray-traced reference: every shadow ray aimed at its emitter's centre, as "
-              "Penumbra's passes cast (the cost of point sources, docs/accuracy.md)");
-  c->add_option("--bounces", cmd->options.rays.bounces, "ray-traced reference: indirect bounces")
-      ->check(cli::NumberRange(0, 16))
-      ->capture_default_str();
-  c->add_option("--seed", cmd->options.rays.seed, "ray-traced reference: seed")
-      ->capture_default_str();
-#endif
+  addReferenceFlags(c, cmd->options);
   c->add_option("--accumulation", cmd->accumulation,
                 "how the passes are summed: linear (shares of the light, one shade-table "
                 "lookup per pixel), fixed8_8 (1/256 levels, rounded once per pixel) or u8 "
@@ -149,6 +224,49 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   addRenderFlags(c, cmd->render);
   commands.push_back({c, [cmd] { return cmd->run(); }});
+
+  auto tune = std::make_shared<TuneCommand>();
+  tune->options.measure.rays.samplesPerPixel = 16;  // issue 15's targets are stated at 16 spp
+  tune->options.measure.rays.pixelCentres = true;   // as the pose set was measured
+  CLI::App* t = app.add_subcommand(
+      "tune", "The cheapest render settings whose frames meet an error target at every pose");
+  t->add_option("BUNDLE", tune->bundlePath, "scene bundle (penumbra precompute)")->required();
+  t->add_option("--max-error", tune->maxError,
+                "target in the shadow region: MEAN_ABS[,P99[,FLIP]] levels (p99 default 6, "
+                "FLIP unchecked unless given)")
+      ->delimiter(',')
+      ->expected(1, 3)
+      ->check(cli::NumberRange(0.0, 255.0))
+      ->required();
+  t->add_option("--fps", tune->fps, "frame budget on the Raspberry Pi 4 cost model")
+      ->check(cli::NumberRange(1.0, 1000.0));
+  t->add_option("--poses", tune->posesPath,
+                "pose set to tune on (penumbra-poses JSON; default: the bundle's start pose)");
+  t->add_option("--held-out", tune->heldOutPath, "pose set only measured, with the choice");
+  t->add_option("-o,--out", tune->out, "the tuned bundle to write")->required();
+  t->add_option("--report", tune->report, "write every candidate's errors and cost as JSON");
+  t->add_option("--chart", tune->chart, "write the Pareto chart (cost against error) as PNG");
+  t->add_option("--passes", tune->options.passCeilings, "pass ceilings tried, comma-separated")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(1, 257))
+      ->capture_default_str();
+  t->add_option("--maps", tune->options.mapSizes,
+                "shadow-map sizes tried, comma-separated (multiples of 16 in 64..4096)")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(64, 4096))
+      ->capture_default_str();
+  t->add_option("--fine-proxy-passes", tune->options.fineProxyPasses,
+                "fine-proxy pass counts tried, comma-separated")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(0, 257))
+      ->capture_default_str();
+  t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
+                "FLIP viewing condition: pixels per degree")
+      ->check(cli::NumberRange(1.0, 1000.0))
+      ->capture_default_str();
+  addReferenceFlags(t, tune->options.measure);
+  addRenderFlags(t, tune->render);
+  commands.push_back({t, [tune] { return tune->run(); }});
 #endif
   return commands;
 }

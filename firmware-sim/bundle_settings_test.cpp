@@ -8,6 +8,7 @@
 
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
+#include "shadow/frame_cost_model.h"
 #include "shadow/scene_bundle.h"
 #include "tests/scratch_dir.h"
 
@@ -40,6 +41,25 @@ TEST(BundleSettings, TheKioskKeepsToATunedBundlesCeilingAndMaps) {
   }
   EXPECT_EQ(most, 6u);
   std::filesystem::remove_all(dir);
+}
+
+// `penumbra tune` prices frames on the board the shipped sessions simulate: the constants
+// must stay those sessions' board.
+TEST(BundleSettings, TuneCostsFramesOnTheSessionsBoard) {
+  const shadow::CostModel::Params pi4 = shadow::CostModel::raspberryPi4();
+  for (const char* name : {"demo.json", "live.json", "soak.json", "faults.json"}) {
+    const Session s = loadSession(std::filesystem::path(PENUMBRA_DATA_DIR) / "sessions" / name);
+    const shadow::CostModel::Params& b = s.cost;
+    EXPECT_EQ(b.fixedNs, pi4.fixedNs) << name;
+    EXPECT_EQ(b.perPassNs, pi4.perPassNs) << name;
+    EXPECT_EQ(b.perTexelPs, pi4.perTexelPs) << name;
+    EXPECT_EQ(b.perPixelPs, pi4.perPixelPs) << name;
+    EXPECT_EQ(b.perPassVertexPs, pi4.perPassVertexPs) << name;
+    EXPECT_EQ(b.perProductVertexPs, pi4.perProductVertexPs) << name;
+    EXPECT_EQ(b.perShadedVertexPs, pi4.perShadedVertexPs) << name;
+    EXPECT_EQ(b.perTransferredVertexPs, pi4.perTransferredVertexPs) << name;
+    EXPECT_EQ(b.perPassTransferredVertexPs, pi4.perPassTransferredVertexPs) << name;
+  }
 }
 
 }  // namespace

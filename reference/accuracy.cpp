@@ -47,8 +47,8 @@ nlohmann::json orNull(double v) {
 
 // The reference image and, from the ray tracer, its own shadow mask (else left empty).
 core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
-                           nlohmann::json& info, [[maybe_unused]] core::Image8& mask) {
-  const shadow::ProductPose pose = measuredPose(bundle, o);
+                           const shadow::ProductPose& pose, nlohmann::json& info,
+                           [[maybe_unused]] core::Image8& mask) {
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   if (!o.referencePath.empty()) {
     info = {{"kind", "image"}, {"file", o.referencePath}};
@@ -103,6 +103,48 @@ shadow::ProductPose measuredPose(const shadow::SceneBundle& bundle, const Accura
   return pose;
 }
 
+namespace {
+
+shadow::CompositorOptions measuredOptions(const AccuracyOptions& o) {
+  shadow::CompositorOptions measured = shadow::FrameLoop::optionsFor(o.shadowMapSize);
+  measured.accumulation = o.accumulation;
+  measured.perClusterShares = o.perClusterShares;
+  measured.depthBias = o.depthBias;
+  measured.fineProxyPasses = o.fineProxyPasses;
+  measured.areaPenumbrae = o.areaPenumbrae;
+  return measured;
+}
+
+}  // namespace
+
+PoseReference makePoseReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
+                                const shadow::ProductPose& pose) {
+  const uint32_t w = bundle.view.width, h = bundle.view.height;
+  PoseReference r;
+  r.image = makeReference(bundle, o, pose, r.info, r.region);
+  if (r.image.width != w || r.image.height != h) {
+    throw MetricsError(r.image.name + ": size " + std::to_string(r.image.width) + "x" +
+                       std::to_string(r.image.height) + " differs from the bundle's " +
+                       std::to_string(w) + "x" + std::to_string(h) + " view");
+  }
+  // The shadow-free frame (background + product): the region rule's and contact band's base.
+  shadow::FrameLoop zero(bundle, measuredOptions(o), o.render);
+  zero.still(pose, 0);
+  r.unshadowed = zero.rgba;
+  if (!o.maskPath.empty()) {
+    r.region = loadMask(o.maskPath);
+  } else if (r.region.pixels.empty()) {
+    r.region =
+        shadowRegion(r.image, r.unshadowed, bundle.background, "shadow region of the reference");
+  }
+  // A given or ray-traced mask leaves out the reference's product pixels only; where the
+  // rasterized product covers a pixel the ray-traced one misses (its silhouette, its base on
+  // the floor) the difference is the product's, not the shadow's: the region rule
+  // (reference/shadow_region.h) leaves out Penumbra's product pixels too.
+  excludeProductPixels(r.region, r.unshadowed, bundle.background);
+  return r;
+}
+
 AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
                                const std::function<void(const AccuracyRow&)>& onRow) {
   const shadow::ProductPose pose = measuredPose(bundle, o);
@@ -110,34 +152,13 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   AccuracyReport report;
   report.width = w;
   report.height = h;
-  core::Image8 mask;
-  const core::Image8 ref = makeReference(bundle, o, report.reference, mask);
-  if (ref.width != w || ref.height != h) {
-    throw MetricsError(ref.name + ": size " + std::to_string(ref.width) + "x" +
-                       std::to_string(ref.height) + " differs from the bundle's " +
-                       std::to_string(w) + "x" + std::to_string(h) + " view");
-  }
-  shadow::CompositorOptions measured = shadow::FrameLoop::optionsFor(o.shadowMapSize);
-  measured.accumulation = o.accumulation;
-  measured.perClusterShares = o.perClusterShares;
-  measured.depthBias = o.depthBias;
-  measured.fineProxyPasses = o.fineProxyPasses;
-  measured.areaPenumbrae = o.areaPenumbrae;
-  // The shadow-free frame (background + product): the region rule's and contact band's base.
-  shadow::FrameLoop zero(bundle, measured, o.render);
-  zero.still(pose, 0);
-  if (!o.maskPath.empty()) {
-    mask = loadMask(o.maskPath);
-  } else if (mask.pixels.empty()) {
-    mask = shadowRegion(ref, zero.rgba, bundle.background, "shadow region of the reference");
-  }
-  // A given or ray-traced mask leaves out the reference's product pixels only; where the
-  // rasterized product covers a pixel the ray-traced one misses (its silhouette, its base on
-  // the floor) the difference is the product's, not the shadow's: the region rule
-  // (reference/shadow_region.h) leaves out Penumbra's product pixels too.
-  excludeProductPixels(mask, zero.rgba, bundle.background);
+  const PoseReference reference = makePoseReference(bundle, o, pose);
+  report.reference = reference.info;
+  const core::Image8& ref = reference.image;
+  const core::Image8& mask = reference.region;
   if (!o.referenceOut.empty()) writeRgb(o.referenceOut, ref);
   if (!o.maskOut.empty()) writeMask(o.maskOut, mask);
+  const shadow::CompositorOptions measured = measuredOptions(o);
 
   CompareOptions co;
   co.flip.pixelsPerDegree = o.pixelsPerDegree;
@@ -153,7 +174,8 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
     const core::Image8 frame = fromRgba8(f.rgba, w, h, "penumbra " + std::to_string(n) + " passes");
     if (!o.framesOut.empty()) writeRgb(framePath(o.framesOut, n), frame);
     row.comparison = compareImages(ref, frame, &mask, co);
-    row.contact = contactErrors(ref, f.rgba, zero.rgba, bundle.background, mask, o.contactRadius);
+    row.contact =
+        contactErrors(ref, f.rgba, reference.unshadowed, bundle.background, mask, o.contactRadius);
     if (onRow) onRow(row);
     report.rows.push_back(std::move(row));
   }

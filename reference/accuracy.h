@@ -87,6 +87,21 @@ struct AccuracyReport {
 // True when this build can ray-trace the reference (Embree).
 bool accuracyHasRayTracer();
 
+// What a frame at one pose is measured against: the reference image, its shadow region
+// (the ray tracer's mask, maskPath's, or the region rule's; without the product's pixels)
+// and the shadow-free frame (background + product: the contact band's base).
+struct PoseReference {
+  core::Image8 image, region;
+  std::vector<uint8_t> unshadowed;  // RGBA8
+  nlohmann::json info;              // which reference: kind and its settings
+};
+
+// The reference at `pose` as measureAccuracy makes it from `options` (its reference fields,
+// rays and render options; the pose fields are not read). Throws MetricsError for a
+// reference or mask of the wrong size.
+PoseReference makePoseReference(const shadow::SceneBundle& bundle, const AccuracyOptions& options,
+                                const shadow::ProductPose& pose);
+
 // Throws MetricsError for a reference or mask of the wrong size and what loading the images
 // throws. `onRow` (when set) sees each row as soon as it is measured.
 AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const AccuracyOptions& options,

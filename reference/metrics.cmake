@@ -13,9 +13,12 @@ if(PENUMBRA_WITH_OPENCV)
   # reference comes from penumbra_reference, which reference/CMakeLists.txt adds after this
   # file exactly when penumbra_lighting exists (Embree); a link to a target defined later
   # is resolved when CMake generates.
-  add_library(penumbra_accuracy STATIC ${CMAKE_CURRENT_LIST_DIR}/accuracy.cpp)
+  # `penumbra tune` (reference/settings_tuning.h) measures candidates the same way.
+  add_library(penumbra_accuracy STATIC ${CMAKE_CURRENT_LIST_DIR}/accuracy.cpp
+                                       ${CMAKE_CURRENT_LIST_DIR}/settings_tuning.cpp)
   target_link_libraries(penumbra_accuracy PUBLIC penumbra_metrics penumbra_shadow penumbra_scene
                                                  penumbra_hdr)
+  target_include_directories(penumbra_accuracy SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
   if(PENUMBRA_WITH_EMBREE AND TARGET penumbra_lighting)
     target_link_libraries(penumbra_accuracy PRIVATE penumbra_reference)
     target_compile_definitions(penumbra_accuracy PRIVATE PENUMBRA_HAVE_REFERENCE=1)

@@ -43,6 +43,20 @@ CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
   }
 }
 
+CostModel::Params CostModel::raspberryPi4() {
+  Params p;
+  p.fixedNs = 6'877'000;
+  p.perPassNs = 2'000;
+  p.perTexelPs = 2'444;
+  p.perPixelPs = 10'685;
+  p.perPassVertexPs = 41'628;
+  p.perProductVertexPs = 459'438;
+  p.perShadedVertexPs = 2'425'589;
+  p.perTransferredVertexPs = 83'941;
+  p.perPassTransferredVertexPs = 10'905;
+  return p;
+}
+
 uint32_t CostModel::loadPermilleAt(int64_t nowNs) const {
   uint32_t permille = 1000;
   for (const LoadStep& s : loadSteps_) {

@@ -55,6 +55,11 @@ class CostModel {
     uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;
   };
 
+  // The Raspberry Pi 4's central coefficients (docs/kiosk.md "Cost model", from counted
+  // aarch64 instructions; docs/board-cost-model.md): the board every session of data/sessions
+  // simulates, and what `penumbra tune` prices a frame with.
+  static Params raspberryPi4();
+
   // Throws std::invalid_argument for negative costs, or load steps that are not in strictly
   // increasing time order or have a zero factor.
   explicit CostModel(Params params, std::vector<LoadStep> loadSteps = {});

@@ -82,13 +82,18 @@ done
 
 for program in "$@"; do
   [[ "$(basename "$program")" == penumbra ]] || continue
-  for sub in "" replay isas bench-replay precompute render profile calibrate compare accuracy \
-    capture reference synth-showroom; do
+  for sub in "" replay isas bench-replay precompute info render profile calibrate compare \
+    accuracy tune capture reference synth-showroom; do
     if [[ -z "$sub" ]] || "$program" $sub --help >/dev/null 2>&1; then
       help_is_for_users "penumbra $sub" "$program" $sub
     fi
   done
-  expect "penumbra tune" 2 "^penumbra: error: unknown command 'tune'" "$program" tune
+  if "$program" tune --help >/dev/null 2>&1; then
+    expect "tune without a target" 2 "^penumbra: error: --max-error is required" \
+      "$program" tune "$data/showroom/showroom.bundle" -o "$tmp/t.bundle"
+    expect "tune with a target of four numbers" 2 "^penumbra: error: --max-error" \
+      "$program" tune "$data/showroom/showroom.bundle" --max-error 1,2,3,4 -o "$tmp/t.bundle"
+  fi
   expect "penumbra without a command" 2 "^penumbra: error: a command is required" "$program"
   expect "render --passes with a list" 2 \
     "^penumbra: error: --passes: expects a single whole number from 1 to 257 \(not a list\)" \

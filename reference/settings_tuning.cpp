@@ -1,0 +1,336 @@
+#include "reference/settings_tuning.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <stdexcept>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/json_reader.h"
+#include "core/replace_file.h"
+#include "shadow/frame_loop.h"
+
+namespace penumbra::reference {
+
+std::vector<NamedPose> loadPoseSet(const std::filesystem::path& path) {
+  const core::JsonDocument doc(path, core::throwAs<core::Error>);
+  const core::JsonValue root = doc.root();
+  root.object({"format", "version", "poses"});
+  core::requireFileFormat(root, "penumbra-poses", 1);
+  std::vector<NamedPose> poses;
+  std::set<std::string> names;
+  for (const core::JsonValue& v : root["poses"].array(1, 1000)) {
+    v.object({"name", "product", "at"});
+    NamedPose p;
+    p.name = v["name"].nonEmptyString();
+    if (!names.insert(p.name).second) v["name"].fail("\"" + p.name + "\" names two poses");
+    p.pose.product = static_cast<uint32_t>(v["product"].integer(0, 1'000'000));
+    const core::JsonValue at = v["at"];
+    const std::vector<double> xyzw = at.numbers(4);
+    const auto within = [&](size_t i, double lo, double hi, const char* what) {
+      if (!(xyzw[i] >= lo && xyzw[i] <= hi)) {
+        at.fail(std::string(what) + " " + core::formatNumber(xyzw[i]) + " is not in [" +
+                core::formatNumber(lo) + ", " + core::formatNumber(hi) + "]");
+      }
+      return static_cast<float>(xyzw[i]);
+    };
+    p.pose.x = within(0, -1000, 1000, "x");
+    p.pose.lift = within(1, 0, 10, "lift");
+    p.pose.z = within(2, -1000, 1000, "z");
+    p.pose.yawDegrees = within(3, -3600, 3600, "yaw");
+    poses.push_back(std::move(p));
+  }
+  return poses;
+}
+
+namespace {
+
+// The board's cost of a frame of the product just moved there: the still frame's passes and
+// shadowed pixels, every product vertex placed, transferred and shaded again (what a kiosk
+// frame pays while a visitor moves the product), so the cost does not depend on which frame
+// came before.
+double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop, uint32_t mapSize) {
+  shadow::CostModel::Workload work;
+  work.passes = loop.stats.passes;
+  work.shadowedPixels = loop.renderer.lastStats().passPixels;
+  work.shadowMapSize = mapSize;
+  work.productVertices = loop.stats.productVertices;
+  work.shadedVertices = loop.stats.productVertices;
+  work.transferredVertices = loop.stats.productVertices;
+  return double(board.frameNs(0, work)) * 1e-6;
+}
+
+bool within(const PoseError& e, const ErrorTarget& t) {
+  return e.pixels == 0 ||
+         (e.meanAbs <= t.meanAbs && double(e.p99) <= t.p99 && (t.flip <= 0 || e.flip <= t.flip));
+}
+
+class Measurer {
+ public:
+  Measurer(const shadow::SceneBundle& bundle, const TuneOptions& o)
+      : bundle_(bundle), options_(o), board_(o.board) {
+    compare_.flip.pixelsPerDegree = o.measure.pixelsPerDegree;
+    // FLIP costs about 100x the other metrics: measured only when the target has it.
+    compare_.computeFlip = o.target.flip > 0;
+  }
+
+  // Every pose of `poses` with `settings` (stopping at the first that misses when
+  // `stopAtMiss`), against `references` in the same order.
+  TunedCandidate measure(const shadow::RenderSettings& settings,
+                         const std::vector<NamedPose>& poses,
+                         const std::vector<PoseReference>& references, bool stopAtMiss) {
+    TunedCandidate c;
+    c.settings = settings;
+    c.meets = true;
+    shadow::FrameLoop loop(bundle_, shadow::compositorOptions(settings), options_.measure.render);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      loop.still(poses[i].pose, settings.maxPasses);
+      const ImageComparison cmp = compareImages(
+          references[i].image,
+          fromRgba8(loop.rgba, bundle_.view.width, bundle_.view.height, "penumbra frame"),
+          &references[i].region, compare_);
+      PoseError e;
+      e.pose = poses[i].name;
+      e.meanAbs = cmp.masked->pixels ? cmp.masked->meanAbs : 0.0;
+      e.p99 = cmp.masked->pixels ? cmp.masked->p99Abs : 0;
+      e.flip = cmp.masked->pixels ? cmp.masked->flipMean : 0.0;
+      e.pixels = cmp.masked->pixels;
+      e.boardMs = boardMs(board_, loop, settings.shadowMapSize);
+      c.boardMs = std::max(c.boardMs, e.boardMs);
+      c.worstMeanAbs = std::max(c.worstMeanAbs, e.meanAbs);
+      const bool ok = within(e, options_.target);
+      c.poses.push_back(std::move(e));
+      if (!ok) {
+        c.meets = false;
+        if (stopAtMiss) break;
+      }
+    }
+    return c;
+  }
+
+ private:
+  const shadow::SceneBundle& bundle_;
+  const TuneOptions& options_;
+  shadow::CostModel board_;
+  CompareOptions compare_;
+};
+
+void checkPoses(const shadow::SceneBundle& bundle, const std::vector<NamedPose>& poses) {
+  for (const NamedPose& p : poses) {
+    if (p.pose.product >= bundle.products.size()) {
+      throw std::invalid_argument("pose " + p.name + ": product " + std::to_string(p.pose.product) +
+                                  ", the bundle has " + std::to_string(bundle.products.size()));
+    }
+  }
+}
+
+}  // namespace
+
+TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
+                        const TuneProgress& progress) {
+  if (o.poses.empty()) throw std::invalid_argument("tune: no poses to tune on");
+  if (o.passCeilings.empty() || o.mapSizes.empty() || o.fineProxyPasses.empty() ||
+      o.areaPenumbrae.empty()) {
+    throw std::invalid_argument("tune: an empty list of candidates");
+  }
+  checkPoses(bundle, o.poses);
+  checkPoses(bundle, o.heldOut);
+  std::vector<uint32_t> ceilings = o.passCeilings;
+  std::sort(ceilings.begin(), ceilings.end());
+  ceilings.erase(std::unique(ceilings.begin(), ceilings.end()), ceilings.end());
+  // Fine-proxy passes change nothing where no posed product has a fine proxy.
+  const bool anyFine = std::any_of(o.poses.begin(), o.poses.end(), [&](const NamedPose& p) {
+    return !bundle.products[p.pose.product].fineProxy.indices.empty();
+  });
+  const std::vector<uint32_t> fines =
+      anyFine ? o.fineProxyPasses : std::vector<uint32_t>{o.fineProxyPasses.front()};
+  for (uint32_t map : o.mapSizes) {
+    for (uint32_t n : ceilings) {
+      for (uint32_t fine : fines) shadow::validateRenderSettings({n, map, fine, true, true});
+    }
+  }
+
+  const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
+  const size_t total = o.poses.size() + o.heldOut.size() + combinations * ceilings.size() + 1 +
+                       (o.heldOut.empty() ? 0 : 2);
+  size_t done = 0;
+  const auto step = [&](const std::string& what) {
+    if (progress) progress(done, total, what);
+    ++done;
+  };
+
+  TuneReport report;
+  std::vector<PoseReference> references, heldOutReferences;
+  const auto makeReferences = [&](const std::vector<NamedPose>& poses,
+                                  std::vector<PoseReference>& into) {
+    for (const NamedPose& p : poses) {
+      step("reference " + p.name);
+      into.push_back(makePoseReference(bundle, o.measure, p.pose));
+      report.references.push_back(into.back().info);
+    }
+  };
+  makeReferences(o.poses, references);
+  makeReferences(o.heldOut, heldOutReferences);
+
+  Measurer measurer(bundle, o);
+  for (const bool area : o.areaPenumbrae) {
+    for (const uint32_t map : o.mapSizes) {
+      for (const uint32_t fine : fines) {
+        for (size_t k = 0; k < ceilings.size(); ++k) {
+          const shadow::RenderSettings s{ceilings[k], map, fine, area, true};
+          step("map " + std::to_string(map) + ", fine " + std::to_string(fine) + ", area " +
+               (area ? "on" : "off") + ", " + std::to_string(ceilings[k]) + " passes");
+          report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+          if (report.candidates.back().meets) {
+            done += ceilings.size() - 1 - k;  // the larger ceilings, not measured
+            break;
+          }
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < report.candidates.size(); ++i) {
+    const TunedCandidate& c = report.candidates[i];
+    if (!c.meets || (o.maxBoardMs > 0 && c.boardMs > o.maxBoardMs)) continue;
+    // Strictly cheaper only: among equals the first measured (fewer passes, smaller maps).
+    if (!report.chosen || c.boardMs < report.candidates[*report.chosen].boardMs) report.chosen = i;
+  }
+
+  step("the bundle's own settings");
+  shadow::RenderSettings defaults = bundle.settings;
+  report.defaults = measurer.measure(defaults, o.poses, references, false);
+  if (!o.heldOut.empty()) {
+    step("held-out poses, the bundle's settings");
+    report.heldOutDefaults = measurer.measure(defaults, o.heldOut, heldOutReferences, false);
+    if (report.chosen) {
+      step("held-out poses, the choice");
+      report.heldOutChosen = measurer.measure(report.candidates[*report.chosen].settings, o.heldOut,
+                                              heldOutReferences, false);
+    }
+  }
+  if (progress) progress(total, total, "done");
+  return report;
+}
+
+namespace {
+
+nlohmann::json settingsJson(const shadow::RenderSettings& s) {
+  return {{"max_passes", s.maxPasses},
+          {"shadow_map_size", s.shadowMapSize},
+          {"fine_proxy_passes", s.fineProxyPasses},
+          {"area_penumbrae", s.areaPenumbrae}};
+}
+
+nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {
+  nlohmann::json poses = nlohmann::json::array();
+  for (const PoseError& e : c.poses) {
+    poses.push_back({{"pose", e.pose},
+                     {"mean_abs_shadow", e.meanAbs},
+                     {"p99_abs_shadow", e.p99},
+                     {"flip_shadow", flipMeasured ? nlohmann::json(e.flip) : nullptr},
+                     {"shadow_pixels", e.pixels},
+                     {"board_ms", e.boardMs}});
+  }
+  return {{"settings", settingsJson(c.settings)},
+          {"meets", c.meets},
+          {"board_ms", c.boardMs},
+          {"worst_mean_abs_shadow", c.worstMeanAbs},
+          {"poses", poses}};
+}
+
+}  // namespace
+
+nlohmann::json toJson(const TuneOptions& o, const TuneReport& r) {
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const TunedCandidate& c : r.candidates)
+    candidates.push_back(candidateJson(c, o.target.flip > 0));
+  nlohmann::json j = {
+      {"target",
+       {{"mean_abs_shadow", o.target.meanAbs},
+        {"p99_abs_shadow", o.target.p99},
+        {"flip_shadow", o.target.flip > 0 ? nlohmann::json(o.target.flip) : nullptr}}},
+      {"max_board_ms", o.maxBoardMs > 0 ? nlohmann::json(o.maxBoardMs) : nullptr},
+      {"board", "Raspberry Pi 4 cost model (shadow::CostModel::raspberryPi4)"},
+      {"references", r.references},
+      {"candidates", candidates},
+      {"chosen", r.chosen ? nlohmann::json(*r.chosen) : nullptr},
+      {"defaults", candidateJson(r.defaults, o.target.flip > 0)}};
+  if (r.chosen) {
+    const TunedCandidate& c = r.candidates[*r.chosen];
+    j["settings"] = settingsJson(c.settings);
+    j["board_ms"] = c.boardMs;
+    j["board_ms_saved"] = r.defaults.boardMs - c.boardMs;
+  }
+  if (!o.heldOut.empty()) {
+    j["held_out"] = {
+        {"defaults", candidateJson(r.heldOutDefaults, o.target.flip > 0)},
+        {"chosen", r.chosen ? candidateJson(r.heldOutChosen, o.target.flip > 0) : nullptr}};
+  }
+  return j;
+}
+
+void writeParetoChart(const std::filesystem::path& path, const TuneOptions& o,
+                      const TuneReport& r) {
+  const int width = 900, height = 560, left = 80, right = 30, top = 50, bottom = 60;
+  double maxMs = r.defaults.boardMs, maxErr = std::max(o.target.meanAbs, r.defaults.worstMeanAbs);
+  for (const TunedCandidate& c : r.candidates) {
+    maxMs = std::max(maxMs, c.boardMs);
+    maxErr = std::max(maxErr, c.worstMeanAbs);
+  }
+  maxMs = maxMs > 0 ? maxMs * 1.08 : 1.0;
+  maxErr = maxErr > 0 ? maxErr * 1.1 : 1.0;
+  const auto px = [&](double ms, double err) {
+    return cv::Point(left + int(std::lround(ms / maxMs * (width - left - right))),
+                     height - bottom - int(std::lround(err / maxErr * (height - top - bottom))));
+  };
+  cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  const cv::Scalar black(0, 0, 0), grey(170, 170, 170), green(40, 150, 40), red(30, 30, 200);
+  const auto text = [&](const std::string& t, cv::Point at, double scale = 0.45) {
+    cv::putText(img, t, at, cv::FONT_HERSHEY_SIMPLEX, scale, black, 1, cv::LINE_AA);
+  };
+  cv::line(img, px(0, 0), px(maxMs, 0), black);
+  cv::line(img, px(0, 0), px(0, maxErr), black);
+  for (int k = 0; k <= 5; ++k) {
+    char label[32];
+    std::snprintf(label, sizeof label, "%.0f", maxMs * k / 5);
+    text(label, px(maxMs * k / 5, 0) + cv::Point(-10, 20));
+    std::snprintf(label, sizeof label, "%.2f", maxErr * k / 5);
+    text(label, px(0, maxErr * k / 5) + cv::Point(-55, 5));
+  }
+  text("frame on the Raspberry Pi 4 cost model (ms)", cv::Point(width / 2 - 170, height - 15), 0.5);
+  text("worst pose: mean abs error in the shadow (levels)", cv::Point(10, 30), 0.5);
+  // The target: a dashed line.
+  for (double ms = 0; ms < maxMs; ms += maxMs / 60) {
+    cv::line(img, px(ms, o.target.meanAbs), px(std::min(maxMs, ms + maxMs / 120), o.target.meanAbs),
+             red);
+  }
+  text("target", px(maxMs, o.target.meanAbs) + cv::Point(-60, -6));
+  for (const TunedCandidate& c : r.candidates) {
+    cv::circle(img, px(c.boardMs, c.worstMeanAbs), 4, c.meets ? green : grey, cv::FILLED,
+               cv::LINE_AA);
+  }
+  const cv::Point d = px(r.defaults.boardMs, r.defaults.worstMeanAbs);
+  cv::rectangle(img, d - cv::Point(6, 6), d + cv::Point(6, 6), black, 2);
+  text("defaults", d + cv::Point(9, -8));
+  if (r.chosen) {
+    const TunedCandidate& c = r.candidates[*r.chosen];
+    const cv::Point p = px(c.boardMs, c.worstMeanAbs);
+    cv::circle(img, p, 10, red, 2, cv::LINE_AA);
+    char label[96];
+    std::snprintf(label, sizeof label, "chosen: %u passes, map %u, fine %u, area %s",
+                  c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
+                  c.settings.areaPenumbrae ? "on" : "off");
+    text(label, p + cv::Point(14, 16));
+  }
+  std::vector<uint8_t> png;
+  if (!cv::imencode(".png", img, png)) {
+    throw core::Error(path.string() + ": cannot encode the chart as PNG");
+  }
+  core::writeFileReplacing(path, png);
+}
+
+}  // namespace penumbra::reference

@@ -1,0 +1,117 @@
+// `penumbra tune` (issue 17): the cheapest render settings (shadow/render_settings.h) whose
+// frames meet an error target at every pose of a set, against a reference at each pose.
+//
+// The search. The references are made once per pose (the ray tracer dominates the run) and
+// every candidate is measured against the same ones. For each combination of shadow-map size,
+// fine-proxy passes and area penumbrae, the pass ceilings are tried in increasing order and
+// the first that meets the target at every pose ends that combination: more passes only cost
+// more, and the error does not rise with passes within the reference's noise (issue 15's
+// targets, docs/accuracy.md). A candidate stops at the first pose that misses. The choice is
+// the cheapest candidate that meets the target (within the frame budget when one is given);
+// ties go to the candidate measured first. Nothing in the choice is timed: a frame's cost is
+// the simulated board's (shadow::CostModel::raspberryPi4) for the work the frame did, at the
+// dearest pose, so the same inputs choose the same settings on every machine.
+//
+// Cost: one reference per pose, then per candidate at most one fresh frame and one still frame
+// per pose (a few tens of milliseconds each at 640x480) and an image comparison.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "reference/accuracy.h"
+#include "shadow/frame_cost_model.h"
+#include "shadow/render_settings.h"
+#include "shadow/scene_bundle.h"
+
+namespace penumbra::reference {
+
+// One pose of a pose set, by name.
+struct NamedPose {
+  std::string name;
+  shadow::ProductPose pose;
+};
+
+// Reads a pose set: {"format": "penumbra-poses", "version": 1, "poses": [{"name": "corner",
+// "product": 0, "at": [X, LIFT, Z, YAW_DEGREES]}, ...]} (at least one pose; names unique;
+// lifts in [0, 10] m, coordinates within ±1000 m). Throws core::Error naming the file and the
+// field.
+std::vector<NamedPose> loadPoseSet(const std::filesystem::path& path);
+
+// What every pose must meet, in 8-bit levels within the shadow region.
+struct ErrorTarget {
+  double meanAbs = 1.0;
+  double p99 = 6.0;
+  double flip = 0;  // mean LDR-FLIP in the shadow region; 0: not checked
+};
+
+struct TuneOptions {
+  ErrorTarget target;
+  std::vector<NamedPose> poses;    // tuned on
+  std::vector<NamedPose> heldOut;  // only measured with the choice (and the defaults)
+  // The reference at each pose and how frames are drawn and compared (its reference fields,
+  // rays, render options and FLIP viewing condition; the pipeline fields are the candidates').
+  AccuracyOptions measure;
+  // The candidates: every map size x fine-proxy passes x area penumbrae, each with the pass
+  // ceilings in increasing order. Fine-proxy passes are tried only when a posed product has a
+  // fine proxy (otherwise just the first value).
+  std::vector<uint32_t> passCeilings{4, 8, 12, 16, 24, 32, 40, 50, 64};
+  std::vector<uint32_t> mapSizes{64, 128, 256, 512};
+  std::vector<uint32_t> fineProxyPasses{0, 8, 16, 32};
+  std::vector<bool> areaPenumbrae{true, false};
+  // The frame budget on the board, ms (from `--fps`); 0: none.
+  double maxBoardMs = 0;
+  shadow::CostModel::Params board = shadow::CostModel::raspberryPi4();
+};
+
+// One pose's error, as `penumbra accuracy` measures it.
+struct PoseError {
+  std::string pose;
+  double meanAbs = 0, flip = 0;
+  uint32_t p99 = 0;
+  uint64_t pixels = 0;  // in the shadow region
+  double boardMs = 0;   // the frame's cost on the board, fresh at this pose
+};
+
+struct TunedCandidate {
+  shadow::RenderSettings settings;
+  std::vector<PoseError> poses;  // in the set's order; stops at the first that misses
+  bool meets = false;            // every pose measured and within the target
+  double boardMs = 0;            // the dearest pose's
+  double worstMeanAbs = 0;       // over the poses measured
+};
+
+struct TuneReport {
+  std::vector<TunedCandidate> candidates;  // in the order measured
+  std::optional<size_t> chosen;            // index into candidates
+  TunedCandidate defaults;  // the bundle's own settings, every pose (meets: all within)
+  TunedCandidate heldOutChosen, heldOutDefaults;  // the held-out poses, when any
+  std::vector<nlohmann::json> references;         // per pose (set, then held out): its kind
+};
+
+// Progress: `done` candidates of at most `total`, and what is being measured.
+using TuneProgress = std::function<void(size_t done, size_t total, const std::string& what)>;
+
+// Throws std::invalid_argument for an empty pose set, an empty candidate list, or a map size
+// or pass ceiling the settings refuse (validateRenderSettings); what making a reference throws.
+TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& options,
+                        const TuneProgress& progress = {});
+
+// The report as JSON: the target, every candidate (settings, per-pose errors and cost), the
+// choice, the defaults and the held-out poses.
+nlohmann::json toJson(const TuneOptions& options, const TuneReport& report);
+
+// A Pareto chart of cost (board ms, x) against the worst pose's mean error (y) of every
+// candidate measured at every pose: candidates that meet the target in green, others grey,
+// the choice ringed, the defaults as a square, the target as a dashed line. PNG, written
+// whole or not at all (core::writeFileReplacing).
+void writeParetoChart(const std::filesystem::path& path, const TuneOptions& options,
+                      const TuneReport& report);
+
+}  // namespace penumbra::reference

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# `penumbra tune` end to end on the bundled showroom against the Penumbra stand-in (fast, no
+# noise): a tuned bundle that `info` calls tuned and `render` draws with its ceiling, the
+# report and the chart; a target no candidate meets, a bad pose set and a missing target
+# fail with exit 1 (or the usage error), a message naming the problem and no bundle written.
+#   tests/tune_cli_test.sh PENUMBRA DATA_DIR [EMULATOR...]
+set -uo pipefail
+penumbra="$1" data="$2"
+shift 2
+run=("$@" "$penumbra")
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
+py=/usr/bin/python3
+bundle="$data/showroom/showroom.bundle"
+fast=(--penumbra-reference --passes 4,16,64 --maps 128,256 --fine-proxy-passes 0,16 --threads 2)
+
+"${run[@]}" tune "$bundle" --max-error 1.2,12 "${fast[@]}" -o "$tmp/tuned.bundle" \
+  --report "$tmp/report.json" --chart "$tmp/pareto.png" >"$tmp/out" 2>"$tmp/err"
+status=$?
+[[ $status == 0 && -s "$tmp/tuned.bundle" && -s "$tmp/pareto.png" ]] && $py -c "
+import json, sys
+r = json.load(open(sys.argv[1]))
+c = r['candidates'][r['chosen']]
+assert c['meets'] and r['settings'] == c['settings'], r['settings']
+assert r['board_ms'] < r['defaults']['board_ms'], (r['board_ms'], r['defaults']['board_ms'])
+assert all(p['mean_abs_shadow'] <= 1.2 and p['p99_abs_shadow'] <= 12 for p in c['poses'])
+assert all(o['board_ms'] >= c['board_ms'] for o in r['candidates'] if o['meets'])
+" "$tmp/report.json"
+status=$?
+check "tune: the cheapest candidate that meets the target, report and chart ($(tail -c 300 "$tmp/err"))" $status
+
+"${run[@]}" info "$tmp/tuned.bundle" --json >"$tmp/info.json" 2>&1
+$py -c "
+import json, sys
+s = json.load(open(sys.argv[1]))['settings']; r = json.load(open(sys.argv[2]))['settings']
+assert s['tuned'] and s['max_passes'] == r['max_passes'], (s, r)
+assert s['shadow_map_sizes'][0] == r['shadow_map_size'], (s, r)
+" "$tmp/info.json" "$tmp/report.json"
+check "info: the tuned bundle carries the choice" $?
+
+# render --fps on the tuned bundle: the controller stays within its pass ceiling.
+ceiling="$($py -c "import json,sys; print(json.load(open(sys.argv[1]))['settings']['max_passes'])" "$tmp/report.json")"
+"${run[@]}" render "$tmp/tuned.bundle" --fps 1 --threads 2 >"$tmp/render" 2>&1
+status=$?
+passes="$(field passes "$tmp/render" | head -1)"
+[[ $status == 0 && -n "$passes" && "$passes" -le "$ceiling" ]]
+check "render --fps keeps to the tuned ceiling ($passes passes, ceiling $ceiling)" $?
+
+# expect_failure NAME TEXT ARGS...: exit 1, TEXT on stderr, no bundle written.
+expect_failure() {
+  local name="$1" text="$2"
+  shift 2
+  rm -f "$tmp/refused.bundle"
+  "${run[@]}" tune "$bundle" "$@" -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
+  local rc=$?
+  [[ $rc != 0 ]] && grep -qF -- "$text" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
+  local ok=$?
+  check "tune: $name is refused (exit $rc: $(head -c 200 "$tmp/err"))" $ok
+}
+expect_failure "a target no candidate meets" "no candidate meets the target" \
+  --max-error 0.001 "${fast[@]}" --report "$tmp/unmet.json"
+[[ -s "$tmp/unmet.json" ]] && $py -c "
+import json, sys; r = json.load(open(sys.argv[1])); assert r['chosen'] is None" "$tmp/unmet.json"
+check "tune: the report of an unmet target is written, with no choice" $?
+printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "a", "product": 0}]}' \
+  >"$tmp/bad-poses.json"
+expect_failure "a pose without a position" "bad-poses.json: poses[0].at" \
+  --max-error 1 "${fast[@]}" --poses "$tmp/bad-poses.json"
+printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "x", "product": 5, "at": [3, 0, 2, 0]}]}' \
+  >"$tmp/fifth.json"
+expect_failure "a pose of a product the bundle lacks" "pose x: product 5, the bundle has 3" \
+  --max-error 1 "${fast[@]}" --poses "$tmp/fifth.json"
+expect_failure "no target" "--max-error is required" "${fast[@]}"
+finish
