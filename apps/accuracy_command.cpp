@@ -27,14 +27,13 @@ struct AccuracyCommand {
   int product = -1;  // -1: the pose's product
   bool singleShare = false;
   bool hardPasses = false;
-  int mapSize = 0, referenceMap = 2048;  // mapSize 0: the bundle's
-  int fineProxyPasses = -1;              // -1: the bundle's
+  int mapSize = 0;           // 0: the bundle's
+  int fineProxyPasses = -1;  // -1: the bundle's
   RenderFlags render;
   reference::AccuracyOptions options;
 
   int run() {
     options.render = toOptions(render);
-    options.referenceMapSize = uint32_t(referenceMap);
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
     const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
@@ -129,6 +128,10 @@ struct TuneCommand {
 // The camera rays default to jittered over each pixel unless o.rays.pixelCentres is already
 // set (tune's default), when the flag to turn them back is --jittered.
 void addReferenceFlags(CLI::App* app, reference::AccuracyOptions& o) {
+  app->add_option("--reference-map", o.referenceMapSize,
+                  "map size of the Penumbra stand-in (area penumbrae need 512 or less)")
+      ->check(cli::NumberRange(16, 8192))
+      ->capture_default_str();
   app->add_flag("--penumbra-reference", o.penumbraReference,
                 "reference = Penumbra itself (2048 map, every source a pass), not ray tracing "
                 "(the only choice when built without the ray tracer)");
@@ -188,9 +191,6 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_option("--shadow-map", cmd->mapSize, "shadow-map size (default: the bundle's settings)")
       ->check(cli::NumberRange(16, 8192));
-  c->add_option("--reference-map", cmd->referenceMap, "map size of the Penumbra stand-in")
-      ->check(cli::NumberRange(16, 8192))
-      ->capture_default_str();
   c->add_option("--ppd", cmd->options.pixelsPerDegree, "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))
       ->capture_default_str();
@@ -228,6 +228,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   auto tune = std::make_shared<TuneCommand>();
   tune->options.measure.rays.samplesPerPixel = 16;  // issue 15's targets are stated at 16 spp
   tune->options.measure.rays.pixelCentres = true;   // as the pose set was measured
+  // The stand-in's maps at the largest size that keeps area penumbrae, which the candidates
+  // have: a larger one casts hard edges and would count the penumbrae as error.
+  tune->options.measure.referenceMapSize = raster::kMaxAreaPenumbraMapSize;
   CLI::App* t = app.add_subcommand(
       "tune", "The cheapest render settings whose frames meet an error target at every pose");
   t->add_option("BUNDLE", tune->bundlePath, "scene bundle (penumbra precompute)")->required();

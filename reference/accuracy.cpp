@@ -1,5 +1,6 @@
 #include "reference/accuracy.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -76,7 +77,8 @@ core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOpti
   }
 #endif
   shadow::FrameLoop r(bundle, o.referenceMapSize, o.render);
-  r.still(pose, o.referencePasses);
+  // Every source its own pass, up to the frame's limit (a skylight can have more sources).
+  r.still(pose, std::min(o.referencePasses, raster::kMaxPasses));
   info = {{"kind", "penumbra"},
           {"passes", r.stats.passes},
           {"shadow_map", o.referenceMapSize},
