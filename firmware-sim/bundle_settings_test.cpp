@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
@@ -43,11 +44,30 @@ TEST(BundleSettings, TheKioskKeepsToATunedBundlesCeilingAndMaps) {
   std::filesystem::remove_all(dir);
 }
 
+// The three differently lit showrooms (issue 17): their sessions run on the simulated board,
+// the spotlight's single source casting one pass a frame, the skylight's 300 as many as the
+// board affords.
+TEST(BundleSettings, TheThreeShowroomsRun) {
+  for (const char* name : {"spotlight", "daylight", "skylight"}) {
+    const Session session = loadSession(std::filesystem::path(PENUMBRA_DATA_DIR) / "sessions" /
+                                        (std::string(name) + ".json"));
+    SimRun run(session, bestTargetOneThread());
+    uint32_t most = 0;
+    for (int i = 0; i < 40; ++i) most = std::max(most, run.step().passes);
+    if (std::string(name) == "spotlight") {
+      EXPECT_EQ(most, 1u) << name;
+    } else {
+      EXPECT_GT(most, 8u) << name;
+    }
+  }
+}
+
 // `penumbra tune` prices frames on the board the shipped sessions simulate: the constants
 // must stay those sessions' board.
 TEST(BundleSettings, TuneCostsFramesOnTheSessionsBoard) {
   const shadow::CostModel::Params pi4 = shadow::CostModel::raspberryPi4();
-  for (const char* name : {"demo.json", "live.json", "soak.json", "faults.json"}) {
+  for (const char* name : {"demo.json", "live.json", "soak.json", "faults.json", "spotlight.json",
+                           "daylight.json", "skylight.json"}) {
     const Session s = loadSession(std::filesystem::path(PENUMBRA_DATA_DIR) / "sessions" / name);
     const shadow::CostModel::Params& b = s.cost;
     EXPECT_EQ(b.fixedNs, pi4.fixedNs) << name;
