@@ -79,20 +79,22 @@ class Measurer {
   }
 
   // Every pose of `poses` with `settings` (stopping at the first that misses when
-  // `stopAtMiss`), against `references` in the same order.
+  // `stopAtMiss`), against `references` in the same order. `missed` (when given) gets the
+  // frame at the first pose that missed, and `missedPose` its index.
   TunedCandidate measure(const shadow::RenderSettings& settings,
                          const std::vector<NamedPose>& poses,
-                         const std::vector<PoseReference>& references, bool stopAtMiss) {
+                         const std::vector<PoseReference>& references, bool stopAtMiss,
+                         core::Image8* missed = nullptr, size_t* missedPose = nullptr) {
     TunedCandidate c;
     c.settings = settings;
     c.meets = true;
     shadow::FrameLoop loop(bundle_, shadow::compositorOptions(settings), options_.measure.render);
     for (size_t i = 0; i < poses.size(); ++i) {
       loop.still(poses[i].pose, settings.maxPasses);
-      const ImageComparison cmp = compareImages(
-          references[i].image,
-          fromRgba8(loop.rgba, bundle_.view.width, bundle_.view.height, "penumbra frame"),
-          &references[i].region, compare_);
+      core::Image8 frame =
+          fromRgba8(loop.rgba, bundle_.view.width, bundle_.view.height, "penumbra frame");
+      const ImageComparison cmp =
+          compareImages(references[i].image, frame, &references[i].region, compare_);
       PoseError e;
       e.pose = poses[i].name;
       e.meanAbs = cmp.masked->pixels ? cmp.masked->meanAbs : 0.0;
@@ -105,6 +107,10 @@ class Measurer {
       const bool ok = within(e, options_.target);
       c.poses.push_back(std::move(e));
       if (!ok) {
+        if (c.meets && missed) {
+          *missed = std::move(frame);
+          *missedPose = i;
+        }
         c.meets = false;
         if (stopAtMiss) break;
       }
@@ -118,6 +124,38 @@ class Measurer {
   shadow::CostModel board_;
   CompareOptions compare_;
 };
+
+// The q-quantile (nearest rank, q in [0, 1]) of the per-pixel LDR-FLIP between `a` and `b`
+// over `region`'s pixels; 0 for an empty region.
+double regionFlip(const core::Image8& a, const core::Image8& b, const core::Image8& region,
+                  double pixelsPerDegree, double q) {
+  CompareOptions o;
+  o.flip.pixelsPerDegree = pixelsPerDegree;
+  const ImageComparison c = compareImages(a, b, &region, o);
+  std::vector<float> values;
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (region.pixels[i]) values.push_back(c.flipMap[i]);
+  }
+  if (values.empty()) return 0.0;
+  const size_t rank = std::min(values.size() - 1, size_t(std::ceil(q * double(values.size()))));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(rank), values.end());
+  return values[rank];
+}
+
+// What the display can just show in `region`: the median per-pixel FLIP of `image` against
+// itself with the region one level darker (each channel, clamped at 0).
+double oneLevelFlip(const core::Image8& image, const core::Image8& region, double pixelsPerDegree) {
+  core::Image8 darker = image;
+  const size_t channels = image.channels;
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (!region.pixels[i]) continue;
+    for (size_t c = 0; c < channels; ++c) {
+      uint8_t& v = darker.pixels[i * channels + c];
+      v = v > 0 ? uint8_t(v - 1) : v;
+    }
+  }
+  return regionFlip(image, darker, region, pixelsPerDegree, 0.5);
+}
 
 void checkPoses(const shadow::SceneBundle& bundle, const std::vector<NamedPose>& poses) {
   for (const NamedPose& p : poses) {
@@ -176,19 +214,47 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   makeReferences(o.poses, references);
   makeReferences(o.heldOut, heldOutReferences);
 
+  // Each pose's one-level FLIP threshold, for perceptual stopping.
+  std::vector<double> oneLevelLevels(references.size(), 0.0);
+  if (o.perceptualStop) {
+    for (size_t i = 0; i < references.size(); ++i) {
+      oneLevelLevels[i] =
+          oneLevelFlip(references[i].image, references[i].region, o.measure.pixelsPerDegree);
+    }
+  }
+
   Measurer measurer(bundle, o);
   for (const bool area : o.areaPenumbrae) {
     for (const uint32_t map : o.mapSizes) {
       for (const uint32_t fine : fines) {
+        core::Image8 previous;  // the last ceiling's frame where it missed
+        size_t previousPose = SIZE_MAX;
         for (size_t k = 0; k < ceilings.size(); ++k) {
           const shadow::RenderSettings s{ceilings[k], map, fine, area, true};
           step("map " + std::to_string(map) + ", fine " + std::to_string(fine) + ", area " +
                (area ? "on" : "off") + ", " + std::to_string(ceilings[k]) + " passes");
-          report.candidates.push_back(measurer.measure(s, o.poses, references, true));
-          if (report.candidates.back().meets) {
+          core::Image8 missed;
+          size_t missedPose = SIZE_MAX;
+          report.candidates.push_back(
+              measurer.measure(s, o.poses, references, true, &missed, &missedPose));
+          TunedCandidate& c = report.candidates.back();
+          bool stop = c.meets;
+          if (!c.meets && o.perceptualStop && missedPose == previousPose) {
+            const PoseReference& ref = references[missedPose];
+            // The 99th percentile: a change confined to a penumbra moves few pixels, and
+            // the mean over the whole shadow would call it invisible.
+            c.flipToPrevious =
+                regionFlip(previous, missed, ref.region, o.measure.pixelsPerDegree, 0.99);
+            c.flipOneLevel = oneLevelLevels[missedPose];
+            c.stoppedPerceptually = c.flipToPrevious < c.flipOneLevel;
+            stop = c.stoppedPerceptually;
+          }
+          if (stop) {
             done += ceilings.size() - 1 - k;  // the larger ceilings, not measured
             break;
           }
+          previous = std::move(missed);
+          previousPose = missedPose;
         }
       }
     }
@@ -237,6 +303,10 @@ nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {
   }
   return {{"settings", settingsJson(c.settings)},
           {"meets", c.meets},
+          {"flip_to_previous_ceiling",
+           c.flipToPrevious >= 0 ? nlohmann::json(c.flipToPrevious) : nullptr},
+          {"flip_one_level", c.flipOneLevel >= 0 ? nlohmann::json(c.flipOneLevel) : nullptr},
+          {"stopped_perceptually", c.stoppedPerceptually},
           {"board_ms", c.boardMs},
           {"worst_mean_abs_shadow", c.worstMeanAbs},
           {"poses", poses}};

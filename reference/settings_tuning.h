@@ -6,7 +6,12 @@
 // fine-proxy passes and area penumbrae, the pass ceilings are tried in increasing order and
 // the first that meets the target at every pose ends that combination: more passes only cost
 // more, and the error does not rise with passes within the reference's noise (issue 15's
-// targets, docs/accuracy.md). A candidate stops at the first pose that misses. The choice is
+// targets, docs/accuracy.md). A candidate stops at the first pose that misses. Refinement also
+// stops where more passes would not be seen (Gibson & Chalmers 2003 §8.2.2, after Gibson and
+// Hubbold's perception-driven radiosity): when two successive ceilings miss at the same pose
+// and 99 % of the shadow region's pixels differ between their frames there by less LDR-FLIP
+// than the median pixel of that region changed by one level (the display's own step, the
+// least difference it can show), the combination is left. The choice is
 // the cheapest candidate that meets the target (within the frame budget when one is given);
 // ties go to the candidate measured first. Nothing in the choice is timed: a frame's cost is
 // the simulated board's (shadow::CostModel::raspberryPi4) for the work the frame did, at the
@@ -65,6 +70,8 @@ struct TuneOptions {
   std::vector<uint32_t> mapSizes{64, 128, 256, 512};
   std::vector<uint32_t> fineProxyPasses{0, 8, 16, 32};
   std::vector<bool> areaPenumbrae{true, false};
+  // Stop raising a combination's passes when the frames no longer change visibly (above).
+  bool perceptualStop = true;
   // The frame budget on the board, ms (from `--fps`); 0: none.
   double maxBoardMs = 0;
   shadow::CostModel::Params board = shadow::CostModel::raspberryPi4();
@@ -85,6 +92,11 @@ struct TunedCandidate {
   bool meets = false;            // every pose measured and within the target
   double boardMs = 0;            // the dearest pose's
   double worstMeanAbs = 0;       // over the poses measured
+  // When it missed at the same pose as the previous ceiling: the 99th-percentile FLIP
+  // between the two frames in that pose's shadow region, and the one-level threshold there
+  // (the median FLIP of a one-level change). -1: not compared.
+  double flipToPrevious = -1, flipOneLevel = -1;
+  bool stoppedPerceptually = false;  // flipToPrevious < flipOneLevel: no larger ceiling tried
 };
 
 struct TuneReport {

@@ -120,6 +120,28 @@ TEST(TuneSettings, AFrameBudgetNoCandidateMeetsLeavesNoChoice) {
   EXPECT_EQ(toJson(o, r)["chosen"], nullptr);
 }
 
+// Under the spotlight showroom's single source every ceiling draws the same one pass: once
+// two ceilings miss with the same frame, larger ones are not tried (perceptual stopping).
+TEST(TuneSettings, PassesThatChangeNothingVisibleEndTheSearch) {
+  const shadow::SceneBundle spot =
+      shadow::loadBundle(testing::dataDir() / "showroom/spotlight.bundle");
+  TuneOptions o = smallTune(2);
+  o.poses = {{"start", spot.startPose}};
+  o.heldOut.clear();
+  o.target = {0.001, 0.0, 0.0};  // only the stand-in's own settings could meet it
+  o.passCeilings = {4, 8, 16};
+  o.mapSizes = {64};
+  o.fineProxyPasses = {0};
+  const TuneReport r = tuneSettings(spot, o);
+  ASSERT_EQ(r.candidates.size(), 2u);
+  EXPECT_FALSE(r.chosen.has_value());
+  EXPECT_EQ(r.candidates[1].flipToPrevious, 0.0);
+  EXPECT_GT(r.candidates[1].flipOneLevel, 0.0);
+  EXPECT_TRUE(r.candidates[1].stoppedPerceptually);
+  o.perceptualStop = false;
+  EXPECT_EQ(tuneSettings(spot, o).candidates.size(), 3u);
+}
+
 TEST(TuneSettings, ShippedPoseSetsLoad) {
   const std::vector<NamedPose> set = loadPoseSet(testing::dataDir() / "showroom/poses.json");
   ASSERT_EQ(set.size(), 15u);
