@@ -48,11 +48,20 @@ glm::dvec3 PassList::clusterCentroid(const SourceCluster& cluster,
   return weight > 0 ? sum / weight : centre(cluster.representative);
 }
 
+uint32_t fineProxyPassesFor(uint32_t fineProxyPasses, size_t clusters) {
+  if (clusters <= kFineProxyReferencePasses) return fineProxyPasses;
+  // ceil(clusters * fineProxyPasses / 50) in integers; both factors are below 2^32.
+  const uint64_t scaled = (uint64_t{clusters} * fineProxyPasses + kFineProxyReferencePasses - 1) /
+                          kFineProxyReferencePasses;
+  return static_cast<uint32_t>(std::min<uint64_t>(scaled, clusters));
+}
+
 uint32_t PassList::build(const PassListOptions& options, const ClusterSelection& selection,
                          std::span<const uint32_t> receiverPatches, const core::Mesh& product,
                          const scene::Aabb& productBounds, const VertexS& s,
                          std::vector<raster::ShadowPass>& passes) {
   const size_t clusters = selection.clusters.size();
+  const uint32_t finePasses = fineProxyPassesFor(options.fineProxyPasses, clusters);
   beginBuild(clusters, passes);
   uint32_t skipped = 0;
   // The frusta in cluster order (which clusters get a pass), then each pass's triangles.
@@ -74,7 +83,7 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
       ++skipped;
       continue;
     }
-    addPass(options, *frustum, k, options.depthBias, options.objectDepthBias, passes);
+    addPass(options, *frustum, k, options.depthBias, options.objectDepthBias, finePasses, passes);
     if (options.areaPenumbrae && options.pcf2x2 &&
         options.shadowMapSize <= raster::kMaxAreaPenumbraMapSize) {
       const glm::dvec3 axis = glm::normalize(frustum->sphereCentre - light);
@@ -115,7 +124,8 @@ void PassList::buildDirectional(const PassListOptions& options,
     // distances as the point lights' biases give at the product (~5 mm and ~2.7 cm at 2 m).
     const double perMetre = 1.0 / (frustum->zFar - frustum->zNear);
     addPass(options, *frustum, k, static_cast<float>(options.directionalBiasMetres * perMetre),
-            static_cast<float>(options.directionalObjectBiasMetres * perMetre), passes);
+            static_cast<float>(options.directionalObjectBiasMetres * perMetre),
+            options.fineProxyPasses, passes);
     widest = std::max<size_t>(widest, lightPatchStart[k + 1] - lightPatchStart[k]);
   }
   fillPasses(
@@ -134,7 +144,7 @@ void PassList::beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes
 }
 
 void PassList::addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
-                       float depthBias, float objectDepthBias,
+                       float depthBias, float objectDepthBias, uint32_t finePasses,
                        std::vector<raster::ShadowPass>& passes) {
   const size_t index = passCluster_.size();
   raster::ShadowPass& pass = passes[index];
@@ -143,7 +153,7 @@ void PassList::addPass(const PassListOptions& options, const LightFrustum& frust
   pass.shadowMapSize = options.shadowMapSize;
   pass.depthBias = depthBias;
   pass.pcf2x2 = options.pcf2x2;
-  pass.occluder = index < options.fineProxyPasses ? 1 : 0;
+  pass.occluder = index < finePasses ? 1 : 0;
   pass.cullBackFaces = options.closedOccluders[pass.occluder];
   pass.objectDepthBias = objectDepthBias;
   pass.penumbraScale = 0;  // build() sets them for area penumbrae

@@ -222,6 +222,19 @@ TEST(PassList, TheFirstPassesDrawTheFineProxy) {
   }
 }
 
+// Beyond 50 passes the fine proxy keeps its share of them: 16 of 50, 27 of 82 (16 * 82 / 50 =
+// 26.24, rounded up), all of them when the count asks for more than there are.
+TEST(PassList, TheFineProxysShareHoldsAboveFiftyPasses) {
+  EXPECT_EQ(fineProxyPassesFor(16, 10), 16u);
+  EXPECT_EQ(fineProxyPassesFor(16, 50), 16u);
+  EXPECT_EQ(fineProxyPassesFor(16, 51), 17u);
+  EXPECT_EQ(fineProxyPassesFor(16, 82), 27u);
+  EXPECT_EQ(fineProxyPassesFor(16, 257), 83u);
+  EXPECT_EQ(fineProxyPassesFor(0, 200), 0u);
+  EXPECT_EQ(fineProxyPassesFor(50, 60), 60u);
+  EXPECT_EQ(fineProxyPassesFor(200, 100), 100u);
+}
+
 // A cluster's map is cast from its sources' centroid weighted by their average transfers;
 // one source casts from its patch centre exactly; a centroid inside the product's sphere
 // falls back to the representative patch.
