@@ -323,9 +323,6 @@ void validateFrame(const FrameContent& frame, uint32_t width, uint32_t height,
     if (!(pass.penumbraScale >= 0 && pass.penumbraScale < 1e30f)) {
       throw TraceError(where, field + ".penumbra_scale", "must be finite and not negative");
     }
-    if (!std::isfinite(pass.penumbraBlocker)) {
-      throw TraceError(where, field + ".penumbra_blocker", "is not finite");
-    }
     if (pass.penumbraScale > 0 && (!pass.pcf2x2 || pass.shadowMapSize > kMaxAreaPenumbraMapSize)) {
       throw TraceError(where, field + ".penumbra_scale",
                        "needs pcf2x2 and a shadow map of at most " +
@@ -402,9 +399,8 @@ FrameTrace loadTrace(const std::filesystem::path& path, uint64_t maxBytes) {
     pass.pcf2x2 = pj["pcf2x2"].boolean();
     pass.occluder = Reader::count<uint32_t>(pj["occluder"]);
     if (pj.has("cull_back_faces")) pass.cullBackFaces = pj["cull_back_faces"].boolean();
-    if (pj.has("penumbra_scale")) {  // optional: area-light penumbrae, both fields
+    if (pj.has("penumbra_scale")) {  // optional: area-light penumbrae
       pass.penumbraScale = static_cast<float>(pj["penumbra_scale"].number());
-      pass.penumbraBlocker = static_cast<float>(pj["penumbra_blocker"].number());
     }
     r.view(pj["receiver_triangles"], 1, pass.receiverTriangles);
     r.transfers(pj["receiver_s"], version, pass.receiverS);
@@ -466,7 +462,6 @@ void saveTrace(const FrameTrace& trace, const std::filesystem::path& path) {
     if (p.cullBackFaces) doc["passes"].back()["cull_back_faces"] = true;
     if (p.penumbraScale > 0) {
       doc["passes"].back()["penumbra_scale"] = static_cast<double>(p.penumbraScale);
-      doc["passes"].back()["penumbra_blocker"] = static_cast<double>(p.penumbraBlocker);
     }
     if (!p.objectTriangles.empty()) {
       json& pj = doc["passes"].back();

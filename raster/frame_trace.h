@@ -53,11 +53,11 @@ struct ShadowPass {
   float objectDepthBias = 0.0f;
   // Area-light penumbrae (docs/pipeline-spec.md §7): with penumbraScale > 0 each receiver
   // pixel behind every occluder texel takes the share of the map's occluder texels in a box
-  // of half-width penumbraScale * (d - penumbraBlocker) texels around its lookup, the
-  // penumbra a light of the cluster's extent casts, instead of the 2x2 PCF. Needs pcf2x2
-  // and a map of at most kMaxAreaPenumbraMapSize texels a side.
-  float penumbraScale = 0.0f;    // texels of half-width per unit of window depth
-  float penumbraBlocker = 0.0f;  // the occluder's window depth the half-width grows from
+  // of half-width penumbraScale * (d - b) texels around its lookup, b the mean depth of the
+  // occluder texels found around it, the penumbra a light of the cluster's extent casts,
+  // instead of the 2x2 PCF. Needs pcf2x2 and a map of at most kMaxAreaPenumbraMapSize
+  // texels a side.
+  float penumbraScale = 0.0f;  // texels of half-width per unit of window depth
   bool operator==(const ShadowPass&) const = default;
 };
 
@@ -69,6 +69,10 @@ inline constexpr uint32_t kMaxAreaPenumbraMapSize = 512;
 inline constexpr int32_t kPenumbraSubtexels = 64;
 inline constexpr float kMaxPenumbraHalfWidth = 32.0f;
 inline constexpr float kMinPenumbraHalfWidth = 0.5f;
+// The blocker search sums written depths in 1/kDepthQuantum over cells of kBlockerCell
+// texels a side (ShadowMap::sumBlockers).
+inline constexpr float kDepthQuantum = 65536.0f;
+inline constexpr int32_t kBlockerCell = 2;
 
 struct StaticView {
   uint32_t width = 0, height = 0;

@@ -115,14 +115,15 @@ bool LightFootprint::unwritten(const ReceiverBand& band) const {
   float margin = 0;
   if (lookup_.penumbraScale > 0) {
     // The kernels' d = fl(q2 / q3) is at most fl(hi2 / lo3) (hi2 >= 0) or fl(hi2 / hi3), and
-    // fl(K fl(d - b)) is non-decreasing in d: no pixel's box is wider than t (NaN: the cap).
+    // fl(K fl(d - nearest)) is non-decreasing in d: no pixel's r exceeds this one (NaN: the
+    // cap). W reads texels within its box w <= r or the 2x2 PCF's footprint only; the search
+    // decides which, and W = 0 wherever neither meets a written texel.
     float lo2, hi2;
     lightRowRange(p + 8, sx0, sx1, sy0, sy1, band.zMin, band.zMax, lo2, hi2);
-    const float t =
-        lookup_.penumbraScale * (hi2 / (hi2 >= 0 ? lo3 : hi3) - lookup_.penumbraBlocker);
-    if (!(t <= kMinPenumbraHalfWidth)) {
-      margin = (t < kMaxPenumbraHalfWidth ? t : kMaxPenumbraHalfWidth) + 1.0f;
-    }
+    const float reach = lookup_.penumbraScale * (hi2 / (hi2 >= 0 ? lo3 : hi3) - lookup_.nearest);
+    const float r =
+        reach > 1.0f ? (reach < kMaxPenumbraHalfWidth ? reach : kMaxPenumbraHalfWidth) : 1.0f;
+    margin = r + 1.0f;
   }
   int32_t i0, i1, j0, j1;
   if (!footprintRange(lo0, hi0, lo3, hi3, lookup_, margin, i0, i1)) return true;

@@ -49,9 +49,10 @@ ReceiverBand unite(const ReceiverBand& a, const ReceiverBand& b);
 class LightFootprint {
  public:
   // With the lookup's penumbraScale > 0 (an area-penumbra pass, spec §7) each band's
-  // footprint is widened by the largest box half-width its pixels can have, K (d - b) for
-  // the largest light depth d the band can reach (at most kMaxPenumbraHalfWidth), plus one
-  // texel. The lookup is read when a band is asked about, so it may change in between.
+  // footprint is widened by the largest blocker-search half-width its pixels can have,
+  // K (d - nearest) for the largest light depth d the band can reach (in [1,
+  // kMaxPenumbraHalfWidth]), plus one texel. The lookup is read when a band is asked about, so it
+  // may change in between.
   LightFootprint(const ShadowLookup& lookup, const ShadowMap& map);
   bool unwritten(const ReceiverBand& band) const;
 

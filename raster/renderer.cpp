@@ -458,16 +458,8 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   const bool areaPenumbra = pass.penumbraScale > 0;
   if (areaPenumbra) {
     w.shadowMap.sumCoverage(w.mapX0, w.mapY0, w.mapX1, w.mapY1);
-    const ShadowMap::Rect& r = w.shadowMap.coverageRect();
-    lookup.farthest = w.shadowMap.farthest();
-    lookup.penumbraScale = pass.penumbraScale;  // the room's receivers only: 0 for objects
-    lookup.penumbraBlocker = pass.penumbraBlocker;
-    lookup.coverage = w.shadowMap.coverage();
-    lookup.coverageStride = w.shadowMap.coverageStride();
-    lookup.coverageX0 = r.x0;
-    lookup.coverageY0 = r.y0;
-    lookup.coverageX1 = r.x1;
-    lookup.coverageY1 = r.y1;
+    // The room's receivers only: the scale goes back to 0 for objects.
+    setAreaPenumbra(lookup, w.shadowMap, pass.penumbraScale);
   }
   // An area-penumbra pass's boxes reach past the 2x2 footprint (LightFootprint widens it by
   // each band's widest box); a box meeting no written texel gives W = 0 as well.

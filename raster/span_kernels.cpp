@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <type_traits>
 
 #undef HWY_TARGET_INCLUDE
@@ -553,35 +554,104 @@ HWY_INLINE VI coveredAreaAt(const ShadowLookup& s, VI x, VI y) {
                  hn::Mul(hn::Add(hn::Mul(n01, ia), hn::Mul(n11, a)), b));
 }
 
+// Spec §7's blocker search around (u, v) with half-width h: the written texels of the cells
+// that hold columns floor(u - h) ... floor(u + h) and the same rows, and their quantized
+// depths' sum. The texel bounds are clamped to the cells' by comparisons (NaN lanes land on
+// their corner: no cell); the tables are modular, as int32 lanes add and subtract, and a
+// box's sum is below 2^31. Each cell's count and sum are adjacent: one pair gather per
+// corner.
+HWY_INLINE void blockersAround(const ShadowLookup& s, VF u, VF v, VF h, VI& count, VI& depthSum) {
+  const DF df;
+  const DI di;
+  auto clampTexel = [&](VF f, int32_t lo, int32_t hi) {
+    const VF l = hn::Set(df, static_cast<float>(lo * kBlockerCell));
+    const VF g = hn::Set(df, static_cast<float>(hi * kBlockerCell));
+    return hn::ConvertTo(di, hn::IfThenElse(hn::Gt(f, l), hn::IfThenElse(hn::Lt(f, g), f, g), l));
+  };
+  constexpr int kCellShift = std::countr_zero(static_cast<uint32_t>(kBlockerCell));
+  static_assert(kBlockerCell == 1 << kCellShift, "cells are found by shifts");
+  const VF one = hn::Set(df, 1.0f);
+  const VI up = hn::Set(di, kBlockerCell - 1);
+  const VI a0 =
+      hn::ShiftRight<kCellShift>(clampTexel(hn::Floor(hn::Sub(u, h)), s.blockerX0, s.blockerX1));
+  const VI b0 =
+      hn::ShiftRight<kCellShift>(clampTexel(hn::Floor(hn::Sub(v, h)), s.blockerY0, s.blockerY1));
+  const VI a1 = hn::ShiftRight<kCellShift>(
+      hn::Add(clampTexel(hn::Add(hn::Floor(hn::Add(u, h)), one), s.blockerX0, s.blockerX1), up));
+  const VI b1 = hn::ShiftRight<kCellShift>(
+      hn::Add(clampTexel(hn::Add(hn::Floor(hn::Add(v, h)), one), s.blockerY0, s.blockerY1), up));
+  const VI stride = hn::Set(di, s.blockerStride);
+  auto at = [&](VI a, VI b) {
+    return hn::ShiftLeft<1>(hn::Add(hn::Mul(hn::Sub(b, hn::Set(di, s.blockerY0)), stride),
+                                    hn::Sub(a, hn::Set(di, s.blockerX0))));
+  };
+  const int32_t* table = reinterpret_cast<const int32_t*>(s.blockers);
+  VI n00, z00, n10, z10, n01, z01, n11, z11;
+  adjacentPairs(di, table, at(a0, b0), n00, z00);
+  adjacentPairs(di, table, at(a1, b0), n10, z10);
+  adjacentPairs(di, table, at(a0, b1), n01, z01);
+  adjacentPairs(di, table, at(a1, b1), n11, z11);
+  count = hn::Add(hn::Sub(hn::Sub(n11, n10), n01), n00);
+  depthSum = hn::Add(hn::Sub(hn::Sub(z11, z10), z01), z00);
+}
+
+// The penumbra half-width K (d - mean blocker depth); lanes with count 0 divide by 1.
+HWY_INLINE VF penumbraOf(const ShadowLookup& s, VF d, VI count, VI depthSum) {
+  const DF df;
+  const DI di;
+  const VF blocker = hn::Mul(
+      hn::Div(hn::ConvertTo(df, depthSum), hn::ConvertTo(df, hn::Max(count, hn::Set(di, 1)))),
+      hn::Set(df, 1.0f / kDepthQuantum));
+  return hn::Mul(hn::Set(df, s.penumbraScale), hn::Sub(d, blocker));
+}
+
 // The area-light lookup of spec §7 for the lanes of `front`: W where it answers (the lanes
 // set in `answered`), the 2x2 PCF's lanes left to the caller.
 HWY_INLINE VI areaPenumbraAt(const ShadowLookup& s, VF u, VF v, VF d, hn::Mask<DF> front,
                              hn::Mask<DF>& answered) {
   const DF df;
   const DI di;
-  const VF t = hn::Mul(hn::Set(df, s.penumbraScale), hn::Sub(d, hn::Set(df, s.penumbraBlocker)));
-  // Behind every occluder texel, and a box wider than the 2x2 footprint.
-  answered = hn::And(front, hn::And(hn::Gt(d, hn::Set(df, s.farthest + s.bias)),
-                                    hn::Gt(t, hn::Set(df, kMinPenumbraHalfWidth))));
-  if (hn::AllFalse(df, answered)) return hn::Zero(di);
-  const VF maxHalf = hn::Set(df, kMaxPenumbraHalfWidth);
-  VF w = hn::IfThenElse(hn::Lt(t, maxHalf), t, maxHalf);
-  const VF zero = hn::Zero(df), size = hn::Set(df, static_cast<float>(s.size));
-  // A box wholly outside the map covers nothing (W = 0), nor does one wholly outside the
-  // written texels' rectangle inside it (its C terms cancel): the boxes are tested against
-  // the rectangle, so that a vector of such boxes needs no gathers. Their lanes compute on
-  // u = v = 0.
+  // Behind every occluder texel.
+  const auto behind = hn::And(front, hn::Gt(d, hn::Set(df, s.farthest + s.bias)));
+  answered = behind;
+  if (hn::AllFalse(df, behind)) return hn::Zero(di);
+  const VF one = hn::Set(df, 1.0f);
+  auto clampHalf = [&](VF h, VF hi) {
+    return hn::IfThenElse(hn::Gt(h, one), hn::IfThenElse(hn::Lt(h, hi), h, hi), one);
+  };
+  const VF r = clampHalf(hn::Mul(hn::Set(df, s.penumbraScale), hn::Sub(d, hn::Set(df, s.nearest))),
+                         hn::Set(df, kMaxPenumbraHalfWidth));
+  // A search box wholly outside the written texels' rectangle finds no blocker (W = 0): the
+  // boxes are tested against it, so that a vector of such boxes needs no gathers. The box
+  // holds the texels floor(u - r) ... floor(u + r): it meets column x0 when u + r >= x0 and
+  // the last column, x1 - 1, when u - r < x1.
   const VF rx0 = hn::Set(df, static_cast<float>(s.coverageX0));
   const VF rx1 = hn::Set(df, static_cast<float>(s.coverageX1));
   const VF ry0 = hn::Set(df, static_cast<float>(s.coverageY0));
   const VF ry1 = hn::Set(df, static_cast<float>(s.coverageY1));
-  const auto meets =
-      hn::And(answered, hn::And(hn::And(hn::Gt(hn::Add(u, w), rx0), hn::Lt(hn::Sub(u, w), rx1)),
-                                hn::And(hn::Gt(hn::Add(v, w), ry0), hn::Lt(hn::Sub(v, w), ry1))));
+  const auto searched =
+      hn::And(behind, hn::And(hn::And(hn::Ge(hn::Add(u, r), rx0), hn::Lt(hn::Sub(u, r), rx1)),
+                              hn::And(hn::Ge(hn::Add(v, r), ry0), hn::Lt(hn::Sub(v, r), ry1))));
+  if (hn::AllFalse(df, searched)) return hn::Zero(di);
+  VI count, depthSum;
+  blockersAround(s, u, v, r, count, depthSum);
+  const auto found = hn::And(searched, hn::RebindMask(df, hn::Gt(count, hn::Zero(di))));
+  if (hn::AllFalse(df, found)) return hn::Zero(di);
+  // The first estimate, over every blocker the light can see past; then again over the
+  // blockers within that estimate's box.
+  VF t = penumbraOf(s, d, count, depthSum);
+  blockersAround(s, u, v, clampHalf(t, r), count, depthSum);
+  t = hn::IfThenElse(hn::RebindMask(df, hn::Gt(count, hn::Zero(di))),
+                     penumbraOf(s, d, count, depthSum), t);
+  const auto wide = hn::Gt(t, hn::Set(df, kMinPenumbraHalfWidth));
+  // Found blockers but a box within the 2x2 footprint: the PCF answers.
+  answered = hn::AndNot(hn::AndNot(wide, found), behind);
+  const auto meets = hn::And(found, wide);
   if (hn::AllFalse(df, meets)) return hn::Zero(di);
+  const VF zero = hn::Zero(df), size = hn::Set(df, static_cast<float>(s.size));
   u = hn::IfThenElseZero(meets, u);
   v = hn::IfThenElseZero(meets, v);
-  w = hn::IfThenElse(meets, w, hn::Set(df, 1.0f));
+  const VF w = hn::IfThenElse(meets, hn::IfThenElse(hn::Lt(t, r), t, r), one);
   const VF sub = hn::Set(df, static_cast<float>(kPenumbraSubtexels));
   const VF limit = hn::Mul(size, sub);
   const VF fx0 = hn::Floor(hn::Mul(hn::Sub(u, w), sub)),

@@ -48,15 +48,65 @@ int32_t coveredArea(const ShadowLookup& s, int32_t x, int32_t y) {
   return (n[0] * (64 - a) + n[1] * a) * (64 - b) + (below[0] * (64 - a) + below[1] * a) * b;
 }
 
+// Spec §7's blocker search around (u, v) with half-width h: the written texels of the cells
+// that hold columns floor(u - h) ... floor(u + h) and the same rows, and the sum of their
+// quantized depths, which the modular sums give exactly (a box's sum is below 2^31). The
+// texel bounds are clamped to the cells' by comparisons (NaN lands on their corner: no
+// cell).
+struct Blockers {
+  int32_t count;
+  int32_t depthSum;
+};
+Blockers blockersAround(const ShadowLookup& s, float u, float v, float h) {
+  auto clampTexel = [](float f, int32_t lo, int32_t hi) {
+    const float l = static_cast<float>(lo * kBlockerCell),
+                g = static_cast<float>(hi * kBlockerCell);
+    return static_cast<int32_t>(f > l ? (f < g ? f : g) : l);
+  };
+  const int32_t a0 = clampTexel(std::floor(u - h), s.blockerX0, s.blockerX1) / kBlockerCell;
+  const int32_t b0 = clampTexel(std::floor(v - h), s.blockerY0, s.blockerY1) / kBlockerCell;
+  const int32_t a1 =
+      (clampTexel(std::floor(u + h) + 1.0f, s.blockerX0, s.blockerX1) + kBlockerCell - 1) /
+      kBlockerCell;
+  const int32_t b1 =
+      (clampTexel(std::floor(v + h) + 1.0f, s.blockerY0, s.blockerY1) + kBlockerCell - 1) /
+      kBlockerCell;
+  auto at = [&](int32_t a, int32_t b) {
+    return s.blockers + 2 * (ptrdiff_t{b - s.blockerY0} * s.blockerStride + (a - s.blockerX0));
+  };
+  const uint32_t* p00 = at(a0, b0);
+  const uint32_t* p10 = at(a1, b0);
+  const uint32_t* p01 = at(a0, b1);
+  const uint32_t* p11 = at(a1, b1);
+  const uint32_t count = p11[0] - p10[0] - p01[0] + p00[0];
+  const uint32_t sum = p11[1] - p10[1] - p01[1] + p00[1];
+  return {static_cast<int32_t>(count), static_cast<int32_t>(sum)};
+}
+
+// The penumbra half-width K (d - mean blocker depth) of found blockers (count > 0).
+float penumbraOf(const ShadowLookup& s, float d, Blockers found) {
+  const float blocker =
+      static_cast<float>(found.depthSum) / static_cast<float>(found.count) * (1.0f / kDepthQuantum);
+  return s.penumbraScale * (d - blocker);
+}
+
 // The area-light lookup of spec §7, or -1 where the 2x2 PCF answers instead.
 int32_t areaPenumbraAt(const ShadowLookup& s, float u, float v, float d) {
   if (!(d > s.farthest + s.bias)) return -1;  // among the occluder's depths: contact
-  const float t = s.penumbraScale * (d - s.penumbraBlocker);
-  if (!(t > kMinPenumbraHalfWidth)) return -1;
-  const float w = t < kMaxPenumbraHalfWidth ? t : kMaxPenumbraHalfWidth;
+  auto clampHalf = [](float h, float hi) { return h > 1.0f ? (h < hi ? h : hi) : 1.0f; };
+  const float r = clampHalf(s.penumbraScale * (d - s.nearest), kMaxPenumbraHalfWidth);
   const float size = static_cast<float>(s.size);
-  // A box wholly outside the map (or NaN) covers nothing: no texel there occludes.
-  if (!(u + w > 0.0f && u - w < size && v + w > 0.0f && v - w < size)) return 0;
+  // A search box wholly outside the map (or NaN) finds no blocker.
+  if (!(u + r >= 0.0f && u - r < size && v + r >= 0.0f && v - r < size)) return 0;
+  const Blockers found = blockersAround(s, u, v, r);
+  if (found.count == 0) return 0;
+  // The first estimate, searched over every blocker the light can see past; then again over
+  // the blockers within that estimate's box.
+  float t = penumbraOf(s, d, found);
+  const Blockers near = blockersAround(s, u, v, clampHalf(t, r));
+  if (near.count > 0) t = penumbraOf(s, d, near);
+  if (!(t > kMinPenumbraHalfWidth)) return -1;
+  const float w = t < r ? t : r;
   const float sub = static_cast<float>(kPenumbraSubtexels), limit = size * sub;
   const float fx0 = std::floor((u - w) * sub), fx1 = std::floor((u + w) * sub);
   const float fy0 = std::floor((v - w) * sub), fy1 = std::floor((v + w) * sub);

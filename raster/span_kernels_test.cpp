@@ -469,15 +469,8 @@ void expectSameOnPatchyMaps(const SpanKernels& k, uint32_t seed, bool area) {
       depth[9] = std::numeric_limits<float>::quiet_NaN();
       depth[kRow + 3] = std::numeric_limits<float>::infinity();
       if (trial % 11 == 0) lookup.p[3] += 200.0f;
-      lookup.penumbraScale = trial % 4 == 0 ? 400.0f * (f(rng) + 1.0f) : 40.0f * (f(rng) + 1.0f);
-      lookup.penumbraBlocker = 0.4f + 0.1f * f(rng);
-      lookup.farthest = map.farthest();
-      lookup.coverage = map.coverage();
-      lookup.coverageStride = map.coverageStride();
-      lookup.coverageX0 = map.coverageRect().x0;
-      lookup.coverageY0 = map.coverageRect().y0;
-      lookup.coverageX1 = map.coverageRect().x1;
-      lookup.coverageY1 = map.coverageRect().y1;
+      setAreaPenumbra(lookup, map,
+                      trial % 4 == 0 ? 400.0f * (f(rng) + 1.0f) : 40.0f * (f(rng) + 1.0f));
     }
     expectSameAccumulation(ref, k, depth, sA, accA, plane, rows, xa, xb, lookup, trial);
     if (::testing::Test::HasFatalFailure()) return;
@@ -497,6 +490,24 @@ TEST_P(SpanKernelsOnTarget, AccumulateRowsWithAreaPenumbraeMatchesScalar) {
   expectSameOnPatchyMaps(spanKernelsFor(GetParam()), 19, true);
 }
 
+// An area-penumbra lookup of scale `k` into `map` (after its sumCoverage) along one row:
+// pixel (x, 0) of depth z looks up texel (x - 32 + 0.5, row + 0.5) at light depth d = z.
+ShadowLookup rowLookup(const ShadowMap& map, float k, float row) {
+  ShadowLookup lookup{};
+  lookup.p[0] = 1.0f;
+  lookup.p[3] = -32.0f;
+  lookup.p[7] = row;
+  lookup.p[10] = 1.0f;
+  lookup.p[15] = 1.0f;
+  lookup.map = map.origin();
+  lookup.size = map.size();
+  lookup.stride = map.stride();
+  lookup.bias = 0.001f;
+  lookup.pcf2x2 = true;
+  setAreaPenumbra(lookup, map, k);
+  return lookup;
+}
+
 // What the area lookup computes (spec §7), on the reference: an occluder filling columns
 // [0, 24) of a 48-texel map at depth 0.3, receivers at depth 0.7 with a 4-texel half-width
 // box, along a row of texel centres. Its weight falls linearly from 65536 four texels inside
@@ -511,24 +522,7 @@ TEST(AreaPenumbra, BoxCoverageRampsAcrossAnEdge) {
   }
   map.sumCoverage(0, 0, 24, size);
   EXPECT_EQ(map.farthest(), 0.3f);
-  ShadowLookup lookup{};
-  lookup.p[0] = 1.0f;  // pixel x -> texel u = x - 32 + 0.5 (pixel centres), v = 20.5
-  lookup.p[3] = -32.0f;
-  lookup.p[7] = 20.0f;
-  lookup.p[10] = 1.0f;  // d = the pixel's depth
-  lookup.p[15] = 1.0f;
-  lookup.map = map.origin();
-  lookup.size = size;
-  lookup.stride = map.stride();
-  lookup.bias = 0.001f;
-  lookup.pcf2x2 = true;
-  lookup.penumbraScale = 10.0f;  // 10 (0.7 - 0.3) = 4 texels
-  lookup.penumbraBlocker = 0.3f;
-  lookup.farthest = map.farthest();
-  lookup.coverage = map.coverage();
-  lookup.coverageStride = map.coverageStride();
-  lookup.coverageX1 = 24;
-  lookup.coverageY1 = size;
+  const ShadowLookup lookup = rowLookup(map, 10.0f, 20.0f);  // 10 (0.7 - 0.3) = 4 texels
   const size_t plane = kRow;
   auto weights = [&](float d) {
     std::vector<float> depth(plane, d);
@@ -549,6 +543,42 @@ TEST(AreaPenumbra, BoxCoverageRampsAcrossAnEdge) {
   // Depth 0.25 is in front of the occluder: the 2x2 PCF, which sees nothing in front of it.
   const std::vector<uint16_t> front = weights(0.25f);
   for (int x = 40; x < 72; ++x) EXPECT_EQ(front[size_t(x)], 0) << x;
+}
+
+// The per-pixel blocker search (spec §7): two occluders across the light's view, one near it
+// (depth 0.2, rows [0, 32)) and one far (0.6, rows [32, 64)), both ending at column 24.
+// Behind both (depth 0.8, K = 10) each edge ramps over its own blocker's penumbra,
+// 2 K (0.8 - 0.2) = 12 texels near and 2 K (0.8 - 0.6) = 4 far, centred on the edge; one
+// blocker depth per pass would give both edges one width.
+TEST(AreaPenumbra, EachEdgeRampsOverItsOwnBlockersPenumbra) {
+  const int32_t size = 64;
+  ShadowMap map;
+  map.reset(size);
+  for (int32_t j = 0; j < size; ++j) {
+    for (int32_t i = 0; i < 24; ++i) map.origin()[j * map.stride() + i] = j < 32 ? 0.2f : 0.6f;
+  }
+  map.sumCoverage(0, 0, 24, size);
+  EXPECT_EQ(map.nearest(), 0.2f);
+  auto rampAt = [&](float row) {
+    const ShadowLookup lookup = rowLookup(map, 10.0f, row);
+    const size_t plane = kRow;
+    std::vector<float> depth(plane, 0.8f);
+    std::vector<uint32_t> s(plane, 0xFFu);
+    std::vector<uint16_t> acc(3 * plane, 0);
+    const int32_t xa = 40, xb = 72;  // u from 8.5 to 39.5
+    scalarSpanKernels().accumulateRows(depth.data(), s.data(), acc.data(), plane, kRow, 0, 1, &xa,
+                                       &xb, lookup);
+    int partial = 0;
+    for (int x = xa; x < xb; ++x) partial += acc[size_t(x)] > 0 && acc[size_t(x)] < 255;
+    // Halfway at the edge: u = 23.5 and 24.5 straddle it.
+    EXPECT_NEAR(acc[40 + 15] + acc[40 + 16], 255, 40) << row;
+    return partial;
+  };
+  const int nearRamp = rampAt(16.0f), farRamp = rampAt(48.0f);
+  EXPECT_GE(nearRamp, 11);
+  EXPECT_LE(nearRamp, 13);
+  EXPECT_GE(farRamp, 3);
+  EXPECT_LE(farRamp, 5);
 }
 
 using FinishKernel = decltype(SpanKernels::shadeAccumulatedLinear);
@@ -779,8 +809,6 @@ TEST(ReceiverBands, UnwrittenAreaPenumbraBandsAddNothing) {
     lookup.map = map.origin();
     lookup.bias = 0.001f;
     lookup.pcf2x2 = true;
-    lookup.penumbraScale = 30.0f * (f(rng) + 1.0f);
-    lookup.penumbraBlocker = 0.2f;
     const ReceiverBand band = randomBand(rng, pos(rng), pos(rng) % 20, 0.05f);
     const auto [tx, ty] = texelNear(lookup, band, rng, 40);
     map.clear(0, 0, size, size);
@@ -788,13 +816,7 @@ TEST(ReceiverBands, UnwrittenAreaPenumbraBandsAddNothing) {
     map.markWritten(tx, ty, tx + 1, ty + 1);
     map.sumBlocks();
     map.sumCoverage(tx, ty, tx + 1, ty + 1);
-    lookup.farthest = map.farthest();
-    lookup.coverage = map.coverage();
-    lookup.coverageStride = map.coverageStride();
-    lookup.coverageX0 = tx;
-    lookup.coverageY0 = ty;
-    lookup.coverageX1 = tx + 1;
-    lookup.coverageY1 = ty + 1;
+    setAreaPenumbra(lookup, map, 30.0f * (f(rng) + 1.0f));
     if (!LightFootprint(lookup, map).unwritten(band)) {
       ++drawn;
       continue;

@@ -28,9 +28,4 @@ double penumbraScale(const LightFrustum& frustum, double halfWidth, uint32_t map
   return halfWidth * double(mapSize) * (f - n) / (2.0 * frustum.tanHalfFovY * f * n);
 }
 
-double blockerDepth(const LightFrustum& frustum) {
-  const glm::dvec4 c = frustum.viewProj * glm::dvec4(frustum.sphereCentre, 1.0);
-  return c.z / c.w * 0.5 + 0.5;
-}
-
 }  // namespace penumbra::shadow

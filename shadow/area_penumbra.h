@@ -49,8 +49,4 @@ double clusterHalfWidth(const SceneBundle& bundle, const SourceCluster& cluster,
 // fitLightFrustum (a perspective frustum).
 double penumbraScale(const LightFrustum& frustum, double halfWidth, uint32_t mapSize);
 
-// The window depth the penumbra grows from: the occluder's sphere centre's (one blocker
-// depth per pass; measured against a per-pixel blocker search, docs/accuracy.md).
-double blockerDepth(const LightFrustum& frustum);
-
 }  // namespace penumbra::shadow

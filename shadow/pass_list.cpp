@@ -90,13 +90,11 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
       const double scale = penumbraScale(
           *frustum, clusterHalfWidth(bundle_, cluster, selection.sources, light, axis),
           options.shadowMapSize);
-      const double blocker = blockerDepth(*frustum);
-      // A light whose box stays within half a texel up to the far plane (window depth 1)
-      // keeps its hard pass: the same bytes in the frustum, and no coverage to sum.
-      if (scale * (1.0 - blocker) > raster::kMinPenumbraHalfWidth) {
-        raster::ShadowPass& pass = passes[passCluster_.size() - 1];
-        pass.penumbraScale = static_cast<float>(scale);
-        pass.penumbraBlocker = static_cast<float>(blocker);
+      // A light whose box stays within half a texel from the near plane to the far one
+      // (window depths 0 and 1) keeps its hard pass: the same bytes in the frustum, and no
+      // coverage to sum.
+      if (scale > raster::kMinPenumbraHalfWidth) {
+        passes[passCluster_.size() - 1].penumbraScale = static_cast<float>(scale);
       }
     }
   }
@@ -156,8 +154,7 @@ void PassList::addPass(const PassListOptions& options, const LightFrustum& frust
   pass.occluder = index < finePasses ? 1 : 0;
   pass.cullBackFaces = options.closedOccluders[pass.occluder];
   pass.objectDepthBias = objectDepthBias;
-  pass.penumbraScale = 0;  // build() sets them for area penumbrae
-  pass.penumbraBlocker = 0;
+  pass.penumbraScale = 0;  // build() sets it for area penumbrae
   passViewProj_.push_back(frustum.viewProj);
 }
 
