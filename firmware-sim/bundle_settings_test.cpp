@@ -9,7 +9,9 @@
 
 #include "firmware-sim/session.h"
 #include "firmware-sim/sim_run.h"
+#include "shadow/footprint_detail.h"
 #include "shadow/frame_cost_model.h"
+#include "shadow/render_settings.h"
 #include "shadow/scene_bundle.h"
 #include "tests/scratch_dir.h"
 
@@ -41,6 +43,53 @@ TEST(BundleSettings, TheKioskKeepsToATunedBundlesCeilingAndMaps) {
     most = std::max(most, r.passesAsked);
   }
   EXPECT_EQ(most, 6u);
+  std::filesystem::remove_all(dir);
+}
+
+// Per-frame detail (shadow/footprint_detail.h) in the kiosk: attract mode walks the product
+// round the room while a board with time to spare lets the controller ask for its ceiling;
+// every frame's passes and map stay within what the product's footprint allows (replayed
+// here from the reported poses), the footprint does lower them, and they change by at most
+// 4 passes a frame and one map rung at a time.
+TEST(BundleSettings, TheProductsFootprintCapsPassesAndMapsFrameByFrame) {
+  const std::filesystem::path dir = test::scratchPath("footprint-detail");
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom/showroom.bundle",
+                             dir / "showroom.bundle");
+  // Full detail from 400 pixels and 1 texel per pixel: the showroom's products (80-200
+  // pixels across) then get fewer passes and smaller maps than the ceiling.
+  std::ofstream(dir / "session.json")
+      << R"({"format": "penumbra-session", "version": 1, "bundle": "showroom.bundle",
+      "frames": 120, "kiosk": {"max_passes": 64, "initial_passes": 64, "attract_after_ms": 1,
+      "attract_mdeg_per_s": 90000, "full_detail_px": 400, "texels_per_pixel": 1},
+      "board": {"fixed_us": 1000, "per_pass_us": 0, "per_texel_ps": 0, "per_pixel_ps": 0}})";
+  const Session session = loadSession(dir / "session.json");
+  SimRun run(session, bestTargetOneThread());
+  const shadow::SceneBundle& bundle = run.bundle().bundle;
+  shadow::FootprintDetail replay(session.kiosk.footprintDetail, 64,
+                                 shadow::shadowMapLadder(bundle.settings));
+  std::vector<shadow::YawSphere> spheres;
+  for (const shadow::ProductModel& p : bundle.products)
+    spheres.push_back(shadow::yawSphere(p.mesh));
+  uint32_t lowered = 0, lastPasses = 0, lastMap = 0;
+  for (uint32_t i = 0; i < session.frames; ++i) {
+    const kiosk::FrameReport r = run.step();
+    const shadow::FootprintDetail::Limits l =
+        replay.next(shadow::productFootprintPx(bundle.view, spheres[r.pose.product], r.pose));
+    EXPECT_LE(r.passesAsked, l.passes) << "frame " << r.frame;
+    EXPECT_LE(r.shadowMapSize, l.shadowMapSize) << "frame " << r.frame;
+    lowered += l.passes < 64 || l.shadowMapSize < 256;
+    if (i > 0) {
+      EXPECT_LE(std::max(r.passesAsked, lastPasses) - std::min(r.passesAsked, lastPasses), 8u)
+          << "frame " << r.frame;  // the controller's own step, or the footprint's 4
+      EXPECT_TRUE(r.shadowMapSize == lastMap || r.shadowMapSize * 2 == lastMap ||
+                  r.shadowMapSize == lastMap * 2)
+          << "frame " << r.frame;
+    }
+    lastPasses = r.passesAsked;
+    lastMap = r.shadowMapSize;
+  }
+  EXPECT_GT(lowered, session.frames / 2);
   std::filesystem::remove_all(dir);
 }
 

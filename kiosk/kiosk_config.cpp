@@ -78,10 +78,10 @@ void readGpioLines(const JsonValue& j, KioskConfig& c) {
 
 KioskOptions readLoopOptions(const JsonValue& parent, std::string_view key, HudMode hudDefault) {
   const JsonValue k = parent.optionalObject(
-      key,
-      {"fps", "quality_fps", "fixed_cost_us", "min_passes", "max_passes", "initial_passes",
-       "attract_after_ms", "attract_mdeg_per_s", "move_step_m", "rotate_step_deg", "stale_after_ms",
-       "reopen_every_ms", "debounce_ms", "stuck_after_ms", "hud", "service_hold_ms"});
+      key, {"fps", "quality_fps", "fixed_cost_us", "min_passes", "max_passes", "initial_passes",
+            "attract_after_ms", "attract_mdeg_per_s", "move_step_m", "rotate_step_deg",
+            "stale_after_ms", "reopen_every_ms", "debounce_ms", "stuck_after_ms", "hud",
+            "service_hold_ms", "full_detail_px", "texels_per_pixel"});
   KioskOptions o;
   o.hud = hudDefault;
   const int64_t fps = k.integerOr("fps", 30, 1, 240);
@@ -99,6 +99,11 @@ KioskOptions readLoopOptions(const JsonValue& parent, std::string_view key, HudM
   if (o.initialPasses != 0 && (o.initialPasses < o.minPasses || o.initialPasses > o.maxPasses)) {
     k["initial_passes"].fail("must be 0 or in [min_passes, max_passes]");
   }
+  o.footprintDetail.fullDetailPx =
+      static_cast<uint32_t>(k.integerOr("full_detail_px", 48, 0, 100'000));
+  o.footprintDetail.texelsPerPixel =
+      static_cast<uint32_t>(k.integerOr("texels_per_pixel", 4, 1, 64));
+  o.footprintDetail.minPasses = o.minPasses;
   o.attractAfterNs = k.integerOr("attract_after_ms", 20'000, 1, kHour) * kMs;
   o.attractMilliDegreesPerSecond =
       static_cast<uint32_t>(k.integerOr("attract_mdeg_per_s", 12'000, 0, 3'600'000));

@@ -97,6 +97,8 @@ struct KioskLoop::State {
 
   Debouncer debouncer;
   std::unique_ptr<shadow::FrameRateController> controller;
+  std::unique_ptr<shadow::FootprintDetail> detail;  // beside the controller, the same ceiling
+  std::vector<shadow::YawSphere> spheres;           // per product (footprint_detail.h)
   shadow::FrameLoop loop;  // compose, render, observe; its rgba is the frame shown
   std::vector<RawEdge> edges;
   std::vector<ButtonAction> actions;
@@ -186,6 +188,9 @@ KioskLoop::KioskLoop(const shadow::SceneBundle& bundle, const KioskOptions& opti
   }
   s_->carouselIndex = static_cast<size_t>(start - carousel_.begin());
   s_->lastInputNs = now;
+  for (const shadow::ProductModel& p : bundle.products) {
+    s_->spheres.push_back(shadow::yawSphere(p.mesh));
+  }
   rebuildController();
 
   info(now, "kiosk: " + std::to_string(carousel_.size()) + " products, " +
@@ -223,6 +228,8 @@ void KioskLoop::rebuildController() {
   o.minPasses = std::min(options_.minPasses, o.maxPasses);
   o.initialPasses = std::min(options_.initialPasses, o.maxPasses);
   o.shadowMapSizes = shadow::shadowMapLadder(bundle_.settings);
+  s_->detail = std::make_unique<shadow::FootprintDetail>(options_.footprintDetail, o.maxPasses,
+                                                         o.shadowMapSizes);
   s_->controller = std::make_unique<shadow::FrameRateController>(o);
 }
 
@@ -553,7 +560,14 @@ FrameReport KioskLoop::step() {
   const int64_t cameraNs = watch.lapNs();
 
   // 3-7. Frame-rate control (Gibson 2003 §8), composition and rendering.
-  const shadow::FrameRateController::Decision d = s.controller->next();
+  // The controller spends the frame's time; the product's footprint caps what it may spend
+  // on a shadow too small to show it. The controller hears the passes actually drawn, and a
+  // map the footprint made smaller reads to it as a lighter load.
+  shadow::FrameRateController::Decision d = s.controller->next();
+  const shadow::FootprintDetail::Limits limits =
+      s.detail->next(shadow::productFootprintPx(bundle_.view, s.spheres[pose.product], pose));
+  d.passes = std::min(d.passes, limits.passes);
+  d.shadowMapSize = std::min(d.shadowMapSize, limits.shadowMapSize);
   other += watch.lapNs();
   r.liveLighting = environmentLights(start);
   const int64_t environmentNs = watch.lapNs();

@@ -32,6 +32,7 @@
 #include "kiosk/hud.h"
 #include "kiosk/status.h"
 #include "raster/renderer.h"
+#include "shadow/footprint_detail.h"
 #include "shadow/frame_compositor.h"
 #include "shadow/frame_cost_model.h"
 #include "shadow/frame_rate_controller.h"
@@ -79,6 +80,9 @@ struct KioskOptions {
   // The bundle's settings (shadow/render_settings.h) lower maxPasses further and set the
   // shadow maps: their size, then its half and its quarter when the frame rate needs.
   uint32_t minPasses = 4, maxPasses = 64, initialPasses = 8;
+  // Per frame, the product's footprint on screen caps the controller's passes and map size
+  // (shadow/footprint_detail.h; fullDetailPx 0 turns it off).
+  shadow::FootprintDetailOptions footprintDetail;
   int64_t attractAfterNs = 20'000'000'000;         // idle time before attract mode
   uint32_t attractMilliDegreesPerSecond = 12'000;  // how fast attract mode walks
   float moveStepMetres = 0.1f;
