@@ -1,6 +1,7 @@
 #include "apps/accuracy_command.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -72,13 +73,28 @@ struct TuneCommand {
   RenderFlags render;
   reference::TuneOptions options;
 
+  // A bundle, or a scene file (.json) precomputed here with precompute's defaults.
+  shadow::SceneBundle loadInput() const {
+    if (std::filesystem::path(bundlePath).extension() != ".json") {
+      return shadow::loadBundle(bundlePath);
+    }
+#ifdef PENUMBRA_HAVE_LIGHTING
+    std::vector<lighting::StageTiming> timings;
+    return precomputeScene(bundlePath, lighting::PrecomputeOptions{}, timings);
+#else
+    throw cli::UsageError(bundlePath +
+                          ": this build cannot precompute a scene file (no "
+                          "lighting); give a bundle");
+#endif
+  }
+
   int run() {
     options.measure.render = toOptions(render);
     options.target.meanAbs = maxError.at(0);
     if (maxError.size() > 1) options.target.p99 = maxError[1];
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
-    const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
+    const shadow::SceneBundle bundle = loadInput();
     if (posesPath.empty()) {
       options.poses = {{"start", bundle.startPose}};
     } else {
@@ -233,7 +249,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   tune->options.measure.referenceMapSize = raster::kMaxAreaPenumbraMapSize;
   CLI::App* t = app.add_subcommand(
       "tune", "The cheapest render settings whose frames meet an error target at every pose");
-  t->add_option("BUNDLE", tune->bundlePath, "scene bundle (penumbra precompute)")->required();
+  t->add_option("INPUT", tune->bundlePath,
+                "scene bundle (penumbra precompute), or a scene file (.json) to precompute first")
+      ->required();
   t->add_option("--max-error", tune->maxError,
                 "target in the shadow region: MEAN_ABS[,P99[,FLIP]] levels (p99 default 6, "
                 "FLIP unchecked unless given)")

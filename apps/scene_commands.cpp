@@ -312,6 +312,25 @@ struct InfoCommand {
 
 }  // namespace
 
+#ifdef PENUMBRA_HAVE_LIGHTING
+shadow::SceneBundle precomputeScene(const std::string& scenePath,
+                                    const lighting::PrecomputeOptions& options,
+                                    std::vector<lighting::StageTiming>& timings) {
+  const scene::SceneDescription scene = scene::loadSceneFile(scenePath);
+  // What the models' loaders could not honour and implausible sizes (a unit slip): not
+  // errors, but a technician must see them.
+  for (const scene::Product& p : scene.products) {
+    for (const std::string& w : p.warnings) {
+      std::fprintf(stderr, "penumbra: warning: product %s: %s\n", p.name.c_str(), w.c_str());
+    }
+  }
+  return lighting::precomputeBundle(
+      scene, options, timings, [](const std::string& stage, int index, int count) {
+        std::fprintf(stderr, "[%d/%d] %s ...\n", index + 1, count, stage.c_str());
+      });
+}
+#endif
+
 std::vector<Command> addSceneCommands(CLI::App& app) {
   std::vector<Command> commands;
 
@@ -338,20 +357,9 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   commands.push_back(
       {pre, [precompute, precomputeOptions] {
          core::Stopwatch watch;
-         const scene::SceneDescription scene = scene::loadSceneFile(precompute->first);
-         // What the models' loaders could not honour and implausible sizes (a unit slip):
-         // not errors, but a technician must see them.
-         for (const scene::Product& p : scene.products) {
-           for (const std::string& w : p.warnings) {
-             std::fprintf(stderr, "penumbra: warning: product %s: %s\n", p.name.c_str(), w.c_str());
-           }
-         }
          std::vector<lighting::StageTiming> timings;
-         const shadow::SceneBundle bundle = lighting::precomputeBundle(
-             scene, *precomputeOptions, timings,
-             [](const std::string& stage, int index, int count) {
-               std::fprintf(stderr, "[%d/%d] %s ...\n", index + 1, count, stage.c_str());
-             });
+         const shadow::SceneBundle bundle =
+             precomputeScene(precompute->first, *precomputeOptions, timings);
          shadow::saveBundle(bundle, precompute->second);
          for (const auto& t : timings) {
            std::printf("stage %-22s %9.1f ms\n", t.stage.c_str(), t.ms);

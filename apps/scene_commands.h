@@ -11,6 +11,10 @@
 
 #include "shadow/scene_bundle.h"
 
+#ifdef PENUMBRA_HAVE_LIGHTING
+#include "lighting/precompute.h"
+#endif
+
 namespace penumbra::apps {
 
 struct Command {
@@ -19,6 +23,15 @@ struct Command {
 };
 
 std::vector<Command> addSceneCommands(CLI::App& app);
+
+#ifdef PENUMBRA_HAVE_LIGHTING
+// `penumbra precompute`'s work: the scene file loaded (its models' warnings to stderr), then
+// the bundle precomputed with each stage announced on stderr. Throws the loaders' errors,
+// which name the file and the field.
+shadow::SceneBundle precomputeScene(const std::string& scenePath,
+                                    const lighting::PrecomputeOptions& options,
+                                    std::vector<lighting::StageTiming>& timings);
+#endif
 
 // --pose "X,Y,Z" or "X,Y,Z,YAW": floor position X, Z and lift Y above the floor in metres,
 // yaw in degrees. Throws std::invalid_argument naming the bad item.

@@ -70,4 +70,25 @@ printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "x", "prod
 expect_failure "a pose of a product the bundle lacks" "pose x: product 5, the bundle has 3" \
   --max-error 1 "${fast[@]}" --poses "$tmp/fifth.json"
 expect_failure "no target" "--max-error is required" "${fast[@]}"
+
+# A scene file is precomputed first (precompute's defaults), then tuned: the one-spotlight
+# showroom, whose single source casts one pass whatever the ceiling.
+"${run[@]}" tune "$data/showroom/spotlight.json" --max-error 30,255 --penumbra-reference \
+  --passes 1,4 --maps 128,256 --fine-proxy-passes 0 --threads 2 -o "$tmp/spot.bundle" \
+  --report "$tmp/spot.json" >"$tmp/out" 2>"$tmp/err"
+status=$?
+[[ $status == 0 ]] && grep -q "precompute\|sources\|\[1/" "$tmp/err" &&
+  "${run[@]}" info "$tmp/spot.bundle" --json >"$tmp/spot-info.json" 2>&1 && $py -c "
+import json, sys
+s = json.load(open(sys.argv[1]))['settings']; r = json.load(open(sys.argv[2]))
+assert s['tuned'] and s['max_passes'] == r['settings']['max_passes'] == 1, (s, r['settings'])
+" "$tmp/spot-info.json" "$tmp/spot.json"
+check "tune: a scene file is precomputed, then tuned ($(tail -c 200 "$tmp/err"))" $?
+printf '{"format": "penumbra-scene", "version": 1, "image": {"width": 64}}' >"$tmp/bad-scene.json"
+rm -f "$tmp/refused.bundle"
+"${run[@]}" tune "$tmp/bad-scene.json" --max-error 1 "${fast[@]}" -o "$tmp/refused.bundle" \
+  >/dev/null 2>"$tmp/err"
+rc=$?
+[[ $rc != 0 ]] && grep -qF "bad-scene.json" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
+check "tune: a bad scene file is refused by name (exit $rc: $(head -c 200 "$tmp/err"))" $?
 finish
