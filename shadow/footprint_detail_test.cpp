@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <vector>
 
 #include "scene/camera.h"
+#include "shadow/frame_loop.h"
+#include "tests/showroom_bundle.h"
 
 namespace penumbra::shadow {
 namespace {
@@ -109,6 +113,69 @@ TEST(FootprintDetail, ApproachingGrowsAtOnceAndOffIsFullDetail) {
   EXPECT_EQ(l.shadowMapSize, 512u);
   EXPECT_THROW(FootprintDetail({}, 0, {256}), std::invalid_argument);
   EXPECT_THROW(FootprintDetail({}, 8, {}), std::invalid_argument);
+}
+
+// What the caps change on screen (no popping): the teapot in the showroom's far corner (a
+// footprint of about 37 pixels, the smallest of the shipped showroom with a visible shadow),
+// drawn at full detail and at the capped passes and map: with the defaults (fewer passes) and
+// with 2 texels per pixel (a 128² map as well). Either cap changes the shadow by less than
+// one level on average (the display's own step) and less than a 2 cm step of the product does
+// at full detail (the kiosk's finest move is 10 cm).
+TEST(FootprintDetail, TheCapsChangeAFarShadowLessThanAStepOfTheProduct) {
+  const SceneBundle& bundle = testing::showroomBundle();
+  const ProductPose far{2, 4.5f, 4.5f, 0.0f, 0.0f};
+  const double px = productFootprintPx(bundle.view, yawSphere(bundle.products[2].mesh), far);
+  auto capsFor = [&](const FootprintDetailOptions& o) {
+    FootprintDetail detail(o, 64, {256, 128, 64});
+    FootprintDetail::Limits l{};
+    for (int f = 0; f < 40; ++f) l = detail.next(px);
+    return l;
+  };
+  const FootprintDetail::Limits defaults = capsFor({});
+  FootprintDetailOptions coarse;
+  coarse.texelsPerPixel = 2;
+  const FootprintDetail::Limits smaller = capsFor(coarse);
+  EXPECT_LT(defaults.passes, 64u) << px;
+  EXPECT_EQ(defaults.shadowMapSize, 256u) << px;
+  EXPECT_EQ(smaller.shadowMapSize, 128u) << px;
+  auto frame = [&](const ProductPose& pose, size_t passes, uint32_t map) {
+    FrameLoop loop(bundle, map, {});
+    loop.still(pose, passes);
+    return loop.rgba;
+  };
+  ProductPose moved = far;
+  moved.x += 0.02f;
+  const std::vector<uint8_t> unshadowed = frame(far, 0, 256), full = frame(far, 64, 256);
+  const std::vector<uint8_t> step = frame(moved, 64, 256), stepUnshadowed = frame(moved, 0, 256);
+  const std::vector<uint8_t> capped = frame(far, defaults.passes, defaults.shadowMapSize);
+  const std::vector<uint8_t> small = frame(far, smaller.passes, smaller.shadowMapSize);
+  double cappedDiff = 0, smallDiff = 0, stepDiff = 0;
+  size_t shadow = 0;
+  for (size_t i = 0; i < full.size(); i += 4) {
+    // The shadow of either pose: where it differs from its own unshadowed frame.
+    bool inShadow = false;
+    for (size_t c = 0; c < 3; ++c) {
+      inShadow |= full[i + c] != unshadowed[i + c] || step[i + c] != stepUnshadowed[i + c];
+    }
+    if (!inShadow) continue;
+    ++shadow;
+    for (size_t c = 0; c < 3; ++c) {
+      cappedDiff += std::abs(int(full[i + c]) - int(capped[i + c]));
+      smallDiff += std::abs(int(full[i + c]) - int(small[i + c]));
+      stepDiff += std::abs(int(full[i + c]) - int(step[i + c]));
+    }
+  }
+  ASSERT_GT(shadow, 100u);
+  const double n = 3.0 * double(shadow);
+  std::printf(
+      "footprint %.1f px, shadow %zu px: %u passes change it %.3f levels, %u passes on "
+      "%u² %.3f, a 2 cm step %.3f\n",
+      px, shadow, defaults.passes, cappedDiff / n, smaller.passes, smaller.shadowMapSize,
+      smallDiff / n, stepDiff / n);
+  EXPECT_LT(cappedDiff / n, 1.0);
+  EXPECT_LT(smallDiff / n, 1.0);
+  EXPECT_LT(cappedDiff, stepDiff);
+  EXPECT_LT(smallDiff, stepDiff);
 }
 
 }  // namespace
