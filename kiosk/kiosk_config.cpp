@@ -103,7 +103,6 @@ KioskOptions readLoopOptions(const JsonValue& parent, std::string_view key, HudM
       static_cast<uint32_t>(k.integerOr("full_detail_px", 48, 0, 100'000));
   o.footprintDetail.texelsPerPixel =
       static_cast<uint32_t>(k.integerOr("texels_per_pixel", 4, 1, 64));
-  o.footprintDetail.minPasses = o.minPasses;
   o.attractAfterNs = k.integerOr("attract_after_ms", 20'000, 1, kHour) * kMs;
   o.attractMilliDegreesPerSecond =
       static_cast<uint32_t>(k.integerOr("attract_mdeg_per_s", 12'000, 0, 3'600'000));

@@ -228,8 +228,9 @@ void KioskLoop::rebuildController() {
   o.minPasses = std::min(options_.minPasses, o.maxPasses);
   o.initialPasses = std::min(options_.initialPasses, o.maxPasses);
   o.shadowMapSizes = shadow::shadowMapLadder(bundle_.settings);
-  s_->detail = std::make_unique<shadow::FootprintDetail>(options_.footprintDetail, o.maxPasses,
-                                                         o.shadowMapSizes);
+  shadow::FootprintDetailOptions detail = options_.footprintDetail;
+  detail.minPasses = o.minPasses;  // the controller's floor
+  s_->detail = std::make_unique<shadow::FootprintDetail>(detail, o.maxPasses, o.shadowMapSizes);
   s_->controller = std::make_unique<shadow::FrameRateController>(o);
 }
 
@@ -663,6 +664,7 @@ const std::vector<uint8_t>& KioskLoop::shownFrame() const {
 
 void KioskLoop::productReplaced(uint32_t index) {
   s_->loop.productModelChanged(index);
+  s_->spheres[index] = shadow::yawSphere(bundle_.products[index].mesh);
 }
 
 void KioskLoop::setFault(const std::string& key, const std::string& hudText) {

@@ -86,12 +86,12 @@ class ShadowMap {
   // row repeating the last (a weight-0 neighbour may be read there).
   //
   // Spec §7's blocker search reads cells of kBlockerCell x kBlockerCell texels, cell (a, b)
-  // holding texels 2a, 2a + 1 x 2b, 2b + 1. Over the cells [cx0, cx1) x [cy0, cy1) of the
-  // rectangle (blockerRect()), for cx0 <= a <= cx1 and cy0 <= b <= cy1: the written texels
-  // of the cells left of a and above b, and the sum of their quantized depths
-  // trunc(kDepthQuantum depth) (modulo 2^32: a box's sum is exact below 2^32), interleaved
-  // at blockers()[2 ((b - cy0) blockerStride() + (a - cx0))] (count, then sum); 0 on the top
-  // and left edges, one more column and row repeating the last.
+  // holding texels 2a, 2a + 1 x 2b, 2b + 1: the rectangle's cells are [x0 / 2, x1 / 2) x
+  // [y0 / 2, y1 / 2). For a in [0, (x1 - x0) / 2] and b in [0, (y1 - y0) / 2]: the written
+  // texels of the rectangle's first a cell columns and b cell rows, and the sum of their
+  // quantized depths trunc(kDepthQuantum depth) (modulo 2^32: a box's sum is exact below
+  // 2^32), interleaved at blockers()[2 (b blockerStride() + a)] (count, then sum); 0 on the
+  // top and left edges, one more column and row repeating the last.
   void sumCoverage(int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
     static_assert(kBlockerCell == 2, "cells are texel pairs of rows and columns");
     // Sizes are multiples of 16, so the even bounds stay in the map.
@@ -100,7 +100,6 @@ class ShadowMap {
     x1 = std::clamp((x1 + 1) & ~1, x0, size_);
     y1 = std::clamp((y1 + 1) & ~1, y0, size_);
     coverageRect_ = {x0, y0, x1, y1};
-    blockerRect_ = {x0 / 2, y0 / 2, x1 / 2, y1 / 2};
     const int32_t w = x1 - x0, h = y1 - y0, cs = w + 2, cw = w / 2;
     const size_t bs = size_t(cw) + 2;
     coverage_.resize(size_t(cs) * size_t(h + 2) + 8);         // + the last segment's overrun
@@ -191,14 +190,13 @@ class ShadowMap {
   const int32_t* coverage() const { return coverage_.data(); }
   int32_t coverageStride() const { return coverageRect_.x1 - coverageRect_.x0 + 2; }
   const uint32_t* blockers() const { return blockers_.data(); }
-  int32_t blockerStride() const { return blockerRect_.x1 - blockerRect_.x0 + 2; }
+  int32_t blockerStride() const { return (coverageRect_.x1 - coverageRect_.x0) / 2 + 2; }
   struct Rect {
     int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   };
   const Rect& coverageRect() const { return coverageRect_; }
-  const Rect& blockerRect() const { return blockerRect_; }  // in cells
-  float farthest() const { return farthest_; }              // 0 when no texel is written
-  float nearest() const { return nearest_; }                // 1 when no texel is written
+  float farthest() const { return farthest_; }  // 0 when no texel is written
+  float nearest() const { return nearest_; }    // 1 when no texel is written
   // Texels [x0, x1) x [y0, y1) back to +inf, and every block to "not written".
   // Copies from a row of +inf: g++ -O2 leaves std::fill of a float value as a scalar loop
   // (a 256x256 map is then 65,536 single stores per pass); memcpy runs in vectors.
@@ -257,7 +255,6 @@ class ShadowMap {
   std::vector<int32_t> cellCounts_;
   std::vector<uint32_t> cellSums_;
   Rect coverageRect_;
-  Rect blockerRect_;
   float farthest_ = 0.0f;
   float nearest_ = 1.0f;
   int32_t size_ = 0;

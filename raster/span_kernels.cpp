@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <type_traits>
 
 #undef HWY_TARGET_INCLUDE
@@ -556,35 +555,31 @@ HWY_INLINE VI coveredAreaAt(const ShadowLookup& s, VI x, VI y) {
 
 // Spec §7's blocker search around (u, v) with half-width h: the written texels of the cells
 // that hold columns floor(u - h) ... floor(u + h) and the same rows, and their quantized
-// depths' sum. The texel bounds are clamped to the cells' by comparisons (NaN lanes land on
-// their corner: no cell); the tables are modular, as int32 lanes add and subtract, and a
+// depths' sum. The texel bounds are clamped to the rectangle's by comparisons (NaN lanes land on
+// its corner: no cell); the tables are modular, as int32 lanes add and subtract, and a
 // box's sum is below 2^31. Each cell's count and sum are adjacent: one pair gather per
 // corner.
 HWY_INLINE void blockersAround(const ShadowLookup& s, VF u, VF v, VF h, VI& count, VI& depthSum) {
   const DF df;
   const DI di;
-  auto clampTexel = [&](VF f, int32_t lo, int32_t hi) {
-    const VF l = hn::Set(df, static_cast<float>(lo * kBlockerCell));
-    const VF g = hn::Set(df, static_cast<float>(hi * kBlockerCell));
-    return hn::ConvertTo(di, hn::IfThenElse(hn::Gt(f, l), hn::IfThenElse(hn::Lt(f, g), f, g), l));
+  // Texel bounds clamped to the rectangle's and made relative to its (even) corner.
+  auto texel = [&](VF f, int32_t lo, int32_t hi) {
+    const VF l = hn::Set(df, static_cast<float>(lo)), g = hn::Set(df, static_cast<float>(hi));
+    return hn::Sub(
+        hn::ConvertTo(di, hn::IfThenElse(hn::Gt(f, l), hn::IfThenElse(hn::Lt(f, g), f, g), l)),
+        hn::Set(di, lo));
   };
-  constexpr int kCellShift = std::countr_zero(static_cast<uint32_t>(kBlockerCell));
-  static_assert(kBlockerCell == 1 << kCellShift, "cells are found by shifts");
+  static_assert(kBlockerCell == 2, "cells are texel pairs");
   const VF one = hn::Set(df, 1.0f);
-  const VI up = hn::Set(di, kBlockerCell - 1);
-  const VI a0 =
-      hn::ShiftRight<kCellShift>(clampTexel(hn::Floor(hn::Sub(u, h)), s.blockerX0, s.blockerX1));
-  const VI b0 =
-      hn::ShiftRight<kCellShift>(clampTexel(hn::Floor(hn::Sub(v, h)), s.blockerY0, s.blockerY1));
-  const VI a1 = hn::ShiftRight<kCellShift>(
-      hn::Add(clampTexel(hn::Add(hn::Floor(hn::Add(u, h)), one), s.blockerX0, s.blockerX1), up));
-  const VI b1 = hn::ShiftRight<kCellShift>(
-      hn::Add(clampTexel(hn::Add(hn::Floor(hn::Add(v, h)), one), s.blockerY0, s.blockerY1), up));
+  const VI vone = hn::Set(di, 1);
+  const VI a0 = hn::ShiftRight<1>(texel(hn::Floor(hn::Sub(u, h)), s.coverageX0, s.coverageX1));
+  const VI b0 = hn::ShiftRight<1>(texel(hn::Floor(hn::Sub(v, h)), s.coverageY0, s.coverageY1));
+  const VI a1 = hn::ShiftRight<1>(
+      hn::Add(texel(hn::Add(hn::Floor(hn::Add(u, h)), one), s.coverageX0, s.coverageX1), vone));
+  const VI b1 = hn::ShiftRight<1>(
+      hn::Add(texel(hn::Add(hn::Floor(hn::Add(v, h)), one), s.coverageY0, s.coverageY1), vone));
   const VI stride = hn::Set(di, s.blockerStride);
-  auto at = [&](VI a, VI b) {
-    return hn::ShiftLeft<1>(hn::Add(hn::Mul(hn::Sub(b, hn::Set(di, s.blockerY0)), stride),
-                                    hn::Sub(a, hn::Set(di, s.blockerX0))));
-  };
+  auto at = [&](VI a, VI b) { return hn::ShiftLeft<1>(hn::Add(hn::Mul(b, stride), a)); };
   const int32_t* table = reinterpret_cast<const int32_t*>(s.blockers);
   VI n00, z00, n10, z10, n01, z01, n11, z11;
   adjacentPairs(di, table, at(a0, b0), n00, z00);

@@ -35,10 +35,9 @@ struct ShadowLookup {
   const uint32_t* blocks = nullptr;
   int32_t blocksPerRow = 0;
   // Area-light penumbrae (spec §7) when penumbraScale > 0: ShadowMap::sumCoverage's counts,
-  // their rectangle [coverageX0, coverageX1] x [coverageY0, coverageY1] (texels), its
-  // blocker cells' sums over [blockerX0, blockerX1] x [blockerY0, blockerY1] (cells), and
-  // the nearest and farthest written depths. `blocks` still serves the lanes the 2x2 PCF
-  // answers.
+  // their rectangle [coverageX0, coverageX1] x [coverageY0, coverageY1] (texels, even
+  // bounds), its blocker cells' sums (ShadowMap::blockers) and the nearest and farthest
+  // written depths. `blocks` still serves the lanes the 2x2 PCF answers.
   float penumbraScale = 0;
   float nearest = 0;
   float farthest = 0;
@@ -47,13 +46,11 @@ struct ShadowLookup {
   int32_t coverageX0 = 0, coverageY0 = 0, coverageX1 = 0, coverageY1 = 0;
   const uint32_t* blockers = nullptr;
   int32_t blockerStride = 0;
-  int32_t blockerX0 = 0, blockerY0 = 0, blockerX1 = 0, blockerY1 = 0;
 };
 
 // An area-penumbra lookup of scale K (spec §7) into `map`, after its sumCoverage.
 inline void setAreaPenumbra(ShadowLookup& lookup, const ShadowMap& map, float scale) {
   const ShadowMap::Rect& r = map.coverageRect();
-  const ShadowMap::Rect& cells = map.blockerRect();
   lookup.penumbraScale = scale;
   lookup.nearest = map.nearest();
   lookup.farthest = map.farthest();
@@ -65,10 +62,6 @@ inline void setAreaPenumbra(ShadowLookup& lookup, const ShadowMap& map, float sc
   lookup.coverageY1 = r.y1;
   lookup.blockers = map.blockers();
   lookup.blockerStride = map.blockerStride();
-  lookup.blockerX0 = cells.x0;
-  lookup.blockerY0 = cells.y0;
-  lookup.blockerX1 = cells.x1;
-  lookup.blockerY1 = cells.y1;
 }
 
 // One triangle's interpolants, with the plane origin (ox, oy) of spec §5.

@@ -51,28 +51,25 @@ int32_t coveredArea(const ShadowLookup& s, int32_t x, int32_t y) {
 // Spec §7's blocker search around (u, v) with half-width h: the written texels of the cells
 // that hold columns floor(u - h) ... floor(u + h) and the same rows, and the sum of their
 // quantized depths, which the modular sums give exactly (a box's sum is below 2^31). The
-// texel bounds are clamped to the cells' by comparisons (NaN lands on their corner: no
+// texel bounds are clamped to the rectangle's by comparisons (NaN lands on its corner: no
 // cell).
 struct Blockers {
   int32_t count;
   int32_t depthSum;
 };
 Blockers blockersAround(const ShadowLookup& s, float u, float v, float h) {
-  auto clampTexel = [](float f, int32_t lo, int32_t hi) {
-    const float l = static_cast<float>(lo * kBlockerCell),
-                g = static_cast<float>(hi * kBlockerCell);
-    return static_cast<int32_t>(f > l ? (f < g ? f : g) : l);
+  // Texel bounds clamped to the rectangle's and made relative to its (even) corner.
+  auto texel = [](float f, int32_t lo, int32_t hi) {
+    const float l = static_cast<float>(lo), g = static_cast<float>(hi);
+    return static_cast<int32_t>(f > l ? (f < g ? f : g) : l) - lo;
   };
-  const int32_t a0 = clampTexel(std::floor(u - h), s.blockerX0, s.blockerX1) / kBlockerCell;
-  const int32_t b0 = clampTexel(std::floor(v - h), s.blockerY0, s.blockerY1) / kBlockerCell;
-  const int32_t a1 =
-      (clampTexel(std::floor(u + h) + 1.0f, s.blockerX0, s.blockerX1) + kBlockerCell - 1) /
-      kBlockerCell;
-  const int32_t b1 =
-      (clampTexel(std::floor(v + h) + 1.0f, s.blockerY0, s.blockerY1) + kBlockerCell - 1) /
-      kBlockerCell;
+  static_assert(kBlockerCell == 2, "cells are texel pairs");
+  const int32_t a0 = texel(std::floor(u - h), s.coverageX0, s.coverageX1) / 2;
+  const int32_t b0 = texel(std::floor(v - h), s.coverageY0, s.coverageY1) / 2;
+  const int32_t a1 = (texel(std::floor(u + h) + 1.0f, s.coverageX0, s.coverageX1) + 1) / 2;
+  const int32_t b1 = (texel(std::floor(v + h) + 1.0f, s.coverageY0, s.coverageY1) + 1) / 2;
   auto at = [&](int32_t a, int32_t b) {
-    return s.blockers + 2 * (ptrdiff_t{b - s.blockerY0} * s.blockerStride + (a - s.blockerX0));
+    return s.blockers + 2 * (ptrdiff_t{b} * s.blockerStride + a);
   };
   const uint32_t* p00 = at(a0, b0);
   const uint32_t* p10 = at(a1, b0);
