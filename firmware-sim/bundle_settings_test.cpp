@@ -93,6 +93,45 @@ TEST(BundleSettings, TheProductsFootprintCapsPassesAndMapsFrameByFrame) {
   std::filesystem::remove_all(dir);
 }
 
+// A product model replaced while the kiosk runs (kiosk/product_files.h) brings its own
+// footprint: with full detail from 400 pixels the chair is capped at about 24 passes of 64;
+// a 2.5 m cube dropped in its place is about 375 pixels across, and the cap climbs to about
+// 60 by at most 4 passes a frame. Kept on the chair's sphere, it would stay at 24.
+TEST(BundleSettings, AReplacedProductBringsItsOwnFootprint) {
+  const std::filesystem::path dir = test::scratchPath("footprint-swap");
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(std::filesystem::path(PENUMBRA_DATA_DIR) / "showroom/showroom.bundle",
+                             dir / "showroom.bundle");
+  std::ofstream(dir / "cube.obj") << "v -1.25 0 -1.25\nv 1.25 0 -1.25\nv 1.25 0 1.25\n"
+                                     "v -1.25 0 1.25\nv -1.25 2.5 -1.25\nv 1.25 2.5 -1.25\n"
+                                     "v 1.25 2.5 1.25\nv -1.25 2.5 1.25\n"
+                                     "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+                                     "f 4 8 5 1\n";
+  std::ofstream(dir / "session.json")
+      << R"({"format": "penumbra-session", "version": 1, "bundle": "showroom.bundle",
+      "frames": 40, "kiosk": {"max_passes": 64, "initial_passes": 64, "hud": "off",
+      "full_detail_px": 400, "texels_per_pixel": 1},
+      "product_files": [{"product": "chair", "file": "cube.obj", "at_ms": 300}],
+      "board": {"fixed_us": 1000, "per_pass_us": 0, "per_texel_ps": 0, "per_pixel_ps": 0}})";
+  const Session session = loadSession(dir / "session.json");
+  SimRun run(session, bestTargetOneThread());
+  uint32_t chairPasses = 0, last = 0;
+  for (uint32_t i = 0; i < session.frames; ++i) {
+    const kiosk::FrameReport r = run.step();
+    ASSERT_EQ(r.pose.product, 0u);
+    if (r.startNs < 300'000'000) chairPasses = r.passesAsked;
+    if (i > 0) {
+      EXPECT_LE(r.passesAsked, last + 4) << "frame " << r.frame;
+    }
+    last = r.passesAsked;
+  }
+  EXPECT_TRUE(run.log().contains("product chair: model")) << "the cube was not taken";
+  EXPECT_GT(chairPasses, 0u);
+  EXPECT_LE(chairPasses, 32u) << "the chair (about 150 px) is capped at about 24 passes";
+  EXPECT_GE(last, 56u) << "the cube (about 375 px) lifts the cap to about 60";
+  std::filesystem::remove_all(dir);
+}
+
 // The three differently lit showrooms (issue 17): their sessions run on the simulated board,
 // the spotlight's single source casting one pass a frame, the skylight's 300 as many as the
 // board affords.
