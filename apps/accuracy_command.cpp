@@ -28,13 +28,25 @@ struct AccuracyCommand {
   int product = -1;  // -1: the pose's product
   bool singleShare = false;
   bool hardPasses = false;
-  int mapSize = 0;           // 0: the bundle's
-  int fineProxyPasses = -1;  // -1: the bundle's
+  int mapSize = 0;                                               // 0: the bundle's
+  int fineProxyPasses = -1;                                      // -1: the bundle's
+  std::vector<std::string> referenceBounds, referenceBoundsOut;  // lower, upper
   RenderFlags render;
   reference::AccuracyOptions options;
 
   int run() {
     options.render = toOptions(render);
+    if (!referenceBounds.empty()) {
+      if (options.referencePath.empty()) {
+        throw cli::UsageError("--reference-bounds needs --reference");
+      }
+      options.referenceLowerPath = referenceBounds.at(0);
+      options.referenceUpperPath = referenceBounds.at(1);
+    }
+    if (!referenceBoundsOut.empty()) {
+      options.referenceLowerOut = referenceBoundsOut.at(0);
+      options.referenceUpperOut = referenceBoundsOut.at(1);
+    }
     options.accumulation = raster::parseAccumulation(accumulation, "--accumulation");
     options.perClusterShares = !singleShare;
     const shadow::SceneBundle bundle = shadow::loadBundle(bundlePath);
@@ -49,9 +61,14 @@ struct AccuracyCommand {
           const reference::ImageComparison& c = r.comparison;
           std::printf(
               "passes %3d (%3u) ms %7.3f mean_abs_shadow %.3f p99 %u ssim %.5f psnr %.2f "
-              "flip %.5f\n",
+              "flip %.5f",
               r.passesAsked, r.passes, r.msPerFrame, c.masked->meanAbs, c.masked->p99Abs, c.ssim,
               c.frame.psnr, c.frame.flipMean);
+          if (r.beyondBounds) {
+            std::printf(" beyond_bounds %.3f p99 %u", r.beyondBounds->meanAbs,
+                        r.beyondBounds->p99Abs);
+          }
+          std::printf("\n");
         });
     const nlohmann::json out = reference::toJson(bundlePath, options, report);
     if (json.empty()) {
@@ -212,6 +229,16 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_option("--reference-out", cmd->options.referenceOut, "write the reference used as PNG");
   c->add_option("--mask-out", cmd->options.maskOut, "write the shadow region used as PNG");
+  c->add_option("--reference-bounds", cmd->referenceBounds,
+                "LOWER.png,UPPER.png: the --reference image's bounds where the photograph's 8 "
+                "bits leave it open (written by --reference-bounds-out); adds the error beyond "
+                "them")
+      ->delimiter(',')
+      ->expected(2);
+  c->add_option("--reference-bounds-out", cmd->referenceBoundsOut,
+                "LOWER.png,UPPER.png: write the ray-traced reference's bounds")
+      ->delimiter(',')
+      ->expected(2);
   c->add_option("--frames-out", cmd->options.framesOut,
                 "write each measured frame as PNG: F.png becomes F-<passes>.png");
   addReferenceFlags(c, cmd->options);

@@ -46,14 +46,28 @@ nlohmann::json orNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
 }
 
-// The reference image and, from the ray tracer, its own shadow mask (else left empty).
+// The reference image and, from the ray tracer, its own shadow mask (else left empty) and
+// bounds (with the image's, when given).
 core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOptions& o,
                            const shadow::ProductPose& pose, nlohmann::json& info,
-                           [[maybe_unused]] core::Image8& mask) {
+                           [[maybe_unused]] core::Image8& mask, core::Image8& lower,
+                           core::Image8& upper) {
   const uint32_t w = bundle.view.width, h = bundle.view.height;
+  if (o.referenceLowerPath.empty() != o.referenceUpperPath.empty()) {
+    throw MetricsError("the reference's bounds need both images, lower and upper");
+  }
   if (!o.referencePath.empty()) {
     info = {{"kind", "image"}, {"file", o.referencePath}};
+    if (!o.referenceLowerPath.empty()) {
+      lower = loadRgb8(o.referenceLowerPath);
+      upper = loadRgb8(o.referenceUpperPath);
+      info["lower"] = o.referenceLowerPath;
+      info["upper"] = o.referenceUpperPath;
+    }
     return loadRgb8(o.referencePath);
+  }
+  if (!o.referenceLowerPath.empty()) {
+    throw MetricsError(o.referenceLowerPath + ": bounds are read with a reference image only");
   }
 #ifdef PENUMBRA_HAVE_REFERENCE
   if (!o.penumbraReference) {
@@ -65,6 +79,8 @@ core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOpti
     // Its visible shadow: pixels the product's shadow changes, not the product itself.
     mask = core::Image8(w, h, 1, "ray-traced shadow mask");
     mask.pixels = d.shadowMask;
+    lower = fromRgba8(d.lower, w, h, "ray-traced reference's lower bound");
+    upper = fromRgba8(d.upper, w, h, "ray-traced reference's upper bound");
     info = {{"kind", "raytraced"},
             {"spp", o.rays.samplesPerPixel},
             {"light_samples", o.rays.lightSamples},
@@ -107,6 +123,14 @@ shadow::ProductPose measuredPose(const shadow::SceneBundle& bundle, const Accura
 
 namespace {
 
+void checkViewSize(const core::Image8& img, uint32_t w, uint32_t h) {
+  if (img.width != w || img.height != h) {
+    throw MetricsError(img.name + ": size " + std::to_string(img.width) + "x" +
+                       std::to_string(img.height) + " differs from the bundle's " +
+                       std::to_string(w) + "x" + std::to_string(h) + " view");
+  }
+}
+
 shadow::CompositorOptions measuredOptions(const AccuracyOptions& o) {
   shadow::CompositorOptions measured = shadow::FrameLoop::optionsFor(o.shadowMapSize);
   measured.accumulation = o.accumulation;
@@ -123,11 +147,17 @@ PoseReference makePoseReference(const shadow::SceneBundle& bundle, const Accurac
                                 const shadow::ProductPose& pose) {
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   PoseReference r;
-  r.image = makeReference(bundle, o, pose, r.info, r.region);
-  if (r.image.width != w || r.image.height != h) {
-    throw MetricsError(r.image.name + ": size " + std::to_string(r.image.width) + "x" +
-                       std::to_string(r.image.height) + " differs from the bundle's " +
-                       std::to_string(w) + "x" + std::to_string(h) + " view");
+  r.image = makeReference(bundle, o, pose, r.info, r.region, r.lower, r.upper);
+  for (const core::Image8* img : {&r.image, &r.lower, &r.upper}) {
+    if (img == &r.image || !img->pixels.empty()) checkViewSize(*img, w, h);
+  }
+  // Bounds that do not hold their own reference belong to another one.
+  for (size_t i = 0; !r.lower.pixels.empty() && i < r.image.pixels.size(); ++i) {
+    if (r.lower.pixels[i] > r.image.pixels[i] || r.image.pixels[i] > r.upper.pixels[i]) {
+      throw MetricsError(r.image.name + ": outside its bounds " + r.lower.name + " and " +
+                         r.upper.name + " at pixel (" + std::to_string(i / 3 % w) + ", " +
+                         std::to_string(i / 3 / w) + ")");
+    }
   }
   // The shadow-free frame (background + product): the region rule's and contact band's base.
   shadow::FrameLoop zero(bundle, measuredOptions(o), o.render);
@@ -160,6 +190,13 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
   const core::Image8& mask = reference.region;
   if (!o.referenceOut.empty()) writeRgb(o.referenceOut, ref);
   if (!o.maskOut.empty()) writeMask(o.maskOut, mask);
+  if (!o.referenceLowerOut.empty() || !o.referenceUpperOut.empty()) {
+    if (reference.lower.pixels.empty()) {
+      throw MetricsError("the reference (" + ref.name + ") has no bounds to write");
+    }
+    if (!o.referenceLowerOut.empty()) writeRgb(o.referenceLowerOut, reference.lower);
+    if (!o.referenceUpperOut.empty()) writeRgb(o.referenceUpperOut, reference.upper);
+  }
   const shadow::CompositorOptions measured = measuredOptions(o);
 
   CompareOptions co;
@@ -178,6 +215,9 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
     row.comparison = compareImages(ref, frame, &mask, co);
     row.contact =
         contactErrors(ref, f.rgba, reference.unshadowed, bundle.background, mask, o.contactRadius);
+    if (!reference.lower.pixels.empty()) {
+      row.beyondBounds = intervalErrors(reference.lower, reference.upper, frame, mask);
+    }
     if (onRow) onRow(row);
     report.rows.push_back(std::move(row));
   }
@@ -198,21 +238,25 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
   for (const AccuracyRow& r : report.rows) {
     const ImageComparison& c = r.comparison;
     const RegionErrors& s = *c.masked;
-    rows.push_back({{"passes_asked", r.passesAsked},
-                    {"passes", r.passes},
-                    {"ms_per_frame", r.msPerFrame},
-                    {"mean_abs_shadow", s.pixels ? nlohmann::json(s.meanAbs) : nullptr},
-                    {"p99_abs_shadow", s.pixels ? nlohmann::json(s.p99Abs) : nullptr},
-                    {"shadow_pixels", s.pixels},
-                    {"mean_abs_frame", c.frame.meanAbs},
-                    {"ssim", c.ssim},
-                    {"psnr", orNull(c.frame.psnr)},
-                    {"flip", c.frame.flipMean},
-                    {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr},
-                    {"contact_pixels", r.contact.bandPixels},
-                    {"mean_abs_contact", r.contact.meanAbs},
-                    {"mean_signed_contact", r.contact.meanSigned},
-                    {"spurious_shadow_pixels", r.contact.spuriousPixels}});
+    const RegionErrors* beyond = r.beyondBounds && s.pixels ? &*r.beyondBounds : nullptr;
+    rows.push_back(
+        {{"passes_asked", r.passesAsked},
+         {"passes", r.passes},
+         {"ms_per_frame", r.msPerFrame},
+         {"mean_abs_shadow", s.pixels ? nlohmann::json(s.meanAbs) : nullptr},
+         {"p99_abs_shadow", s.pixels ? nlohmann::json(s.p99Abs) : nullptr},
+         {"shadow_pixels", s.pixels},
+         {"mean_abs_frame", c.frame.meanAbs},
+         {"ssim", c.ssim},
+         {"psnr", orNull(c.frame.psnr)},
+         {"flip", c.frame.flipMean},
+         {"flip_shadow", s.pixels ? nlohmann::json(s.flipMean) : nullptr},
+         {"contact_pixels", r.contact.bandPixels},
+         {"mean_abs_contact", r.contact.meanAbs},
+         {"mean_signed_contact", r.contact.meanSigned},
+         {"spurious_shadow_pixels", r.contact.spuriousPixels},
+         {"mean_beyond_bounds_shadow", beyond ? nlohmann::json(beyond->meanAbs) : nullptr},
+         {"p99_beyond_bounds_shadow", beyond ? nlohmann::json(beyond->p99Abs) : nullptr}});
   }
   return {{"bundle", bundlePath},
           {"reference", report.reference},

@@ -59,6 +59,11 @@ struct AccuracyOptions {
   ReferenceOptions rays;  // the ray-traced reference's sampling
 
   std::string referenceOut, maskOut;  // when set, the reference and region used as PNG
+  // The reference's bounds (reference/differential.h: where the photograph's 8 bits leave it
+  // open), lower and upper PNG: read with referencePath (both or neither), written when set
+  // and the reference is ray-traced here.
+  std::string referenceLowerPath, referenceUpperPath;
+  std::string referenceLowerOut, referenceUpperOut;
   // When set, each measured frame as PNG: framesOut with "-<passes asked>" before ".png".
   std::string framesOut;
   // The product and pose measured (`--product`, `--pose`); unset: the bundle's start pose.
@@ -76,6 +81,10 @@ struct AccuracyRow {
   double msPerFrame = 0;
   ImageComparison comparison;  // comparison.masked: the shadow region
   ContactErrors contact;
+  // In the shadow region, how far the frame lies outside the reference's bounds (image_
+  // metrics.h, intervalErrors); absent when the reference has none (an image without its
+  // bounds, the Penumbra stand-in).
+  std::optional<RegionErrors> beyondBounds;
 };
 
 struct AccuracyReport {
@@ -92,6 +101,7 @@ bool accuracyHasRayTracer();
 // and the shadow-free frame (background + product: the contact band's base).
 struct PoseReference {
   core::Image8 image, region;
+  core::Image8 lower, upper;        // the reference's bounds; empty when it has none
   std::vector<uint8_t> unshadowed;  // RGBA8
   nlohmann::json info;              // which reference: kind and its settings
 };
@@ -110,8 +120,9 @@ AccuracyReport measureAccuracy(const shadow::SceneBundle& bundle, const Accuracy
 // The JSON `penumbra accuracy` writes: the settings of `options`, the reference and one
 // object per row (passes_asked, passes, ms_per_frame, mean_abs_shadow, p99_abs_shadow,
 // shadow_pixels, mean_abs_frame, ssim, psnr, flip, flip_shadow, contact_pixels,
-// mean_abs_contact, mean_signed_contact, spurious_shadow_pixels); null where a value is
-// not finite or the shadow region is empty.
+// mean_abs_contact, mean_signed_contact, spurious_shadow_pixels, mean_beyond_bounds_shadow,
+// p99_beyond_bounds_shadow); null where a value is not finite, the shadow region is empty or
+// the reference has no bounds.
 nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& options,
                       const AccuracyReport& report);
 

@@ -95,6 +95,58 @@ TEST(Accuracy, AReferenceOfAnotherSizeIsRefused) {
   std::filesystem::remove_all(dir);
 }
 
+// A reference image read with its bounds: bounds of zero width measure what the image does;
+// wider ones forgive what lies inside them; bounds that do not hold their own reference, or
+// half of a pair, are refused by name.
+TEST(Accuracy, AReferenceReadWithItsBounds) {
+  const std::filesystem::path dir = test::scratchPath("accuracy-bounds");
+  std::filesystem::create_directories(dir);
+  AccuracyOptions o = standIn();
+  o.passes = {2};
+  o.referenceOut = (dir / "reference.png").string();
+  o.maskOut = (dir / "mask.png").string();
+  const AccuracyReport standInReport = measureAccuracy(showroom(), o);
+  EXPECT_FALSE(standInReport.rows[0].beyondBounds) << "the stand-in has no bounds";
+
+  AccuracyOptions read = standIn();
+  read.passes = {2};
+  read.penumbraReference = false;
+  read.referencePath = o.referenceOut;
+  read.maskPath = o.maskOut;
+  read.referenceLowerPath = read.referenceUpperPath = o.referenceOut;
+  const AccuracyReport same = measureAccuracy(showroom(), read);
+  ASSERT_TRUE(same.rows[0].beyondBounds);
+  EXPECT_EQ(same.rows[0].beyondBounds->meanAbs, same.rows[0].comparison.masked->meanAbs);
+  EXPECT_GT(same.rows[0].beyondBounds->meanAbs, 0.0);
+  EXPECT_EQ(same.reference["lower"], o.referenceOut);
+
+  // Bounds 0..255 forgive everything.
+  const auto writeUniform = [&](const char* name, uint8_t v) {
+    const std::string path = (dir / name).string();
+    scene::writePng(
+        path, showroom().view.width, showroom().view.height,
+        std::vector<uint8_t>(size_t(showroom().view.width) * showroom().view.height * 4, v));
+    return path;
+  };
+  read.referenceLowerPath = writeUniform("black.png", 0);
+  read.referenceUpperPath = writeUniform("white.png", 255);
+  const AccuracyReport open = measureAccuracy(showroom(), read);
+  EXPECT_EQ(open.rows[0].beyondBounds->maxAbs, 0u);
+  const nlohmann::json j = toJson("showroom.bundle", read, open);
+  EXPECT_EQ(j["results"][0]["mean_beyond_bounds_shadow"], 0.0);
+
+  read.referenceUpperPath = read.referenceLowerPath;  // all black: the reference lies above
+  try {
+    measureAccuracy(showroom(), read);
+    ADD_FAILURE() << "no error";
+  } catch (const MetricsError& e) {
+    EXPECT_NE(std::string(e.what()).find("outside its bounds"), std::string::npos) << e.what();
+  }
+  read.referenceUpperPath.clear();
+  EXPECT_THROW(measureAccuracy(showroom(), read), MetricsError);
+  std::filesystem::remove_all(dir);
+}
+
 // `--product` / `--pose` (issue 15 item 7): another product at another pose is measured
 // there — its own shadow region, its own stand-in — and says so in the JSON; a product the
 // bundle lacks is refused.

@@ -26,6 +26,17 @@ double inverseTone(const shadow::ToneCurve& tone, uint8_t code) {
   return std::nextafter(t1, -INFINITY);
 }
 
+ToneInterval toneInterval(const shadow::ToneCurve& tone, uint8_t code) {
+  const double lo = code == 0 ? 0.0 : tone.threshold(code);
+  const double next = code == 255 ? INFINITY : tone.threshold(code + 1);
+  // T produces `code` exactly when its interval is non-empty (a curve whose threshold(1) is
+  // not positive gives code 0 to negative radiance only: no interval among radiances >= 0).
+  // The interval is half-open: its largest member is the double below the next threshold.
+  if (std::isfinite(lo) && next > lo) return {lo, std::nextafter(next, -INFINITY)};
+  const double point = inverseTone(tone, code);
+  return {point, point};
+}
+
 std::vector<double> inverseToneTable(const shadow::ToneCurve& tone) {
   std::vector<double> table(256);
   for (int k = 0; k < 256; ++k) table[size_t(k)] = inverseTone(tone, static_cast<uint8_t>(k));
@@ -46,10 +57,14 @@ DifferentialFrame composeDifferential(const ReferenceImage& image,
     throw std::invalid_argument("composeDifferential: reference image buffers have the wrong size");
   }
   const std::vector<double> inverse = inverseToneTable(tone);
+  std::vector<ToneInterval> interval(256);
+  for (int k = 0; k < 256; ++k) interval[size_t(k)] = toneInterval(tone, static_cast<uint8_t>(k));
   DifferentialFrame out;
   out.width = image.width;
   out.height = image.height;
   out.rgba.resize(pixels * 4);
+  out.lower.resize(pixels * 4);
+  out.upper.resize(pixels * 4);
   out.radiance.resize(pixels);
   out.shadowMask.assign(pixels, 0);
   for (size_t i = 0; i < pixels; ++i) {
@@ -57,16 +72,23 @@ DifferentialFrame composeDifferential(const ReferenceImage& image,
     bool changed = false;
     for (int ch = 0; ch < 3; ++ch) {
       const uint8_t b = background[4 * i + size_t(ch)];
-      const double room = inverse[b] - double(image.roomDelta[i][ch]);
-      // c == 0 must leave `room` untouched (not (1 - 0) * room + 0 * x, which would turn a
-      // NaN-free value into itself anyway but costs the exactness argument nothing to skip).
-      const double hdr = c > 0 ? (1.0 - c) * room + c * double(image.objectRadiance[i][ch]) : room;
+      const double delta = double(image.roomDelta[i][ch]);
+      const double object = double(image.objectRadiance[i][ch]);
+      // c == 0 must leave the room's radiance untouched, and a fully covered pixel must not
+      // see it at all (0 * inf is NaN for the upper end of code 255).
+      const auto mix = [&](double lb) {
+        const double room = lb - delta;
+        return c >= 1 ? object : c > 0 ? (1.0 - c) * room + c * object : room;
+      };
+      const double hdr = mix(inverse[b]);
       out.radiance[i][ch] = static_cast<float>(hdr);
       const uint8_t v = tone(hdr);
       out.rgba[4 * i + size_t(ch)] = v;
+      out.lower[4 * i + size_t(ch)] = tone(mix(interval[b].lo));
+      out.upper[4 * i + size_t(ch)] = tone(mix(interval[b].hi));
       changed = changed || v != b;
     }
-    out.rgba[4 * i + 3] = 255;
+    out.rgba[4 * i + 3] = out.lower[4 * i + 3] = out.upper[4 * i + 3] = 255;
     if (c > 0) {
       ++out.objectPixels;
     } else if (changed) {

@@ -31,18 +31,36 @@ double inverseTone(const shadow::ToneCurve& tone, uint8_t code);
 // The 256 inverses, indexed by code.
 std::vector<double> inverseToneTable(const shadow::ToneCurve& tone);
 
+// The radiances [lo, hi] that T maps to `code` (the interval inverseTone takes the midpoint
+// of): lo = threshold(code) (0 for code 0: radiance is not negative), hi the largest double
+// below threshold(code + 1) (the largest finite one for 255). A code T never produces gets
+// the point [inverseTone, inverseTone].
+struct ToneInterval {
+  double lo = 0, hi = 0;
+};
+ToneInterval toneInterval(const shadow::ToneCurve& tone, uint8_t code);
+
 struct DifferentialFrame {
   uint32_t width = 0, height = 0;
-  std::vector<uint8_t> rgba;                  // I_final, RGBA8 (alpha 255)
+  std::vector<uint8_t> rgba;  // I_final, RGBA8 (alpha 255)
+  // What the photograph's 8 bits leave open. L_b is known only to lie in its code's
+  // interval [lo, hi], so I_final lies between T(lo - (L_noobj - L_obj)) and T(hi - ...),
+  // per channel (T is monotone; the product's coverage mix is too). Near black the gamma
+  // curve makes that span wide: a floor photographed at code 103 under gamma 2.2 is
+  // uncertain by +-1.07 % of its radiance, and a shadow that takes 99.5 % of it away lands
+  // anywhere between 0 and 16 (9 at the midpoint) (docs/reference.md). RGBA8 like rgba; lower <=
+  // rgba <= upper in every sample.
+  std::vector<uint8_t> lower, upper;
   std::vector<glm::vec3> radiance;            // the HDR value T is applied to
   std::vector<uint8_t> shadowMask;            // 255 where L_noobj - L_obj changes a byte
   size_t shadowPixels = 0, objectPixels = 0;  // mask count; pixels with any product sample
 };
 
 // Per pixel with product coverage c: HDR = (1 - c) (L_b - roomDelta) + c objectRadiance,
-// per channel, then T. The shadow mask marks pixels without product samples whose bytes
-// differ from the background, i.e. where the product's shadow is visible in 8 bits.
-// `background` is RGBA8 of the image's size; throws std::invalid_argument otherwise.
+// per channel, then T; lower and upper the same with L_b at its interval's ends. The shadow mask
+// marks pixels without product samples whose bytes differ from the background, i.e. where the
+// product's shadow is visible in 8 bits. `background` is RGBA8 of the image's size; throws
+// std::invalid_argument otherwise.
 DifferentialFrame composeDifferential(const ReferenceImage& image,
                                       std::span<const uint8_t> background,
                                       const shadow::ToneCurve& tone);

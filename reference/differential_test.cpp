@@ -98,5 +98,58 @@ TEST(ComposeDifferential, ChangedPixelsNoiseAndMaskImage) {
             (std::vector<uint8_t>{0, 0, 0, 255, 255, 255, 255, 255, 0, 0, 0, 255}));
 }
 
+// Each code's interval holds exactly the radiances T maps to it: its ends map to the code,
+// and one step past either end does not.
+TEST(ToneInterval, HoldsExactlyTheRadiancesOfItsCode) {
+  const shadow::ToneCurve tone = shadow::ToneCurve::gamma(1.2, 2.2);
+  for (int k = 0; k < 256; ++k) {
+    const ToneInterval r = toneInterval(tone, static_cast<uint8_t>(k));
+    EXPECT_EQ(tone(r.lo), k) << k;
+    EXPECT_EQ(tone(r.hi), k) << k;
+    EXPECT_LE(r.lo, inverseTone(tone, static_cast<uint8_t>(k)));
+    EXPECT_GE(r.hi, inverseTone(tone, static_cast<uint8_t>(k)));
+    if (k > 0) {
+      EXPECT_EQ(tone(std::nextafter(r.lo, -INFINITY)), k - 1) << k;
+    }
+    if (k < 255) {
+      EXPECT_EQ(tone(std::nextafter(r.hi, INFINITY)), k + 1) << k;
+    }
+  }
+  EXPECT_EQ(toneInterval(tone, 0).lo, 0.0);
+}
+
+// The bounds hold the frame in every sample; with nothing taken away they are the
+// photograph's own byte; where a shadow takes nearly all the light of a floor photographed
+// at code 103 (gamma 2.2), the photograph's half-code uncertainty spans many levels.
+TEST(ComposeDifferential, BoundsHoldTheFrameAndWidenNearBlack) {
+  const shadow::ToneCurve tone = shadow::ToneCurve::gamma(1.2, 2.2);
+  const double lb = inverseTone(tone, 103);
+  ReferenceImage image;
+  image.width = 4;
+  image.height = 1;
+  image.noObject.assign(4, glm::vec3(0));
+  image.withObject.assign(4, glm::vec3(0));
+  image.roomDelta = {glm::vec3(0), glm::vec3(float(0.5 * lb)), glm::vec3(float(0.995 * lb)),
+                     glm::vec3(0)};
+  image.objectRadiance = {glm::vec3(0), glm::vec3(0), glm::vec3(0), glm::vec3(0.05f)};
+  image.objectCoverage = {0.0f, 0.0f, 0.0f, 1.0f};
+  const std::vector<uint8_t> background(16, 103);
+  const DifferentialFrame f = composeDifferential(image, background, tone);
+  for (size_t i = 0; i < 16; ++i) {
+    if (i % 4 == 3) continue;
+    EXPECT_LE(f.lower[i], f.rgba[i]) << i;
+    EXPECT_LE(f.rgba[i], f.upper[i]) << i;
+  }
+  EXPECT_EQ(f.lower[0], 103);
+  EXPECT_EQ(f.upper[0], 103);
+  EXPECT_LE(f.upper[4] - f.lower[4], 2) << "half the light taken: about a code either way";
+  EXPECT_EQ(f.lower[8], 0) << "the photograph's low end leaves nothing";
+  EXPECT_EQ(f.upper[8], 16) << "its high end leaves 1.6 % of the floor's radiance";
+  EXPECT_EQ(f.rgba[8], 9);
+  // The product's own pixel does not depend on the photograph at all.
+  EXPECT_EQ(f.lower[12], f.rgba[12]);
+  EXPECT_EQ(f.upper[12], f.rgba[12]);
+}
+
 }  // namespace
 }  // namespace penumbra::reference

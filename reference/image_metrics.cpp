@@ -199,6 +199,37 @@ ImageComparison compareImages(const core::Image8& reference, const core::Image8&
   return c;
 }
 
+RegionErrors intervalErrors(const core::Image8& lower, const core::Image8& upper,
+                            const core::Image8& test, const core::Image8& mask) {
+  const uint32_t w = test.width, h = test.height;
+  const size_t n = size_t(w) * h;
+  for (const core::Image8* img : {&lower, &upper, &test}) {
+    if (img->width != w || img->height != h || img->pixels.size() != 3 * n) {
+      throw MetricsError(img->name + ": size " + sizeText(img->width, img->height) +
+                         " differs from " + test.name + " (" + sizeText(w, h) + ")");
+    }
+  }
+  if (mask.width != w || mask.height != h || mask.pixels.size() != n) {
+    throw MetricsError(mask.name + ": mask size " + sizeText(mask.width, mask.height) +
+                       " differs from the images (" + sizeText(w, h) + ")");
+  }
+  Histogram in;
+  for (size_t i = 0; i < n; ++i) {
+    if (mask.pixels[i] == 0) continue;
+    ++in.pixels;
+    for (size_t k = 0; k < 3; ++k) {
+      const int lo = lower.pixels[3 * i + k], hi = upper.pixels[3 * i + k];
+      if (lo > hi) {
+        throw MetricsError(lower.name + ": above " + upper.name + " at pixel (" +
+                           std::to_string(i % w) + ", " + std::to_string(i / w) + ")");
+      }
+      const int v = test.pixels[3 * i + k];
+      ++in.count[size_t(std::max({0, lo - v, v - hi}))];
+    }
+  }
+  return in.finish();
+}
+
 nlohmann::json toJson(const ImageComparison& c) {
   nlohmann::json j;
   j["width"] = c.width;

@@ -84,6 +84,15 @@ ImageComparison compareImages(const core::Image8& reference, const core::Image8&
                               const core::Image8* mask = nullptr,
                               const CompareOptions& options = {});
 
+// Errors against a reference known only to lie between `lower` and `upper` in each sample
+// (the differential reference where the photograph's 8 bits leave it open,
+// reference/differential.h): e = max(0, lower − v, v − upper), then mean_abs, p99_abs,
+// max_abs and psnr as above over the mask's samples (flip_mean 0: FLIP has no interval
+// form). Throws MetricsError (naming the images) when sizes differ or lower > upper in a
+// sample.
+RegionErrors intervalErrors(const core::Image8& lower, const core::Image8& upper,
+                            const core::Image8& test, const core::Image8& mask);
+
 // The comparison as a JSON object (field names as in the definitions above, "frame" and
 // "mask" sub-objects, "ssim", "ssim_mask", "flip_ppd", "width", "height").
 nlohmann::json toJson(const ImageComparison& c);

@@ -120,6 +120,27 @@ void expectError(F f, std::initializer_list<std::string> needles) {
   }
 }
 
+// Against bounds: a sample inside [lower, upper] has no error, one outside has its distance
+// to the nearer end; outside the mask nothing counts; bounds the wrong way round are refused.
+TEST(ImageMetrics, IntervalErrorsCountOnlyWhatLiesOutsideTheBounds) {
+  const core::Image8 lower = uniform(2, 2, 10, "lower"), upper = uniform(2, 2, 20, "upper");
+  core::Image8 test = uniform(2, 2, 15, "test");
+  test.pixels[0] = 4;   // 6 below
+  test.pixels[4] = 23;  // 3 above
+  test.pixels[11] = 0;  // outside the mask
+  core::Image8 mask(2, 2, 1, "mask", 255);
+  mask.pixels[3] = 0;
+  const RegionErrors r = intervalErrors(lower, upper, test, mask);
+  EXPECT_EQ(r.pixels, 3u);
+  EXPECT_DOUBLE_EQ(r.meanAbs, 9.0 / 9.0);
+  EXPECT_EQ(r.maxAbs, 6u);
+  EXPECT_EQ(r.p99Abs, 6u);
+  core::Image8 swapped = lower;
+  swapped.pixels[5] = 30;
+  EXPECT_THROW(intervalErrors(swapped, upper, test, mask), MetricsError);
+  EXPECT_THROW(intervalErrors(lower, uniform(2, 1, 20, "short"), test, mask), MetricsError);
+}
+
 TEST(ImageMetrics, MismatchedSizesNameTheFiles) {
   const core::Image8 a = uniform(4, 4, 0, "ref.png");
   const core::Image8 b = uniform(4, 5, 0, "test.png");
