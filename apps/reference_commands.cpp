@@ -50,8 +50,11 @@ struct ReferenceCommand {
     }
     const reference::ReferenceScene scene = reference::referenceSceneOf(b, placed);
     const auto t0 = std::chrono::steady_clock::now();
+    // L_noobj and L_obj are needed whole only for --exr; the frame needs their difference.
+    reference::ReferenceOptions rendered = options;
+    rendered.differenceOnly = exr.empty();
     const reference::ReferenceImage image =
-        reference::renderReference(scene, options, progressBar("reference"));
+        reference::renderReference(scene, rendered, progressBar("reference"));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const reference::DifferentialFrame frame =
@@ -69,7 +72,7 @@ struct ReferenceCommand {
     if (noise) {
       // The same render with an unrelated seed: the two differ only by their Monte Carlo
       // noise (reference::shadowNoiseRms).
-      reference::ReferenceOptions other = options;
+      reference::ReferenceOptions other = rendered;
       other.seed = core::splitmix64(options.seed ^ 0x4E4F495345ull);  // "NOISE"
       const reference::DifferentialFrame second = reference::composeDifferential(
           reference::renderReference(scene, other, progressBar("noise")), b.background, b.tone);

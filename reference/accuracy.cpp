@@ -74,8 +74,10 @@ core::Image8 makeReference(const shadow::SceneBundle& bundle, const AccuracyOpti
     // The ray-traced ground truth (reference/reference_renderer.h, docs/reference.md): HDR
     // differential rendering of the same room, light and placed product.
     const auto t0 = Clock::now();
+    ReferenceOptions rays = o.rays;
+    rays.differenceOnly = true;  // the frame is all that is used
     const DifferentialFrame d = composeDifferential(
-        renderReference(referenceSceneOf(bundle, pose), o.rays), bundle.background, bundle.tone);
+        renderReference(referenceSceneOf(bundle, pose), rays), bundle.background, bundle.tone);
     // Its visible shadow: pixels the product's shadow changes, not the product itself.
     mask = core::Image8(w, h, 1, "ray-traced shadow mask");
     mask.pixels = d.shadowMask;

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "core/colour.h"
 #include "core/job_pool.h"
@@ -25,7 +27,24 @@ struct Emitter {
   std::array<dvec3, 4> polygon;  // counter-clockwise about `normal`
   dvec3 normal, emission;
   double area;
+  dvec3 centre;   // of a sphere holding the polygon
+  double radius;  // (inflated like the product's, below)
 };
+
+// A ball holding `points` (centre: their box's), inflated by 0.1 % and a micrometre so that
+// rounding in the tests against it can only keep a ray, never lose one.
+template <class Points>
+std::pair<dvec3, double> boundingBall(const Points& points) {
+  dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& p : points) {
+    lo = glm::min(lo, dvec3(p));
+    hi = glm::max(hi, dvec3(p));
+  }
+  const dvec3 centre = 0.5 * (lo + hi);
+  double r = 0;
+  for (const auto& p : points) r = std::max(r, glm::length(dvec3(p) - centre));
+  return {centre, 1.001 * r + 1e-6};
+}
 
 // A surface point a ray found.
 struct SurfaceHit {
@@ -72,8 +91,9 @@ class Tracer {
     for (uint32_t p = 0; p < scene.room.patches.size(); ++p) {
       const scene::Patch& patch = scene.room.patches[p];
       if (!patch.emits()) continue;
-      emitters_.push_back(
-          {lighting::patchPolygon(scene.room, p), patch.normal, patch.emission, patch.area});
+      const std::array<dvec3, 4> polygon = lighting::patchPolygon(scene.room, p);
+      const auto [centre, radius] = boundingBall(polygon);
+      emitters_.push_back({polygon, patch.normal, patch.emission, patch.area, centre, radius});
     }
     if (scene.object) {
       objectMesh_.indices = scene.object->mesh.indices;
@@ -86,6 +106,7 @@ class Tracer {
       objectMesh_.normals.assign(objectMesh_.positions.size(), dvec3(0.0));
       objectMesh_.trianglePatch.assign(objectMesh_.triangleCount(), 0);
       object_ = std::make_unique<lighting::EmbreeScene>(objectMesh_);
+      std::tie(objectCentre_, objectRadius_) = boundingBall(objectMesh_.positions);
     }
   }
 
@@ -98,16 +119,23 @@ class Tracer {
         object_ ? object_->intersect(origin, dir, 0.0, tMax) : std::nullopt;
     sawObject = objectHit && (!roomHit || objectHit->t < roomHit->t);
     out = Pair{};
+    const bool differenceOnly = options_.differenceOnly && options_.bounces == 0;
     if (sawObject) {
       // The product in front: `present` is its radiance, `absent` the room behind it. The
       // two paths draw from copies of the stream so each sees the numbers a lone path would.
       const SurfaceHit hit = objectSurface(origin, dir, *objectHit);
       Stream objectRng = rng;
       out.present = shade(hit, kPresent, objectRng, 0).present;
-      if (roomHit) out.absent = roomHit->emission + shade(*roomHit, kAbsent, rng, 0).absent;
+      if (roomHit && !differenceOnly) {
+        out.absent = roomHit->emission + shade(*roomHit, kAbsent, rng, 0).absent;
+      }
       return;
     }
     if (!roomHit) return;
+    if (differenceOnly && !productMayShadow(*roomHit)) {
+      out.absent = out.present = roomHit->emission;
+      return;
+    }
     const Pair p = shade(*roomHit, kBoth, rng, 0);
     out.absent = roomHit->emission + p.absent;
     out.present = roomHit->emission + p.present;
@@ -275,11 +303,40 @@ class Tracer {
     return out;
   }
 
+  // Whether any shadow ray direct() could cast from `hit` might meet the product. Such a ray
+  // runs from the offset origin o to a point y of an emitter that faces the hit (direct()
+  // samples no other). If it meets the product, it passes through the product's ball (centre
+  // s, radius R), so its direction lies within asin(R/|s - o|) of s - o; y lies in the
+  // emitter's ball (c, rho), so within asin(rho/|c - o|) of c - o. Both cones must overlap:
+  // angle(s - o, c - o) <= asin(R/|s - o|) + asin(rho/|c - o|), compared as cosines (cos of a
+  // sum from the sines, no trigonometry). And the product must come before y: |s - o| - R <
+  // |c - o| + rho. Inside either ball nothing is ruled out.
+  bool productMayShadow(const SurfaceHit& hit) const {
+    if (!object_) return false;
+    const dvec3 o = hit.x + options_.normalOffset * hit.offset;
+    const dvec3 a = objectCentre_ - o;
+    const double da = glm::length(a);
+    if (da <= objectRadius_) return true;
+    const double sinA = objectRadius_ / da, cosA = std::sqrt(1.0 - sinA * sinA);
+    for (const Emitter& e : emitters_) {
+      if (!(glm::dot(e.normal, hit.x - e.polygon[0]) > 0)) continue;  // as direct() skips it
+      const dvec3 b = e.centre - o;
+      const double db = glm::length(b);
+      if (db <= e.radius) return true;
+      if (da - objectRadius_ >= db + e.radius) continue;
+      const double sinB = e.radius / db, cosB = std::sqrt(1.0 - sinB * sinB);
+      if (glm::dot(a, b) / (da * db) >= cosA * cosB - sinA * sinB - 1e-12) return true;
+    }
+    return false;
+  }
+
   const ReferenceScene& scene_;
   const ReferenceOptions& options_;
   lighting::EmbreeScene room_;
   scene::PatchMesh objectMesh_;
   std::unique_ptr<lighting::EmbreeScene> object_;
+  dvec3 objectCentre_{0.0};
+  double objectRadius_ = 0;
   std::vector<Emitter> emitters_;
 };
 

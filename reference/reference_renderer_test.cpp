@@ -9,6 +9,7 @@
 #include "lighting/form_factor.h"
 #include "reference/differential.h"
 #include "scene/camera.h"
+#include "tests/showroom_bundle.h"
 
 namespace penumbra::reference {
 namespace {
@@ -332,6 +333,47 @@ TEST(ReferenceRenderer, AWindowRendersItsPixelsAsTheWholeImageDoes) {
   EXPECT_THROW(renderReference(scene, o), std::invalid_argument);
   o.window = ReferenceOptions::Window{5, 3, 5, 11};  // empty
   EXPECT_THROW(renderReference(scene, o), std::invalid_argument);
+}
+
+// differenceOnly: the showroom's teapot in the far corner, a window round it and far beyond.
+// The difference, the product's radiance and coverage are the same bytes; most room pixels
+// (those whose emitters all lie outside the teapot's cone) skip their light, and every pixel
+// the teapot shadows is among those that do not. With a bounce it changes nothing.
+TEST(ReferenceRenderer, DifferenceOnlyGivesTheSameDifferenceAndSkipsWhatCannotBeShadowed) {
+  const ReferenceScene scene =
+      referenceSceneOf(testing::showroomBundle(), shadow::ProductPose{2, 5.6f, 3.05f, 0.0f, 0.0f});
+  ReferenceOptions o;
+  o.samplesPerPixel = 2;
+  o.lightSamples = 4;
+  o.threads = 2;
+  o.window = ReferenceOptions::Window{120, 180, 330, 330};
+  const ReferenceImage full = renderReference(scene, o);
+  o.differenceOnly = true;
+  const ReferenceImage part = renderReference(scene, o);
+  EXPECT_TRUE(sameBytes(full.roomDelta, part.roomDelta));
+  EXPECT_TRUE(sameBytes(full.objectRadiance, part.objectRadiance));
+  EXPECT_TRUE(sameBytes(full.objectCoverage, part.objectCoverage));
+  size_t room = 0, skipped = 0, shadowed = 0;
+  for (size_t i = 0; i < full.roomDelta.size(); ++i) {
+    if (full.objectCoverage[i] > 0 || full.noObject[i] == glm::vec3(0.0f)) continue;
+    ++room;
+    const bool skip = part.noObject[i] != full.noObject[i];
+    skipped += skip;
+    if (full.roomDelta[i] != glm::vec3(0.0f)) {
+      ++shadowed;
+      EXPECT_FALSE(skip) << "pixel " << i % scene.width << ", " << i / scene.width;
+    }
+  }
+  EXPECT_GT(shadowed, 50u);
+  EXPECT_GT(skipped, room / 2) << "of " << room << " room pixels";
+
+  o.bounces = 1;
+  o.window = ReferenceOptions::Window{200, 230, 240, 260};
+  const ReferenceImage bounced = renderReference(scene, o);
+  o.differenceOnly = false;
+  const ReferenceImage bouncedFull = renderReference(scene, o);
+  EXPECT_TRUE(sameBytes(bounced.noObject, bouncedFull.noObject));
+  EXPECT_TRUE(sameBytes(bounced.roomDelta, bouncedFull.roomDelta));
 }
 
 TEST(ReferenceRenderer, IndirectLightOnlyAdds) {
