@@ -286,6 +286,9 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->expected(1, 3)
       ->check(cli::NumberRange(0.0, 255.0))
       ->required();
+  t->add_flag("--p99-beyond-bounds", tune->options.target.p99BeyondBounds,
+              "judge p99 beyond the ray-traced reference's bounds (where the photograph's 8 "
+              "bits leave it open, docs/reference.md), not against its midpoint");
   t->add_option("--fps", tune->fps, "frame budget on the Raspberry Pi 4 cost model")
       ->check(cli::NumberRange(1.0, 1000.0));
   t->add_option("--poses", tune->posesPath,

@@ -65,8 +65,9 @@ double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop, ui
 }
 
 bool within(const PoseError& e, const ErrorTarget& t) {
+  const uint32_t p99 = t.p99BeyondBounds ? e.p99BeyondBounds.value() : e.p99;
   return e.pixels == 0 ||
-         (e.meanAbs <= t.meanAbs && double(e.p99) <= t.p99 && (t.flip <= 0 || e.flip <= t.flip));
+         (e.meanAbs <= t.meanAbs && double(p99) <= t.p99 && (t.flip <= 0 || e.flip <= t.flip));
 }
 
 class Measurer {
@@ -101,6 +102,11 @@ class Measurer {
       e.p99 = cmp.masked->pixels ? cmp.masked->p99Abs : 0;
       e.flip = cmp.masked->pixels ? cmp.masked->flipMean : 0.0;
       e.pixels = cmp.masked->pixels;
+      if (!references[i].lower.pixels.empty()) {
+        e.p99BeyondBounds =
+            intervalErrors(references[i].lower, references[i].upper, frame, references[i].region)
+                .p99Abs;
+      }
       e.boardMs = boardMs(board_, loop, settings.shadowMapSize);
       c.boardMs = std::max(c.boardMs, e.boardMs);
       c.worstMeanAbs = std::max(c.worstMeanAbs, e.meanAbs);
@@ -213,6 +219,18 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   };
   makeReferences(o.poses, references);
   makeReferences(o.heldOut, heldOutReferences);
+  if (o.target.p99BeyondBounds) {
+    for (const auto* set : {&references, &heldOutReferences}) {
+      for (const PoseReference& r : *set) {
+        if (r.lower.pixels.empty()) {
+          throw std::invalid_argument(
+              "tune: p99 beyond the reference's bounds needs a reference with bounds (the ray "
+              "tracer's), not " +
+              r.info.value("kind", std::string("this one")));
+        }
+      }
+    }
+  }
 
   // Each pose's one-level FLIP threshold, for perceptual stopping.
   std::vector<double> oneLevelLevels(references.size(), 0.0);
@@ -297,6 +315,8 @@ nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {
     poses.push_back({{"pose", e.pose},
                      {"mean_abs_shadow", e.meanAbs},
                      {"p99_abs_shadow", e.p99},
+                     {"p99_beyond_bounds_shadow",
+                      e.p99BeyondBounds ? nlohmann::json(*e.p99BeyondBounds) : nullptr},
                      {"flip_shadow", flipMeasured ? nlohmann::json(e.flip) : nullptr},
                      {"shadow_pixels", e.pixels},
                      {"board_ms", e.boardMs}});
@@ -322,6 +342,7 @@ nlohmann::json toJson(const TuneOptions& o, const TuneReport& r) {
       {"target",
        {{"mean_abs_shadow", o.target.meanAbs},
         {"p99_abs_shadow", o.target.p99},
+        {"p99_beyond_bounds", o.target.p99BeyondBounds},
         {"flip_shadow", o.target.flip > 0 ? nlohmann::json(o.target.flip) : nullptr}}},
       {"max_board_ms", o.maxBoardMs > 0 ? nlohmann::json(o.maxBoardMs) : nullptr},
       {"board", "Raspberry Pi 4 cost model (shadow::CostModel::raspberryPi4)"},

@@ -54,6 +54,10 @@ struct ErrorTarget {
   double meanAbs = 1.0;
   double p99 = 6.0;
   double flip = 0;  // mean LDR-FLIP in the shadow region; 0: not checked
+  // p99 beyond the reference's bounds (reference/differential.h: where the photograph's 8
+  // bits leave the reference open) instead of against its midpoint. Needs a reference with
+  // bounds (the ray tracer's); the mean stays against the midpoint.
+  bool p99BeyondBounds = false;
 };
 
 struct TuneOptions {
@@ -82,8 +86,9 @@ struct PoseError {
   std::string pose;
   double meanAbs = 0, flip = 0;
   uint32_t p99 = 0;
-  uint64_t pixels = 0;  // in the shadow region
-  double boardMs = 0;   // the frame's cost on the board, fresh at this pose
+  std::optional<uint32_t> p99BeyondBounds;  // when the reference has bounds
+  uint64_t pixels = 0;                      // in the shadow region
+  double boardMs = 0;                       // the frame's cost on the board, fresh at this pose
 };
 
 struct TunedCandidate {
@@ -110,8 +115,9 @@ struct TuneReport {
 // Progress: `done` candidates of at most `total`, and what is being measured.
 using TuneProgress = std::function<void(size_t done, size_t total, const std::string& what)>;
 
-// Throws std::invalid_argument for an empty pose set, an empty candidate list, or a map size
-// or pass ceiling the settings refuse (validateRenderSettings); what making a reference throws.
+// Throws std::invalid_argument for an empty pose set, an empty candidate list, a map size or
+// pass ceiling the settings refuse (validateRenderSettings), or a p99 beyond bounds asked of
+// a reference without them; what making a reference throws.
 TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& options,
                         const TuneProgress& progress = {});
 

@@ -142,6 +142,41 @@ TEST(TuneSettings, PassesThatChangeNothingVisibleEndTheSearch) {
   EXPECT_EQ(tuneSettings(spot, o).candidates.size(), 3u);
 }
 
+// p99 beyond the reference's bounds: the teapot's corner against a ray-traced reference, one
+// candidate. Its p99 beyond the bounds is below its p99 against the midpoint (the photograph's
+// rounding near black); a target between the two is met only when judged beyond the bounds.
+// The stand-in has no bounds, and asking for them is refused.
+TEST(TuneSettings, P99BeyondTheReferencesBounds) {
+  if (!accuracyHasRayTracer()) GTEST_SKIP() << "built without the ray tracer";
+  const std::vector<NamedPose> set = loadPoseSet(testing::dataDir() / "showroom/poses.json");
+  TuneOptions o;
+  o.poses = {poseNamed(set, "teapot-corner")};
+  o.measure.rays.samplesPerPixel = 4;
+  o.measure.rays.pixelCentres = true;
+  o.measure.render.threads = 2;
+  o.passCeilings = {50};
+  o.mapSizes = {256};
+  o.fineProxyPasses = {16};
+  o.areaPenumbrae = {true};
+  o.perceptualStop = false;
+  o.target = {2.0, 255.0, 0.0};
+  const TuneReport loose = tuneSettings(testing::showroomBundle(), o);
+  ASSERT_EQ(loose.candidates.size(), 1u);
+  const PoseError& e = loose.candidates[0].poses.at(0);
+  ASSERT_TRUE(e.p99BeyondBounds.has_value());
+  ASSERT_LT(*e.p99BeyondBounds, e.p99) << "the corner's contact pixels are near black";
+  o.target.p99 = double(*e.p99BeyondBounds);
+  EXPECT_FALSE(tuneSettings(testing::showroomBundle(), o).candidates[0].meets);
+  o.target.p99BeyondBounds = true;
+  EXPECT_TRUE(tuneSettings(testing::showroomBundle(), o).candidates[0].meets);
+  const nlohmann::json j = toJson(o, loose);
+  EXPECT_EQ(j["candidates"][0]["poses"][0]["p99_beyond_bounds_shadow"], *e.p99BeyondBounds);
+
+  o.measure.penumbraReference = true;
+  o.measure.referenceMapSize = 512;
+  EXPECT_THROW(tuneSettings(testing::showroomBundle(), o), std::invalid_argument);
+}
+
 TEST(TuneSettings, ShippedPoseSetsLoad) {
   const std::vector<NamedPose> set = loadPoseSet(testing::dataDir() / "showroom/poses.json");
   ASSERT_EQ(set.size(), 15u);
