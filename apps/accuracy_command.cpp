@@ -1,5 +1,6 @@
 #include "apps/accuracy_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -85,24 +86,64 @@ struct AccuracyCommand {
 // `penumbra tune` (reference/settings_tuning.h).
 struct TuneCommand {
   std::string bundlePath, out, report, chart, posesPath, heldOutPath;
-  std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
+  std::vector<double> maxError;     // mean abs [, p99 [, FLIP]]
+  std::vector<double> powerShares;  // scene models tried (a scene file's); empty: its own
   double fps = 0;
   RenderFlags render;
   reference::TuneOptions options;
 
-  // A bundle, or a scene file (.json) precomputed here with precompute's defaults.
-  shadow::SceneBundle loadInput() const {
-    if (std::filesystem::path(bundlePath).extension() != ".json") {
-      return shadow::loadBundle(bundlePath);
-    }
+  // A bundle, or a scene file (.json) precomputed here with precompute's defaults and, when
+  // given, a source power share.
+  shadow::SceneBundle loadInput(double powerShare = 0) const {
+    if (!sceneInput()) return shadow::loadBundle(bundlePath);
 #ifdef PENUMBRA_HAVE_LIGHTING
     std::vector<lighting::StageTiming> timings;
-    return precomputeScene(bundlePath, lighting::PrecomputeOptions{}, timings);
+    lighting::PrecomputeOptions precompute;
+    precompute.powerShare = powerShare;
+    return precomputeScene(bundlePath, precompute, timings);
 #else
+    (void)powerShare;
     throw cli::UsageError(bundlePath +
                           ": this build cannot precompute a scene file (no "
                           "lighting); give a bundle");
 #endif
+  }
+
+  bool sceneInput() const {
+    return std::filesystem::path(bundlePath).extension() == ".json";
+  }
+
+  static void line(const char* what, const reference::TunedCandidate& c) {
+    std::printf(
+        "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s | "
+        "board_ms %.2f worst_mean_abs %.3f meets %s\n",
+        what, c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
+        c.settings.areaPenumbrae ? "on" : "off", c.boardMs, c.worstMeanAbs, c.meets ? "yes" : "no");
+  }
+
+  // One scene model: its render settings searched (reference/settings_tuning.h).
+  struct Model {
+    double powerShare = 0;  // 0: the input's own
+    shadow::SceneBundle bundle;
+    reference::TuneReport report;
+  };
+
+  Model tuneModel(double powerShare) {
+    Model m{powerShare, loadInput(powerShare), {}};
+    if (options.poses.empty()) options.poses = {{"start", m.bundle.startPose}};
+    core::Progress bar("tune");
+    m.report = reference::tuneSettings(
+        m.bundle, options,
+        [&](size_t done, size_t total, const std::string&) { bar.fraction(done, total); });
+    bar.finish();
+    if (powerShare > 0) {
+      std::printf("power share %.2f (%zu sources): ", powerShare, m.bundle.sets.sources.size());
+    }
+    std::printf("candidates %zu, poses %zu, held out %zu\n", m.report.candidates.size(),
+                options.poses.size(), options.heldOut.size());
+    line("defaults", m.report.defaults);
+    if (m.report.chosen) line("chosen", m.report.candidates[*m.report.chosen]);
+    return m;
   }
 
   int run() {
@@ -111,43 +152,55 @@ struct TuneCommand {
     if (maxError.size() > 1) options.target.p99 = maxError[1];
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
-    const shadow::SceneBundle bundle = loadInput();
-    if (posesPath.empty()) {
-      options.poses = {{"start", bundle.startPose}};
-    } else {
-      options.poses = reference::loadPoseSet(posesPath);
+    if (!powerShares.empty() && !sceneInput()) {
+      throw cli::UsageError("--power-shares needs a scene file (.json): " + bundlePath +
+                            "'s sources are fixed");
     }
+    if (!posesPath.empty()) options.poses = reference::loadPoseSet(posesPath);
     if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
-    core::Progress bar("tune");
-    const reference::TuneReport r = reference::tuneSettings(
-        bundle, options,
-        [&](size_t done, size_t total, const std::string&) { bar.fraction(done, total); });
-    bar.finish();
-    const nlohmann::json j = reference::toJson(options, r);
-    if (!report.empty()) core::writeFileReplacing(report, j.dump(2) + "\n");
-    if (!chart.empty()) reference::writeParetoChart(chart, options, r);
-    const auto line = [](const char* what, const reference::TunedCandidate& c) {
-      std::printf(
-          "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s | "
-          "board_ms %.2f worst_mean_abs %.3f meets %s\n",
-          what, c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
-          c.settings.areaPenumbrae ? "on" : "off", c.boardMs, c.worstMeanAbs,
-          c.meets ? "yes" : "no");
-    };
-    std::printf("candidates %zu, poses %zu, held out %zu\n", r.candidates.size(),
-                options.poses.size(), options.heldOut.size());
-    line("defaults", r.defaults);
-    if (!r.chosen) {
+    // Scene models from the smallest (fewest sources) up: among equal costs the first wins.
+    std::vector<double> shares = powerShares.empty() ? std::vector<double>{0.0} : powerShares;
+    std::sort(shares.begin(), shares.end());
+    shares.erase(std::unique(shares.begin(), shares.end()), shares.end());
+    std::vector<Model> models;
+    for (double share : shares) models.push_back(tuneModel(share));
+    const Model* best = nullptr;
+    for (const Model& m : models) {
+      if (!m.report.chosen) continue;
+      const double ms = m.report.candidates[*m.report.chosen].boardMs;
+      if (!best || ms < best->report.candidates[*best->report.chosen].boardMs) best = &m;
+    }
+    if (!report.empty()) {
+      nlohmann::json j;
+      if (powerShares.empty()) {
+        j = reference::toJson(options, models[0].report);
+      } else {
+        j = {{"power_shares", nlohmann::json::array()},
+             {"chosen_power_share", best ? nlohmann::json(best->powerShare) : nullptr}};
+        for (const Model& m : models) {
+          j["power_shares"].push_back({{"power_share", m.powerShare},
+                                       {"sources", m.bundle.sets.sources.size()},
+                                       {"tune", reference::toJson(options, m.report)}});
+        }
+      }
+      core::writeFileReplacing(report, j.dump(2) + "\n");
+    }
+    const Model& shown = best ? *best : models.back();
+    if (!chart.empty()) reference::writeParetoChart(chart, options, shown.report);
+    if (!best) {
       throw std::runtime_error("no candidate meets the target at every pose within the budget; " +
                                out + " not written");
     }
-    const reference::TunedCandidate& c = r.candidates[*r.chosen];
-    line("chosen", c);
-    if (!options.heldOut.empty()) {
-      line("held-out defaults", r.heldOutDefaults);
-      line("held-out chosen", r.heldOutChosen);
+    const reference::TunedCandidate& c = best->report.candidates[*best->report.chosen];
+    if (!powerShares.empty()) {
+      std::printf("chosen power share %.2f (%zu sources)\n", best->powerShare,
+                  best->bundle.sets.sources.size());
     }
-    shadow::SceneBundle tuned = bundle;
+    if (!options.heldOut.empty()) {
+      line("held-out defaults", best->report.heldOutDefaults);
+      line("held-out chosen", best->report.heldOutChosen);
+    }
+    shadow::SceneBundle tuned = best->bundle;
     tuned.settings = c.settings;
     tuned.settings.tuned = true;
     shadow::saveBundle(tuned, out);
@@ -311,6 +364,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->delimiter(',')
       ->check(cli::NumberRange::list(0, 257))
       ->capture_default_str();
+  t->add_option("--power-shares", tune->powerShares,
+                "scene models tried: source power shares (Gibson 2003 §4), comma-separated, each "
+                "precomputed from the scene file INPUT; the cheapest model and settings that meet "
+                "the target win")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(0.01, 1.0));
   t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
                 "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))
