@@ -87,15 +87,15 @@ struct ReferenceOptions {
   // difference to the default (rays spread over each patch) is what the point sources cost
   // (docs/accuracy.md: where the remaining error comes from).
   bool pointLights = false;
-  int bounces = 0;       // indirect bounces (0: direct light only)
+  int bounces = 0;  // indirect bounces (0: direct light only)
   // Only what differential rendering reads (reference/differential.h): roomDelta, the
   // product's radiance and coverage. With direct light only, a room point whose every
   // emitter lies outside the cone of the product's bounding sphere (seen from the point) can
   // lose no light to the product: its delta is exactly 0 and its light is not gathered, so
-  // noObject and withObject hold only emission there (and behind the product). roomDelta,
-  // objectRadiance and objectCoverage are the same bytes as without (the skipped samples'
-  // deltas were 0, and every sample draws from its own stream). With bounces it changes
-  // nothing: the product can take indirect light from anywhere.
+  // noObject and withObject hold only its emission there, and noObject nothing behind the
+  // product. roomDelta, objectRadiance and objectCoverage are the same bytes as without (the
+  // skipped samples' deltas were 0, and every sample draws from its own stream). With
+  // bounces it changes nothing: the product can take indirect light from anywhere.
   bool differenceOnly = false;
   unsigned threads = 0;  // 0 = hardware concurrency; the bytes do not depend on it
   uint64_t seed = 1;
