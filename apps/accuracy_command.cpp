@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #ifdef PENUMBRA_HAVE_METRICS
@@ -128,13 +129,25 @@ struct TuneCommand {
     reference::TuneReport report;
   };
 
+  // The references of the last model made them: a model with the same photograph (another
+  // power share keeps the room, its photograph, tone and products) measures against them.
+  std::optional<reference::TuneReferences> references;
+  std::vector<uint8_t> referencesBackground;
+
   Model tuneModel(double powerShare) {
     Model m{powerShare, loadInput(powerShare), {}};
     if (options.poses.empty()) options.poses = {{"start", m.bundle.startPose}};
+    const auto progress = [](core::Progress& bar) {
+      return [&bar](size_t done, size_t total, const std::string&) { bar.fraction(done, total); };
+    };
+    if (!references || referencesBackground != m.bundle.background) {
+      core::Progress bar("references");
+      references = reference::makeTuneReferences(m.bundle, options, progress(bar));
+      referencesBackground = m.bundle.background;
+      bar.finish();
+    }
     core::Progress bar("tune");
-    m.report = reference::tuneSettings(
-        m.bundle, options,
-        [&](size_t done, size_t total, const std::string&) { bar.fraction(done, total); });
+    m.report = reference::tuneSettings(m.bundle, options, *references, progress(bar));
     bar.finish();
     if (powerShare > 0) {
       std::printf("power share %.2f (%zu sources): ", powerShare, m.bundle.sets.sources.size());

@@ -174,8 +174,30 @@ void checkPoses(const shadow::SceneBundle& bundle, const std::vector<NamedPose>&
 
 }  // namespace
 
+TuneReferences makeTuneReferences(const shadow::SceneBundle& bundle, const TuneOptions& o,
+                                  const TuneProgress& progress) {
+  checkPoses(bundle, o.poses);
+  checkPoses(bundle, o.heldOut);
+  TuneReferences r;
+  const size_t total = o.poses.size() + o.heldOut.size();
+  for (const auto& [poses, into] :
+       {std::pair{&o.poses, &r.poses}, std::pair{&o.heldOut, &r.heldOut}}) {
+    for (const NamedPose& p : *poses) {
+      if (progress) progress(r.poses.size() + r.heldOut.size(), total, "reference " + p.name);
+      into->push_back(makePoseReference(bundle, o.measure, p.pose));
+    }
+  }
+  if (progress) progress(total, total, "references made");
+  return r;
+}
+
 TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
                         const TuneProgress& progress) {
+  return tuneSettings(bundle, o, makeTuneReferences(bundle, o, progress), progress);
+}
+
+TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
+                        const TuneReferences& made, const TuneProgress& progress) {
   if (o.poses.empty()) throw std::invalid_argument("tune: no poses to tune on");
   if (o.passCeilings.empty() || o.mapSizes.empty() || o.fineProxyPasses.empty() ||
       o.areaPenumbrae.empty()) {
@@ -183,6 +205,11 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   }
   checkPoses(bundle, o.poses);
   checkPoses(bundle, o.heldOut);
+  if (made.poses.size() != o.poses.size() || made.heldOut.size() != o.heldOut.size()) {
+    throw std::invalid_argument("tune: the references are not one per pose");
+  }
+  const std::vector<PoseReference>& references = made.poses;
+  const std::vector<PoseReference>& heldOutReferences = made.heldOut;
   std::vector<uint32_t> ceilings = o.passCeilings;
   std::sort(ceilings.begin(), ceilings.end());
   ceilings.erase(std::unique(ceilings.begin(), ceilings.end()), ceilings.end());
@@ -199,8 +226,7 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   }
 
   const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
-  const size_t total = o.poses.size() + o.heldOut.size() + combinations * ceilings.size() + 1 +
-                       (o.heldOut.empty() ? 0 : 2);
+  const size_t total = combinations * ceilings.size() + 1 + (o.heldOut.empty() ? 0 : 2);
   size_t done = 0;
   const auto step = [&](const std::string& what) {
     if (progress) progress(done, total, what);
@@ -208,26 +234,14 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   };
 
   TuneReport report;
-  std::vector<PoseReference> references, heldOutReferences;
-  const auto makeReferences = [&](const std::vector<NamedPose>& poses,
-                                  std::vector<PoseReference>& into) {
-    for (const NamedPose& p : poses) {
-      step("reference " + p.name);
-      into.push_back(makePoseReference(bundle, o.measure, p.pose));
-      report.references.push_back(into.back().info);
-    }
-  };
-  makeReferences(o.poses, references);
-  makeReferences(o.heldOut, heldOutReferences);
-  if (o.target.p99BeyondBounds) {
-    for (const auto* set : {&references, &heldOutReferences}) {
-      for (const PoseReference& r : *set) {
-        if (r.lower.pixels.empty()) {
-          throw std::invalid_argument(
-              "tune: p99 beyond the reference's bounds needs a reference with bounds (the ray "
-              "tracer's), not " +
-              r.info.value("kind", std::string("this one")));
-        }
+  for (const auto* set : {&references, &heldOutReferences}) {
+    for (const PoseReference& r : *set) {
+      report.references.push_back(r.info);
+      if (o.target.p99BeyondBounds && r.lower.pixels.empty()) {
+        throw std::invalid_argument(
+            "tune: p99 beyond the reference's bounds needs a reference with bounds (the ray "
+            "tracer's), not " +
+            r.info.value("kind", std::string("this one")));
       }
     }
   }

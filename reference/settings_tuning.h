@@ -112,14 +112,29 @@ struct TuneReport {
   std::vector<nlohmann::json> references;         // per pose (set, then held out): its kind
 };
 
-// Progress: `done` candidates of at most `total`, and what is being measured.
+// Progress: `done` steps of at most `total` of one phase (the references, then the
+// candidates), and what is being measured.
 using TuneProgress = std::function<void(size_t done, size_t total, const std::string& what)>;
 
+// Each pose's reference, the set's then the held-out ones', made once: every candidate is
+// measured against them. They depend on the room, its photograph, the tone curve and the
+// products, not on the source set, so scene models that differ only there (other power
+// shares) share them. Throws what making a reference throws, and std::invalid_argument for a
+// product the bundle lacks.
+struct TuneReferences {
+  std::vector<PoseReference> poses, heldOut;
+};
+TuneReferences makeTuneReferences(const shadow::SceneBundle& bundle, const TuneOptions& options,
+                                  const TuneProgress& progress = {});
+
 // Throws std::invalid_argument for an empty pose set, an empty candidate list, a map size or
-// pass ceiling the settings refuse (validateRenderSettings), or a p99 beyond bounds asked of
-// a reference without them; what making a reference throws.
+// pass ceiling the settings refuse (validateRenderSettings), references that are not one per
+// pose, or a p99 beyond bounds asked of a reference without them; the first form also what
+// making a reference throws.
 TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& options,
                         const TuneProgress& progress = {});
+TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& options,
+                        const TuneReferences& references, const TuneProgress& progress = {});
 
 // The report as JSON: the target, every candidate (settings, per-pose errors and cost), the
 // choice, the defaults and the held-out poses.
