@@ -150,8 +150,10 @@ PoseReference makePoseReference(const shadow::SceneBundle& bundle, const Accurac
   const uint32_t w = bundle.view.width, h = bundle.view.height;
   PoseReference r;
   r.image = makeReference(bundle, o, pose, r.info, r.region, r.lower, r.upper);
-  for (const core::Image8* img : {&r.image, &r.lower, &r.upper}) {
-    if (img == &r.image || !img->pixels.empty()) checkViewSize(*img, w, h);
+  checkViewSize(r.image, w, h);
+  if (!r.lower.pixels.empty()) {
+    checkViewSize(r.lower, w, h);
+    checkViewSize(r.upper, w, h);
   }
   // Bounds that do not hold their own reference belong to another one.
   for (size_t i = 0; !r.lower.pixels.empty() && i < r.image.pixels.size(); ++i) {

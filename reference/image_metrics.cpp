@@ -15,6 +15,24 @@ std::string sizeText(uint32_t w, uint32_t h) {
   return std::to_string(w) + "x" + std::to_string(h);
 }
 
+// Throws unless `image` is RGB of `base`'s size, naming both.
+void requireSizeOf(const core::Image8& image, const core::Image8& base) {
+  const uint32_t w = base.width, h = base.height;
+  if (image.width != w || image.height != h || image.pixels.size() != 3 * size_t(w) * h) {
+    throw MetricsError(image.name + ": size " + sizeText(image.width, image.height) +
+                       " differs from " + base.name + " (" + sizeText(w, h) + ")");
+  }
+}
+
+// Throws unless `mask` (when given) is one channel of w x h.
+void requireMaskSize(const core::Image8* mask, uint32_t w, uint32_t h) {
+  if (mask != nullptr &&
+      (mask->width != w || mask->height != h || mask->pixels.size() != size_t(w) * h)) {
+    throw MetricsError(mask->name + ": mask size " + sizeText(mask->width, mask->height) +
+                       " differs from the images (" + sizeText(w, h) + ")");
+  }
+}
+
 cv::Mat readOrThrow(const std::filesystem::path& path, int flags, const char* what) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -141,14 +159,8 @@ ImageComparison compareImages(const core::Image8& reference, const core::Image8&
   if (reference.pixels.size() != 3 * n) {
     throw MetricsError(reference.name + ": pixel buffer does not match " + sizeText(w, h));
   }
-  if (test.width != w || test.height != h || test.pixels.size() != 3 * n) {
-    throw MetricsError(test.name + ": size " + sizeText(test.width, test.height) +
-                       " differs from " + reference.name + " (" + sizeText(w, h) + ")");
-  }
-  if (mask != nullptr && (mask->width != w || mask->height != h || mask->pixels.size() != n)) {
-    throw MetricsError(mask->name + ": mask size " + sizeText(mask->width, mask->height) +
-                       " differs from the images (" + sizeText(w, h) + ")");
-  }
+  requireSizeOf(test, reference);
+  requireMaskSize(mask, w, h);
 
   ImageComparison c;
   c.width = w;
@@ -203,16 +215,8 @@ RegionErrors intervalErrors(const core::Image8& lower, const core::Image8& upper
                             const core::Image8& test, const core::Image8& mask) {
   const uint32_t w = test.width, h = test.height;
   const size_t n = size_t(w) * h;
-  for (const core::Image8* img : {&lower, &upper, &test}) {
-    if (img->width != w || img->height != h || img->pixels.size() != 3 * n) {
-      throw MetricsError(img->name + ": size " + sizeText(img->width, img->height) +
-                         " differs from " + test.name + " (" + sizeText(w, h) + ")");
-    }
-  }
-  if (mask.width != w || mask.height != h || mask.pixels.size() != n) {
-    throw MetricsError(mask.name + ": mask size " + sizeText(mask.width, mask.height) +
-                       " differs from the images (" + sizeText(w, h) + ")");
-  }
+  for (const core::Image8* img : {&lower, &upper, &test}) requireSizeOf(*img, test);
+  requireMaskSize(&mask, w, h);
   Histogram in;
   for (size_t i = 0; i < n; ++i) {
     if (mask.pixels[i] == 0) continue;

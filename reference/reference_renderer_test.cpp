@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "lighting/form_factor.h"
@@ -339,6 +340,15 @@ TEST(ReferenceRenderer, AWindowRendersItsPixelsAsTheWholeImageDoes) {
 // The difference, the product's radiance and coverage are the same bytes; most room pixels
 // (those whose emitters all lie outside the teapot's cone) skip their light, and every pixel
 // the teapot shadows is among those that do not. With a bounce it changes nothing.
+// The same render without and with ReferenceOptions::differenceOnly.
+std::pair<ReferenceImage, ReferenceImage> withoutAndWithDifferenceOnly(const ReferenceScene& scene,
+                                                                       ReferenceOptions o) {
+  o.differenceOnly = false;
+  ReferenceImage full = renderReference(scene, o);
+  o.differenceOnly = true;
+  return {std::move(full), renderReference(scene, o)};
+}
+
 TEST(ReferenceRenderer, DifferenceOnlyGivesTheSameDifferenceAndSkipsWhatCannotBeShadowed) {
   const ReferenceScene scene =
       referenceSceneOf(testing::showroomBundle(), shadow::ProductPose{2, 5.6f, 3.05f, 0.0f, 0.0f});
@@ -347,9 +357,7 @@ TEST(ReferenceRenderer, DifferenceOnlyGivesTheSameDifferenceAndSkipsWhatCannotBe
   o.lightSamples = 4;
   o.threads = 2;
   o.window = ReferenceOptions::Window{120, 180, 330, 330};
-  const ReferenceImage full = renderReference(scene, o);
-  o.differenceOnly = true;
-  const ReferenceImage part = renderReference(scene, o);
+  const auto [full, part] = withoutAndWithDifferenceOnly(scene, o);
   EXPECT_TRUE(sameBytes(full.roomDelta, part.roomDelta));
   EXPECT_TRUE(sameBytes(full.objectRadiance, part.objectRadiance));
   EXPECT_TRUE(sameBytes(full.objectCoverage, part.objectCoverage));
@@ -369,9 +377,7 @@ TEST(ReferenceRenderer, DifferenceOnlyGivesTheSameDifferenceAndSkipsWhatCannotBe
 
   o.bounces = 1;
   o.window = ReferenceOptions::Window{200, 230, 240, 260};
-  const ReferenceImage bounced = renderReference(scene, o);
-  o.differenceOnly = false;
-  const ReferenceImage bouncedFull = renderReference(scene, o);
+  const auto [bouncedFull, bounced] = withoutAndWithDifferenceOnly(scene, o);
   EXPECT_TRUE(sameBytes(bounced.noObject, bouncedFull.noObject));
   EXPECT_TRUE(sameBytes(bounced.roomDelta, bouncedFull.roomDelta));
 }
