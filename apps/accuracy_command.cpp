@@ -13,6 +13,7 @@
 #include "apps/render_flags.h"
 #include "apps/scene_commands.h"
 #include "core/cli.h"
+#include "core/json_reader.h"
 #include "core/progress.h"
 #include "core/replace_file.h"
 #include "reference/accuracy.h"
@@ -87,23 +88,32 @@ struct AccuracyCommand {
 // `penumbra tune` (reference/settings_tuning.h).
 struct TuneCommand {
   std::string bundlePath, out, report, chart, posesPath, heldOutPath;
-  std::vector<double> maxError;     // mean abs [, p99 [, FLIP]]
-  std::vector<double> powerShares;  // scene models tried (a scene file's); empty: its own
+  std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
+  // Scene models tried (a scene file's): every power share with every emitter patch size;
+  // empty: the file's own.
+  std::vector<double> powerShares, emitterPatchSizes;
   double fps = 0;
   RenderFlags render;
   reference::TuneOptions options;
 
-  // A bundle, or a scene file (.json) precomputed here with precompute's defaults and, when
-  // given, a source power share.
-  shadow::SceneBundle loadInput(double powerShare = 0) const {
+  // One scene model: 0 keeps the scene file's own value.
+  struct SceneModel {
+    double powerShare = 0;
+    double emitterPatchSize = 0;
+  };
+
+  // A bundle, or a scene file (.json) precomputed here with precompute's defaults and the
+  // scene model's overrides.
+  shadow::SceneBundle loadInput(SceneModel model) const {
     if (!sceneInput()) return shadow::loadBundle(bundlePath);
 #ifdef PENUMBRA_HAVE_LIGHTING
     std::vector<lighting::StageTiming> timings;
     lighting::PrecomputeOptions precompute;
-    precompute.powerShare = powerShare;
+    precompute.powerShare = model.powerShare;
+    precompute.emitterPatchSize = model.emitterPatchSize;
     return precomputeScene(bundlePath, precompute, timings);
 #else
-    (void)powerShare;
+    (void)model;
     throw cli::UsageError(bundlePath +
                           ": this build cannot precompute a scene file (no "
                           "lighting); give a bundle");
@@ -124,18 +134,30 @@ struct TuneCommand {
 
   // One scene model: its render settings searched (reference/settings_tuning.h).
   struct Model {
-    double powerShare = 0;  // 0: the input's own
+    SceneModel scene;
     shadow::SceneBundle bundle;
     reference::TuneReport report;
   };
 
   // The references of the last model made them: a model with the same photograph (another
   // power share keeps the room, its photograph, tone and products) measures against them.
+  // Cutting the emitters finer changes the photograph a little (it is drawn from the
+  // patches' radiance), so such a model makes its own.
   std::optional<reference::TuneReferences> references;
   std::vector<uint8_t> referencesBackground;
 
-  Model tuneModel(double powerShare) {
-    Model m{powerShare, loadInput(powerShare), {}};
+  static std::string describe(const SceneModel& s) {
+    std::string d;
+    if (s.powerShare > 0) d += "power share " + core::formatNumber(s.powerShare);
+    if (s.emitterPatchSize > 0) {
+      d += (d.empty() ? "" : ", ") + std::string("emitter patches ") +
+           core::formatNumber(s.emitterPatchSize) + " m";
+    }
+    return d;
+  }
+
+  Model tuneModel(SceneModel scene) {
+    Model m{scene, loadInput(scene), {}};
     if (options.poses.empty()) options.poses = {{"start", m.bundle.startPose}};
     const auto progress = [](core::Progress& bar) {
       return [&bar](size_t done, size_t total, const std::string&) { bar.fraction(done, total); };
@@ -149,8 +171,8 @@ struct TuneCommand {
     core::Progress bar("tune");
     m.report = reference::tuneSettings(m.bundle, options, *references, progress(bar));
     bar.finish();
-    if (powerShare > 0) {
-      std::printf("power share %.2f (%zu sources): ", powerShare, m.bundle.sets.sources.size());
+    if (const std::string d = describe(scene); !d.empty()) {
+      std::printf("%s (%zu sources): ", d.c_str(), m.bundle.sets.sources.size());
     }
     std::printf("candidates %zu, poses %zu, held out %zu\n", m.report.candidates.size(),
                 options.poses.size(), options.heldOut.size());
@@ -165,18 +187,29 @@ struct TuneCommand {
     if (maxError.size() > 1) options.target.p99 = maxError[1];
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
-    if (!powerShares.empty() && !sceneInput()) {
-      throw cli::UsageError("--power-shares needs a scene file (.json): " + bundlePath +
-                            "'s sources are fixed");
+    const bool sceneModels = !powerShares.empty() || !emitterPatchSizes.empty();
+    if (sceneModels && !sceneInput()) {
+      throw cli::UsageError(
+          std::string(powerShares.empty() ? "--emitter-patch-sizes" : "--power-shares") +
+          " needs a scene file (.json): " + bundlePath + "'s sources are fixed");
     }
     if (!posesPath.empty()) options.poses = reference::loadPoseSet(posesPath);
     if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
-    // Scene models from the smallest (fewest sources) up: among equal costs the first wins.
-    std::vector<double> shares = powerShares.empty() ? std::vector<double>{0.0} : powerShares;
-    std::sort(shares.begin(), shares.end());
-    shares.erase(std::unique(shares.begin(), shares.end()), shares.end());
+    // Scene models from the smallest (fewest sources: the smallest share, the largest
+    // emitter patches) up: among equal costs the first wins.
+    auto values = [](std::vector<double> v, bool descending) {
+      if (v.empty()) return std::vector<double>{0.0};
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+      if (descending) std::reverse(v.begin(), v.end());
+      return v;
+    };
     std::vector<Model> models;
-    for (double share : shares) models.push_back(tuneModel(share));
+    for (double share : values(powerShares, false)) {
+      for (double emitter : values(emitterPatchSizes, true)) {
+        models.push_back(tuneModel({share, emitter}));
+      }
+    }
     const Model* best = nullptr;
     for (const Model& m : models) {
       if (!m.report.chosen) continue;
@@ -185,15 +218,22 @@ struct TuneCommand {
     }
     if (!report.empty()) {
       nlohmann::json j;
-      if (powerShares.empty()) {
+      // A model's value is null where it keeps the scene file's own.
+      auto orNull = [](double v) { return v > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+      auto modelJson = [&](const SceneModel& m) {
+        return nlohmann::json{{"power_share", orNull(m.powerShare)},
+                              {"emitter_patch_size", orNull(m.emitterPatchSize)}};
+      };
+      if (!sceneModels) {
         j = reference::toJson(options, models[0].report);
       } else {
-        j = {{"power_shares", nlohmann::json::array()},
-             {"chosen_power_share", best ? nlohmann::json(best->powerShare) : nullptr}};
+        j = {{"scene_models", nlohmann::json::array()},
+             {"chosen_scene_model", best ? modelJson(best->scene) : nullptr}};
         for (const Model& m : models) {
-          j["power_shares"].push_back({{"power_share", m.powerShare},
-                                       {"sources", m.bundle.sets.sources.size()},
-                                       {"tune", reference::toJson(options, m.report)}});
+          nlohmann::json e = modelJson(m.scene);
+          e["sources"] = m.bundle.sets.sources.size();
+          e["tune"] = reference::toJson(options, m.report);
+          j["scene_models"].push_back(std::move(e));
         }
       }
       core::writeFileReplacing(report, j.dump(2) + "\n");
@@ -205,8 +245,8 @@ struct TuneCommand {
                                out + " not written");
     }
     const reference::TunedCandidate& c = best->report.candidates[*best->report.chosen];
-    if (!powerShares.empty()) {
-      std::printf("chosen power share %.2f (%zu sources)\n", best->powerShare,
+    if (sceneModels) {
+      std::printf("chosen scene model: %s (%zu sources)\n", describe(best->scene).c_str(),
                   best->bundle.sets.sources.size());
     }
     if (!options.heldOut.empty()) {
@@ -383,6 +423,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
                 "the target win")
       ->delimiter(',')
       ->check(cli::NumberRange::list(0.01, 1.0));
+  t->add_option("--emitter-patch-sizes", tune->emitterPatchSizes,
+                "scene models tried: emitters cut into patches of at most these sizes in metres, "
+                "each patch a source, comma-separated, each precomputed from the scene file "
+                "INPUT (with --power-shares: every pair)")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(0.02, 10.0));
   t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
                 "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))

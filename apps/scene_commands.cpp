@@ -351,6 +351,10 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   pre->add_option("--patch-size", precomputeOptions->patchSize,
                   "patch size in metres (default: the scene file's)")
       ->check(cli::NumberRange(0.02, 10.0));
+  pre->add_option("--emitter-patch-size", precomputeOptions->emitterPatchSize,
+                  "cut emitters into patches of at most this size in metres, each a source "
+                  "(default: as the scene file cuts them)")
+      ->check(cli::NumberRange(0.02, 10.0));
   pre->add_option("--threads", precomputeOptions->threads, "threads")
       ->check(cli::NumberRange(1, 256))
       ->capture_default_str();

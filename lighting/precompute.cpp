@@ -59,9 +59,30 @@ scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
     }
   }
   const double size = options.patchSize > 0 ? options.patchSize : scene.patchSize;
+  if (!(options.emitterPatchSize == 0 || (options.emitterPatchSize >= scene::kMinPatchSize &&
+                                          options.emitterPatchSize <= scene::kMaxPatchSize))) {
+    throw scene::SceneFileError(
+        scene.source.string(), "emitter patch size " + core::formatNumber(options.emitterPatchSize),
+        "is not in [" + core::formatNumber(scene::kMinPatchSize) + ", " +
+            core::formatNumber(scene::kMaxPatchSize) + "] metres");
+  }
+  if (options.emitterPatchSize > 0) {
+    const double e = options.emitterPatchSize;
+    for (scene::Quad& q : room.quads) {
+      for (scene::Region& r : q.regions) {
+        // A region's 0 means the mesh's size, which may be finer already.
+        if (r.material.emits()) r.patchSize = std::min(r.patchSize > 0 ? r.patchSize : size, e);
+      }
+      if (q.material.emits()) q.refinements.push_back({0, 1, 0, 1, e});
+    }
+  }
   // The scene file checked its own patch size (scene_file.h); an override is checked here.
   if (const double patches = scene::patchCount(room, size); patches > scene::kMaxPatches) {
-    throw scene::SceneFileError(scene.source.string(), "patch size " + core::formatNumber(size),
+    std::string sizes = "patch size " + core::formatNumber(size);
+    if (options.emitterPatchSize > 0) {
+      sizes += ", emitters " + core::formatNumber(options.emitterPatchSize);
+    }
+    throw scene::SceneFileError(scene.source.string(), sizes,
                                 "cuts the room into " + core::formatNumber(patches) +
                                     " patches, more than the " +
                                     core::formatNumber(scene::kMaxPatches) + " precompute handles");

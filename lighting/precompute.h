@@ -25,6 +25,11 @@ struct PrecomputeOptions {
   unsigned threads = 2;
   uint64_t seed = 1;
   double patchSize = 0;  // metres; 0 = the scene file's patch_size
+  // Emitters cut into patches of at most this size, metres; 0 = as the scene file cuts them.
+  // Each emitter patch is a source, and each source one point of light in a pass, so a
+  // small emitter drawn as one patch casts one edge where its penumbra integrates over its
+  // area; cut finer, its passes sample that area (issue 17's scene models, docs/tuning.md).
+  double emitterPatchSize = 0;
   // Measured light (lighting/light_probe.h, Gibson & Chalmers 2003 §4.2): one material per
   // patch of the mesh this scene and patchSize build, replacing the scene file's
   // materials. Empty: the scene file's. A count mismatch throws std::invalid_argument.

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <tuple>
 
 #include "tests/test_data.h"
 
@@ -59,6 +61,45 @@ TEST(Precompute, ShadowBoundaryRefinementIsBounded) {
             s.source.string() +
                 ": shadow_boundary_patch_size: 0.02 m refines the room into more than the 20000 "
                 "patches precompute handles: use a larger shadow_boundary_patch_size");
+}
+
+// Issue 17's scene models: the spotlight showroom's 0.2 m spot is one patch, so one source;
+// cut at 5 cm it is 16 sources that emit the same power, the rest of the room unchanged
+// but for the grid lines the finer strips run across the ceiling.
+TEST(Precompute, EmitterPatchSizeCutsOnlyTheEmittersFiner) {
+  const scene::SceneDescription spot =
+      scene::loadSceneFile(testing::dataDir() / "showroom" / "spotlight.json");
+  auto emitters = [&](double size) {
+    PrecomputeOptions options;
+    options.emitterPatchSize = size;
+    const scene::PatchMesh mesh = precomputePatchMesh(spot, options);
+    size_t count = 0;
+    glm::dvec3 power(0.0);
+    double largest = 0;
+    for (const scene::Patch& p : mesh.patches) {
+      if (!p.emits()) continue;
+      ++count;
+      power += p.emission * p.area;
+      largest = std::max(largest, p.area);
+    }
+    return std::tuple{count, power, largest};
+  };
+  const auto [whole, wholePower, wholeArea] = emitters(0);
+  const auto [cut, cutPower, cutArea] = emitters(0.05);
+  EXPECT_EQ(whole, 1u);
+  EXPECT_EQ(cut, 16u);
+  EXPECT_NEAR(wholeArea, 0.04, 1e-12);
+  EXPECT_NEAR(cutArea, 0.0025, 1e-12);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(cutPower[c], wholePower[c], 1e-9 * wholePower[c]);
+  // A size finer than the scene's own is not coarsened back.
+  EXPECT_EQ(std::get<0>(emitters(0.3)), 1u);
+  std::vector<StageTiming> timings;
+  PrecomputeOptions options;
+  options.emitterPatchSize = 0.05;
+  EXPECT_EQ(precomputeBundle(spot, options, timings).sets.sources.size(), 16u);
+  options.emitterPatchSize = 0.01;
+  EXPECT_EQ(refusal(spot, options),
+            spot.source.string() + ": emitter patch size 0.01: is not in [0.02, 10] metres");
 }
 
 }  // namespace

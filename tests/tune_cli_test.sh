@@ -99,13 +99,42 @@ if "${run[@]}" tune --help | grep -q -- "--spp"; then
 import json, sys
 r = json.load(open(sys.argv[1])); info = json.load(open(sys.argv[2])); target = float(sys.argv[3])
 want = 1.0 if target < 5 else 0.5
-assert r['chosen_power_share'] == want, r['chosen_power_share']
-shares = {m['power_share']: m for m in r['power_shares']}
+assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None}, r['chosen_scene_model']
+shares = {m['power_share']: m for m in r['scene_models']}
 assert shares[0.5]['sources'] < shares[1.0]['sources'], shares.keys()
 assert info['power_share'] == want and info['sources'] == shares[want]['sources'], info
 " "$tmp/share-$target.json" "$tmp/share-info.json" "$target"
     check "tune --power-shares: target $target keeps the model that meets it most cheaply ($(tail -c 200 "$tmp/err"))" $?
   done
+  # --emitter-patch-sizes: the spotlight showroom's 0.2 m spot as one source, or cut into 16
+  # of 5 cm. One pass cannot draw the penumbra of the spot's whole area: at the bunny rotated
+  # 120 degrees (2 spp) the one source is 11.0 levels off, the 16 are 2.8. A target of 5
+  # takes the 16; one of 12 the single source, which draws one pass.
+  printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "bunny-rotated", "product": 1, "at": [2.6, 0, 2.0, 120]}]}' >"$tmp/bunny-rotated.json"
+  for target in 5 12; do
+    "${run[@]}" tune "$data/showroom/spotlight.json" --max-error "$target,255" \
+      --emitter-patch-sizes 0.2,0.05 --poses "$tmp/bunny-rotated.json" --spp 2 \
+      --light-samples 8 --passes 16 --maps 256 --fine-proxy-passes 16 --threads 2 \
+      -o "$tmp/emitters-$target.bundle" --report "$tmp/emitters-$target.json" >"$tmp/out" \
+      2>"$tmp/err" &&
+      "${run[@]}" info "$tmp/emitters-$target.bundle" --json >"$tmp/emitters-info.json" 2>&1 &&
+      $py -c "
+import json, sys
+r = json.load(open(sys.argv[1])); info = json.load(open(sys.argv[2])); target = float(sys.argv[3])
+want = 0.05 if target < 10 else 0.2
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want}, r['chosen_scene_model']
+models = {m['emitter_patch_size']: m for m in r['scene_models']}
+assert models[0.2]['sources'] == 1 and models[0.05]['sources'] == 16, models.keys()
+assert info['sources'] == models[want]['sources'], info
+" "$tmp/emitters-$target.json" "$tmp/emitters-info.json" "$target"
+    check "tune --emitter-patch-sizes: target $target keeps the model that meets it most cheaply ($(tail -c 200 "$tmp/err"))" $?
+  done
+  rm -f "$tmp/refused.bundle"
+  "${run[@]}" tune "$bundle" --max-error 1 --emitter-patch-sizes 0.1 "${fast[@]}" \
+    -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
+  rc=$?
+  [[ $rc != 0 ]] && grep -qF "needs a scene file" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
+  check "tune: --emitter-patch-sizes with a bundle is refused (exit $rc: $(head -c 200 "$tmp/err"))" $?
   rm -f "$tmp/refused.bundle"
   "${run[@]}" tune "$bundle" --max-error 1 --power-shares 0.5 "${fast[@]}" \
     -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
