@@ -18,6 +18,7 @@
 #include "core/replace_file.h"
 #include "reference/accuracy.h"
 #include "reference/settings_tuning.h"
+#include "shadow/render_settings.h"
 #endif
 
 namespace penumbra::apps {
@@ -58,6 +59,8 @@ struct AccuracyCommand {
     options.shadowMapSize = mapSize != 0 ? uint32_t(mapSize) : s.shadowMapSize;
     options.fineProxyPasses = fineProxyPasses >= 0 ? uint32_t(fineProxyPasses) : s.fineProxyPasses;
     options.areaPenumbrae = !hardPasses && s.areaPenumbrae;
+    options.shafts.pruneFraction = s.pruneFraction;
+    options.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;
     if (!pose.empty() || product >= 0) options.pose = requestedPose(bundle, pose, product);
     const reference::AccuracyReport report =
         reference::measureAccuracy(bundle, options, [](const reference::AccuracyRow& r) {
@@ -94,7 +97,13 @@ struct TuneCommand {
   std::vector<double> powerShares, emitterPatchSizes;
   double fps = 0;
   RenderFlags render;
-  reference::TuneOptions options;
+  // The shaft settings are tried around the grid's choice unless the flags say otherwise.
+  reference::TuneOptions options = [] {
+    reference::TuneOptions o;
+    o.pruneFractions = {0.005, 0.01, 0.02, 0.05};
+    o.receiversPerLeaf = {4, 8, 16};
+    return o;
+  }();
 
   // One scene model: 0 keeps the scene file's own value.
   struct SceneModel {
@@ -126,10 +135,12 @@ struct TuneCommand {
 
   static void line(const char* what, const reference::TunedCandidate& c) {
     std::printf(
-        "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s | "
-        "board_ms %.2f worst_mean_abs %.3f meets %s\n",
+        "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s "
+        "prune_fraction %s receivers_per_leaf %u | board_ms %.2f worst_mean_abs %.3f meets %s\n",
         what, c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
-        c.settings.areaPenumbrae ? "on" : "off", c.boardMs, c.worstMeanAbs, c.meets ? "yes" : "no");
+        c.settings.areaPenumbrae ? "on" : "off",
+        core::formatNumber(c.settings.pruneFraction).c_str(), c.settings.receiversPerLeaf,
+        c.boardMs, c.worstMeanAbs, c.meets ? "yes" : "no");
   }
 
   // One scene model: its render settings searched (reference/settings_tuning.h).
@@ -423,6 +434,18 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
                 "the target win")
       ->delimiter(',')
       ->check(cli::NumberRange::list(0.01, 1.0));
+  t->add_option("--prune-fractions", tune->options.pruneFractions,
+                "shaft pruning fractions tried around the grid's choice (Gibson 2003 §6), "
+                "comma-separated")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(0.0, shadow::kMaxPruneFraction))
+      ->capture_default_str();
+  t->add_option("--receivers-per-leaf", tune->options.receiversPerLeaf,
+                "receivers per shaft-hierarchy leaf tried around the grid's choice, "
+                "comma-separated")
+      ->delimiter(',')
+      ->check(cli::NumberRange::list(1, int(shadow::kMaxReceiversPerLeaf)))
+      ->capture_default_str();
   t->add_option("--emitter-patch-sizes", tune->emitterPatchSizes,
                 "scene models tried: emitters cut into patches of at most these sizes in metres, "
                 "each patch a source, comma-separated, each precomputed from the scene file "

@@ -274,7 +274,9 @@ nlohmann::json bundleInfo(const std::string& path, const shadow::SceneBundle& b)
             {"max_passes", s.maxPasses},
             {"shadow_map_sizes", shadow::shadowMapLadder(s)},
             {"fine_proxy_passes", s.fineProxyPasses},
-            {"area_penumbrae", s.areaPenumbrae}}}};
+            {"area_penumbrae", s.areaPenumbrae},
+            {"prune_fraction", s.pruneFraction},
+            {"receivers_per_leaf", s.receiversPerLeaf}}}};
 }
 
 struct InfoCommand {
@@ -305,7 +307,9 @@ struct InfoCommand {
     std::cout << "settings " << (s["tuned"].get<bool>() ? "tuned" : "defaults") << ": max_passes "
               << str(s["max_passes"]) << ", shadow_map_sizes " << str(s["shadow_map_sizes"])
               << ", fine_proxy_passes " << str(s["fine_proxy_passes"]) << ", area_penumbrae "
-              << (s["area_penumbrae"].get<bool>() ? "on" : "off") << "\n";
+              << (s["area_penumbrae"].get<bool>() ? "on" : "off") << ", prune_fraction "
+              << str(s["prune_fraction"]) << ", receivers_per_leaf " << str(s["receivers_per_leaf"])
+              << "\n";
     return 0;
   }
 };

@@ -140,6 +140,7 @@ shadow::CompositorOptions measuredOptions(const AccuracyOptions& o) {
   measured.depthBias = o.depthBias;
   measured.fineProxyPasses = o.fineProxyPasses;
   measured.areaPenumbrae = o.areaPenumbrae;
+  measured.shafts = o.shafts;
   return measured;
 }
 

@@ -49,6 +49,7 @@ struct AccuracyOptions {
   float depthBias = shadow::CompositorOptions{}.depthBias;
   uint32_t fineProxyPasses = shadow::CompositorOptions{}.fineProxyPasses;
   bool areaPenumbrae = shadow::CompositorOptions{}.areaPenumbrae;
+  shadow::ShaftBuildOptions shafts;  // pruning fraction and receivers per leaf (§6)
   int contactRadius = 8;
 
   std::string referencePath;       // a reference PNG of the view's size; empty: rendered

@@ -224,9 +224,23 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
       for (uint32_t fine : fines) shadow::validateRenderSettings({n, map, fine, true, true});
     }
   }
+  const auto orKept = [](auto values, auto kept) {
+    return values.empty() ? decltype(values){kept} : values;
+  };
+  const shadow::RenderSettings defaultsOf;
+  for (double prune : orKept(o.pruneFractions, defaultsOf.pruneFraction)) {
+    for (uint32_t leaf : orKept(o.receiversPerLeaf, defaultsOf.receiversPerLeaf)) {
+      shadow::validateRenderSettings({64, 256, 16, true, true, prune, leaf});
+    }
+  }
 
   const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
-  const size_t total = combinations * ceilings.size() + 1 + (o.heldOut.empty() ? 0 : 2);
+  const size_t shaftPairs = o.pruneFractions.empty() && o.receiversPerLeaf.empty()
+                                ? 0
+                                : std::max<size_t>(o.pruneFractions.size(), 1) *
+                                      std::max<size_t>(o.receiversPerLeaf.size(), 1);
+  const size_t total =
+      combinations * ceilings.size() + shaftPairs + 1 + (o.heldOut.empty() ? 0 : 2);
   size_t done = 0;
   const auto step = [&](const std::string& what) {
     if (progress) progress(done, total, what);
@@ -291,11 +305,39 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
       }
     }
   }
-  for (size_t i = 0; i < report.candidates.size(); ++i) {
-    const TunedCandidate& c = report.candidates[i];
-    if (!c.meets || (o.maxBoardMs > 0 && c.boardMs > o.maxBoardMs)) continue;
-    // Strictly cheaper only: among equals the first measured (fewer passes, smaller maps).
-    if (!report.chosen || c.boardMs < report.candidates[*report.chosen].boardMs) report.chosen = i;
+  const auto choose = [&] {
+    report.chosen.reset();
+    for (size_t i = 0; i < report.candidates.size(); ++i) {
+      const TunedCandidate& c = report.candidates[i];
+      if (!c.meets || (o.maxBoardMs > 0 && c.boardMs > o.maxBoardMs)) continue;
+      // Strictly cheaper only: among equals the first measured (fewer passes, smaller maps).
+      if (!report.chosen || c.boardMs < report.candidates[*report.chosen].boardMs) {
+        report.chosen = i;
+      }
+    }
+  };
+  choose();
+  // Coarse to fine: the shaft settings around the grid's choice. They move which receivers a
+  // pass draws (the board model's shadowed pixels) and, through the light pruned, the error;
+  // measured on the showroom's corners they barely move the error (docs/tuning.md), so each
+  // pair is tried once around the choice rather than multiplying the grid.
+  if (shaftPairs > 0) {
+    shadow::RenderSettings around =
+        report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
+    around.tuned = true;
+    for (double prune : orKept(o.pruneFractions, around.pruneFraction)) {
+      for (uint32_t leaf : orKept(o.receiversPerLeaf, around.receiversPerLeaf)) {
+        shadow::RenderSettings s = around;
+        s.pruneFraction = prune;
+        s.receiversPerLeaf = leaf;
+        step("shafts: prune " + core::formatNumber(prune) + ", " + std::to_string(leaf) +
+             " receivers per leaf");
+        // The choice itself is measured already.
+        if (report.chosen && s == around) continue;
+        report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+      }
+    }
+    choose();
   }
 
   step("the bundle's own settings");
@@ -320,7 +362,9 @@ nlohmann::json settingsJson(const shadow::RenderSettings& s) {
   return {{"max_passes", s.maxPasses},
           {"shadow_map_size", s.shadowMapSize},
           {"fine_proxy_passes", s.fineProxyPasses},
-          {"area_penumbrae", s.areaPenumbrae}};
+          {"area_penumbrae", s.areaPenumbrae},
+          {"prune_fraction", s.pruneFraction},
+          {"receivers_per_leaf", s.receiversPerLeaf}};
 }
 
 nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {

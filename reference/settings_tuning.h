@@ -74,6 +74,12 @@ struct TuneOptions {
   std::vector<uint32_t> mapSizes{64, 128, 256, 512};
   std::vector<uint32_t> fineProxyPasses{0, 8, 16, 32};
   std::vector<bool> areaPenumbrae{true, false};
+  // Coarse to fine: the shaft hierarchy's settings (RenderSettings::pruneFraction,
+  // receiversPerLeaf), each pair tried with the rest of the grid's choice held (with the
+  // bundle's own settings when nothing met). Empty: that setting kept as the candidate has
+  // it. `penumbra tune` tries 0.005, 0.01, 0.02, 0.05 and 4, 8, 16.
+  std::vector<double> pruneFractions;
+  std::vector<uint32_t> receiversPerLeaf;
   // Stop raising a combination's passes when the frames no longer change visibly (above).
   bool perceptualStop = true;
   // The frame budget on the board, ms (from `--fps`); 0: none.

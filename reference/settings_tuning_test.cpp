@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
@@ -93,6 +94,8 @@ TEST(TuneSettings, TheChoiceMeetsTheTargetOnHeldOutPosesAndCostsLess) {
     a.shadowMapSize = c.settings.shadowMapSize;
     a.fineProxyPasses = c.settings.fineProxyPasses;
     a.areaPenumbrae = c.settings.areaPenumbrae;
+    a.shafts.pruneFraction = c.settings.pruneFraction;
+    a.shafts.maxReceiversPerLeaf = c.settings.receiversPerLeaf;
     const AccuracyReport m = measureAccuracy(testing::showroomBundle(), a);
     const RegionErrors& e = *m.rows.at(0).comparison.masked;
     EXPECT_GT(e.pixels, 0u) << p.name;
@@ -118,6 +121,48 @@ TEST(TuneSettings, AFrameBudgetNoCandidateMeetsLeavesNoChoice) {
   EXPECT_TRUE(r.candidates[0].meets);
   EXPECT_FALSE(r.chosen.has_value());
   EXPECT_EQ(toJson(o, r)["chosen"], nullptr);
+}
+
+// Coarse to fine: each pruning fraction and leaf size is tried once with the rest of the
+// grid's choice held. They change which receivers each pass draws, so the board model prices
+// them, and the choice is the cheapest of everything measured.
+TEST(TuneSettings, ShaftSettingsAreTriedAroundTheChoice) {
+  TuneOptions o = smallTune(2);
+  o.heldOut.clear();
+  o.passCeilings = {64};
+  o.mapSizes = {256};
+  o.fineProxyPasses = {16};
+  const TuneReferences references = makeTuneReferences(testing::showroomBundle(), o);
+  const TuneReport grid = tuneSettings(testing::showroomBundle(), o, references);
+  ASSERT_EQ(grid.candidates.size(), 1u);
+  ASSERT_TRUE(grid.chosen.has_value());
+  o.pruneFractions = {0.005, 0.02, 0.05};
+  o.receiversPerLeaf = {4, 8};
+  const TuneReport r = tuneSettings(testing::showroomBundle(), o, references);
+  // The grid's one candidate, then the five pairs that are not its own (0.02, 8).
+  ASSERT_EQ(r.candidates.size(), 6u);
+  const shadow::RenderSettings& around = r.candidates[0].settings;
+  EXPECT_EQ(toJson(o, grid)["candidates"][0].dump(), toJson(o, r)["candidates"][0].dump());
+  std::set<double> costs;
+  for (size_t i = 1; i < r.candidates.size(); ++i) {
+    shadow::RenderSettings s = r.candidates[i].settings;
+    EXPECT_FALSE(s.pruneFraction == around.pruneFraction &&
+                 s.receiversPerLeaf == around.receiversPerLeaf)
+        << i;
+    s.pruneFraction = around.pruneFraction;
+    s.receiversPerLeaf = around.receiversPerLeaf;
+    EXPECT_EQ(s, around) << i;
+    costs.insert(r.candidates[i].boardMs);
+  }
+  EXPECT_GT(costs.size(), 1u) << "the shaft settings moved no cost";
+  ASSERT_TRUE(r.chosen.has_value());
+  for (const TunedCandidate& c : r.candidates) {
+    if (c.meets) {
+      EXPECT_GE(c.boardMs, r.candidates[*r.chosen].boardMs);
+    }
+  }
+  o.pruneFractions = {0.3};
+  EXPECT_THROW(tuneSettings(testing::showroomBundle(), o, references), std::invalid_argument);
 }
 
 // Under the spotlight showroom's single source every ceiling draws the same one pass: once

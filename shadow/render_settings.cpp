@@ -1,5 +1,6 @@
 #include "shadow/render_settings.h"
 
+#include "core/json_reader.h"
 #include "shadow/frame_compositor.h"
 
 #include <algorithm>
@@ -24,6 +25,14 @@ void validateRenderSettings(const RenderSettings& s) {
     bad("fine_proxy_passes",
         std::to_string(s.fineProxyPasses) + " is more than " + std::to_string(kMaxSettingsPasses));
   }
+  if (!(s.pruneFraction >= 0 && s.pruneFraction <= kMaxPruneFraction)) {
+    bad("prune_fraction", core::formatNumber(s.pruneFraction) + " is not in [0, " +
+                              core::formatNumber(kMaxPruneFraction) + "]");
+  }
+  if (s.receiversPerLeaf < 1 || s.receiversPerLeaf > kMaxReceiversPerLeaf) {
+    bad("receivers_per_leaf", std::to_string(s.receiversPerLeaf) + " is not in [1, " +
+                                  std::to_string(kMaxReceiversPerLeaf) + "]");
+  }
 }
 
 CompositorOptions compositorOptions(const RenderSettings& s) {
@@ -31,6 +40,8 @@ CompositorOptions compositorOptions(const RenderSettings& s) {
   c.shadowMapSize = s.shadowMapSize;
   c.fineProxyPasses = s.fineProxyPasses;
   c.areaPenumbrae = s.areaPenumbrae;
+  c.shafts.pruneFraction = s.pruneFraction;
+  c.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;
   return c;
 }
 

@@ -24,15 +24,27 @@ struct RenderSettings {
   bool areaPenumbrae = true;
   // Chosen for this scene by `penumbra tune` rather than the defaults above.
   bool tuned = false;
+  // The shaft hierarchy's (Gibson 2003 §6, shadow/shaft_hierarchy.h ShaftBuildOptions): the
+  // share of a receiver's light below which a shaft is insignificant, pruned within that
+  // budget per receiver vertex, and the receivers per octree leaf. Both move which receivers
+  // each pass draws, so the board's cost model prices them through its shadowed pixels.
+  // Bundle version 8; older bundles load with these defaults.
+  double pruneFraction = 0.02;
+  uint32_t receiversPerLeaf = 8;
   bool operator==(const RenderSettings&) const = default;
 };
 
 // The largest pass ceiling a bundle may carry (the renderer's own limit on passes).
 inline constexpr uint32_t kMaxSettingsPasses = 257;
+// A quarter of a receiver's light pruned unshadowed is no longer a shadow; leaves of more than
+// 64 receivers are one shaft over most of a wall.
+inline constexpr double kMaxPruneFraction = 0.25;
+inline constexpr uint32_t kMaxReceiversPerLeaf = 64;
 
 // Throws std::invalid_argument naming the field: maxPasses in [1, kMaxSettingsPasses],
 // shadowMapSize a multiple of 16 in [64, 4096] (its fallbacks stay multiples of 16),
-// fineProxyPasses at most kMaxSettingsPasses.
+// fineProxyPasses at most kMaxSettingsPasses, pruneFraction in [0, kMaxPruneFraction],
+// receiversPerLeaf in [1, kMaxReceiversPerLeaf].
 void validateRenderSettings(const RenderSettings& s);
 
 // The compositor's options for these settings (everything else at its default).

@@ -15,14 +15,18 @@ TEST(RenderSettings, DefaultsAreTheCompositorsAndTheKiosksLadder) {
   EXPECT_EQ(c.shadowMapSize, d.shadowMapSize);
   EXPECT_EQ(c.fineProxyPasses, d.fineProxyPasses);
   EXPECT_EQ(c.areaPenumbrae, d.areaPenumbrae);
+  EXPECT_EQ(c.shafts.pruneFraction, d.shafts.pruneFraction);
+  EXPECT_EQ(c.shafts.maxReceiversPerLeaf, d.shafts.maxReceiversPerLeaf);
   EXPECT_EQ(shadowMapLadder(s), (std::vector<uint32_t>{256, 128, 64}));
 }
 
 TEST(RenderSettings, SettingsReachTheCompositor) {
-  const CompositorOptions c = compositorOptions({20, 512, 4, false, true});
+  const CompositorOptions c = compositorOptions({20, 512, 4, false, true, 0.05, 16});
   EXPECT_EQ(c.shadowMapSize, 512u);
   EXPECT_EQ(c.fineProxyPasses, 4u);
   EXPECT_FALSE(c.areaPenumbrae);
+  EXPECT_EQ(c.shafts.pruneFraction, 0.05);
+  EXPECT_EQ(c.shafts.maxReceiversPerLeaf, 16u);
 }
 
 // Every valid map size gives three strictly decreasing multiples of 16 of at least 16: what
@@ -60,6 +64,11 @@ TEST(RenderSettings, InvalidSettingsAreNamed) {
             "settings.shadow_map_size: 48 is not a multiple of 16 in [64, 4096]");
   EXPECT_EQ(why({64, 4112, 16, true, false}),
             "settings.shadow_map_size: 4112 is not a multiple of 16 in [64, 4096]");
+  EXPECT_EQ(why({64, 256, 16, true, false, -0.01, 8}),
+            "settings.prune_fraction: -0.01 is not in [0, 0.25]");
+  EXPECT_EQ(why({64, 256, 16, true, false, 0.02, 65}),
+            "settings.receivers_per_leaf: 65 is not in [1, 64]");
+  EXPECT_EQ(why({64, 256, 16, true, false, 0, 1}), "accepted");
   EXPECT_EQ(why({64, 256, 16, true, false}), "accepted");
 }
 

@@ -184,6 +184,8 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   w.addValue<uint32_t>("settings.fine_proxy_passes", rs.fineProxyPasses);
   w.addValue<uint32_t>("settings.area_penumbrae", rs.areaPenumbrae ? 1u : 0u);
   w.addValue<uint32_t>("settings.tuned", rs.tuned ? 1u : 0u);
+  w.addValue<double>("settings.prune_fraction", rs.pruneFraction);
+  w.addValue<uint32_t>("settings.receivers_per_leaf", rs.receiversPerLeaf);
   w.write(path);
 }
 
@@ -292,6 +294,10 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     };
     rs.areaPenumbrae = flag("settings.area_penumbrae");
     rs.tuned = flag("settings.tuned");
+    if (r.version() >= 8) {
+      rs.pruneFraction = r.getValue<double>("settings.prune_fraction");
+      rs.receiversPerLeaf = r.getValue<uint32_t>("settings.receivers_per_leaf");
+    }
     try {
       validateRenderSettings(rs);
     } catch (const std::invalid_argument& e) {

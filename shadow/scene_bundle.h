@@ -26,7 +26,9 @@ namespace penumbra::shadow {
 // still load: their products have neither (area-weighted normals, one reflectance).
 // 6: the products' fine shadow proxies (`fine_proxy_triangles`); older bundles load without.
 // 7: the render settings (shadow/render_settings.h); older bundles load with the defaults.
-inline constexpr uint32_t kBundleVersion = 7;
+// 8: the settings' shaft pruning fraction and receivers per leaf; version 7 bundles load
+// with their defaults.
+inline constexpr uint32_t kBundleVersion = 8;
 inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).

@@ -100,12 +100,12 @@ TEST(SceneBundle, InconsistentContentIsNamed) {
 }
 
 // v7: the render settings round-trip, and a bundle carrying unusable ones is refused with
-// the setting named.
+// the setting named (v8: with the shaft pruning fraction and receivers per leaf).
 TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
   const fs::path path = tempPath("penumbra-scene-bundle-settings.bundle");
   SceneBundle b = smallBundle();
   EXPECT_EQ(b.settings, RenderSettings{});
-  b.settings = {24, 128, 8, false, true};
+  b.settings = {24, 128, 8, false, true, 0.05, 4};
   saveBundle(b, path);
   EXPECT_EQ(loadBundle(path).settings, b.settings);
   const auto refusal = [&](const RenderSettings& s) {
@@ -121,6 +121,12 @@ TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
   EXPECT_EQ(
       refusal({64, 256, 300, true, false}),
       path.string() + ": section 'settings': settings.fine_proxy_passes: 300 is more than 257");
+  EXPECT_EQ(
+      refusal({64, 256, 16, true, false, 0.3, 8}),
+      path.string() + ": section 'settings': settings.prune_fraction: 0.3 is not in [0, 0.25]");
+  EXPECT_EQ(
+      refusal({64, 256, 16, true, false, 0.02, 0}),
+      path.string() + ": section 'settings': settings.receivers_per_leaf: 0 is not in [1, 64]");
   fs::remove(path);
 }
 
@@ -287,17 +293,23 @@ std::vector<RawSection> readSections(const fs::path& path) {
 
 // Version 4 and 5 bundles still load: a version 4 bundle (before per-vertex normals and
 // reflectances) has neither, and shades with area-weighted normals and its one reflectance;
-// neither has fine proxies (version 6), so every pass draws the proxy.
-TEST(SceneBundle, Version4To6BundlesStillLoad) {
+// neither has fine proxies (version 6), so every pass draws the proxy. Before version 7 the
+// settings are the defaults; a version 7 bundle keeps its own but the shaft settings of
+// version 8.
+TEST(SceneBundle, Version4To7BundlesStillLoad) {
   SceneBundle b = smallBundle();
   b.products[0].normals.assign(4, {0, 1, 0});
-  b.settings.maxPasses = 12;  // not the defaults, which the older versions must load with
+  // Not the defaults, which the older versions must load with.
+  b.settings.maxPasses = 12;
+  b.settings.pruneFraction = 0.05;
+  b.settings.receiversPerLeaf = 4;
   const fs::path path = tempPath("penumbra-scene-bundle-old-compat.bundle");
-  for (const uint32_t version : {4u, 5u, 6u}) {
+  for (const uint32_t version : {4u, 5u, 6u, 7u}) {
     saveBundle(b, path);
     // Rewritten as `version`: the same sections without the newer ones, rehashed.
     const auto newer = [&](const std::string& name) {
-      if (name.starts_with("settings.")) return true;
+      if (name == "settings.prune_fraction" || name == "settings.receivers_per_leaf") return true;
+      if (version < 7 && name.starts_with("settings.")) return true;
       if (version < 6 && name.find(".fine_proxy.") != std::string::npos) return true;
       return version < 5 && (name.ends_with(".normals") || name.ends_with(".reflectances"));
     };
@@ -318,9 +330,12 @@ TEST(SceneBundle, Version4To6BundlesStillLoad) {
       body += sec.data;
       ++kept;
     }
-    // The five settings; before version 6 the two products' fine proxies (positions and
-    // indices), before 5 also their normals and reflectances.
-    EXPECT_EQ(dropped, 5u + (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u)) << version;
+    // The two shaft settings, before version 7 the five others; before version 6 the two
+    // products' fine proxies (positions and indices), before 5 also their normals and
+    // reflectances.
+    EXPECT_EQ(dropped,
+              2u + (version < 7 ? 5u : 0u) + (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u))
+        << version;
     scene::Sha256 hash;
     hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
     const auto digest = hash.finish();
@@ -337,7 +352,9 @@ TEST(SceneBundle, Version4To6BundlesStillLoad) {
     EXPECT_EQ(r.products[0].normals.empty(), version < 5) << version;
     EXPECT_TRUE(r.products[0].reflectances.empty());
     EXPECT_EQ(r.products[0].fineProxy.indices.empty(), version < 6) << version;
-    EXPECT_EQ(r.settings, RenderSettings{}) << version;
+    RenderSettings expected;
+    if (version == 7) expected.maxPasses = 12;
+    EXPECT_EQ(r.settings, expected) << version;
     EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
     EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);
     EXPECT_EQ(r.products[0].reflectance, b.products[0].reflectance);

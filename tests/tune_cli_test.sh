@@ -34,6 +34,8 @@ import json, sys
 s = json.load(open(sys.argv[1]))['settings']; r = json.load(open(sys.argv[2]))['settings']
 assert s['tuned'] and s['max_passes'] == r['max_passes'], (s, r)
 assert s['shadow_map_sizes'][0] == r['shadow_map_size'], (s, r)
+assert s['prune_fraction'] == r['prune_fraction'], (s, r)
+assert s['receivers_per_leaf'] == r['receivers_per_leaf'], (s, r)
 " "$tmp/info.json" "$tmp/report.json"
 check "info: the tuned bundle carries the choice" $?
 
@@ -56,6 +58,8 @@ expect_failure() {
   local ok=$?
   check "tune: $name is refused (exit $rc: $(head -c 200 "$tmp/err"))" $ok
 }
+expect_failure "a pruning fraction over 0.25" "--prune-fractions" --max-error 1 "${fast[@]}" \
+  --prune-fractions 0.3
 expect_failure "a target no candidate meets" "no candidate meets the target" \
   --max-error 0.001 "${fast[@]}" --report "$tmp/unmet.json"
 [[ -s "$tmp/unmet.json" ]] && $py -c "
