@@ -30,7 +30,8 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 s = j['settings']
 assert s == {'tuned': False, 'max_passes': 64, 'shadow_map_sizes': [256, 128, 64],
-             'fine_proxy_passes': 16, 'area_penumbrae': True}, s
+             'fine_proxy_passes': 16, 'area_penumbrae': True, 'prune_fraction': 0.02,
+             'receivers_per_leaf': 8}, s
 assert [p['name'] for p in j['products']] == ['chair', 'bunny', 'teapot'], j['products']
 " "$tmp/info.json"
 check "info --json: settings and products" $?
