@@ -323,9 +323,7 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   CLI::App* c =
       app.add_subcommand("accuracy", "ms/frame and error against a reference per pass count");
   c->add_option("BUNDLE", cmd->bundlePath, "scene bundle (penumbra precompute)")->required();
-  c->add_option("--passes", cmd->options.passes, "pass counts, comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(0, 100000))
+  cli::addNumberList(c, "--passes", cmd->options.passes, "pass counts, comma-separated", 0, 100000)
       ->capture_default_str();
   c->add_option("--json", cmd->json, "write the JSON here instead of stdout");
   c->add_option("--pose", cmd->pose,
@@ -414,44 +412,38 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
   t->add_option("-o,--out", tune->out, "the tuned bundle to write")->required();
   t->add_option("--report", tune->report, "write every candidate's errors and cost as JSON");
   t->add_option("--chart", tune->chart, "write the Pareto chart (cost against error) as PNG");
-  t->add_option("--passes", tune->options.passCeilings, "pass ceilings tried, comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(1, 257))
+  cli::addNumberList(t, "--passes", tune->options.passCeilings,
+                     "pass ceilings tried, comma-separated", 1, 257)
       ->capture_default_str();
-  t->add_option("--maps", tune->options.mapSizes,
-                "shadow-map sizes tried, comma-separated (multiples of 16 in 64..4096)")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(64, 4096))
+  cli::addNumberList(t, "--maps", tune->options.mapSizes,
+                     "shadow-map sizes tried, comma-separated (multiples of 16 in 64..4096)", 64,
+                     4096)
       ->capture_default_str();
-  t->add_option("--fine-proxy-passes", tune->options.fineProxyPasses,
-                "fine-proxy pass counts tried, comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(0, 257))
+  cli::addNumberList(t, "--fine-proxy-passes", tune->options.fineProxyPasses,
+                     "fine-proxy pass counts tried, comma-separated", 0, 257)
       ->capture_default_str();
-  t->add_option("--power-shares", tune->powerShares,
-                "scene models tried: source power shares (Gibson 2003 §4), comma-separated, each "
-                "precomputed from the scene file INPUT; the cheapest model and settings that meet "
-                "the target win")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(0.01, 1.0));
-  t->add_option("--prune-fractions", tune->options.pruneFractions,
-                "shaft pruning fractions tried around the grid's choice (Gibson 2003 §6), "
-                "comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(0.0, shadow::kMaxPruneFraction))
+  cli::addNumberList(
+      t, "--power-shares", tune->powerShares,
+      "scene models tried: source power shares (Gibson 2003 §4), comma-separated, each "
+      "precomputed from the scene file INPUT; the cheapest model and settings that meet "
+      "the target win",
+      0.01, 1.0);
+  cli::addNumberList(t, "--prune-fractions", tune->options.pruneFractions,
+                     "shaft pruning fractions tried around the grid's choice (Gibson 2003 §6), "
+                     "comma-separated",
+                     0.0, shadow::kMaxPruneFraction)
       ->capture_default_str();
-  t->add_option("--receivers-per-leaf", tune->options.receiversPerLeaf,
-                "receivers per shaft-hierarchy leaf tried around the grid's choice, "
-                "comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(1, int(shadow::kMaxReceiversPerLeaf)))
+  cli::addNumberList(t, "--receivers-per-leaf", tune->options.receiversPerLeaf,
+                     "receivers per shaft-hierarchy leaf tried around the grid's choice, "
+                     "comma-separated",
+                     1, int(shadow::kMaxReceiversPerLeaf))
       ->capture_default_str();
-  t->add_option("--emitter-patch-sizes", tune->emitterPatchSizes,
-                "scene models tried: emitters cut into patches of at most these sizes in metres, "
-                "each patch a source, comma-separated, each precomputed from the scene file "
-                "INPUT (with --power-shares: every pair)")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(0.02, 10.0));
+  cli::addNumberList(
+      t, "--emitter-patch-sizes", tune->emitterPatchSizes,
+      "scene models tried: emitters cut into patches of at most these sizes in metres, "
+      "each patch a source, comma-separated, each precomputed from the scene file "
+      "INPUT (with --power-shares: every pair)",
+      0.02, 10.0);
   t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
                 "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))

@@ -408,9 +408,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
   auto profile = std::make_shared<ProfileCommand>();
   CLI::App* p = app.add_subcommand("profile", "Time per stage against the number of passes");
   addSceneFlags(p, profile->scene);
-  p->add_option("--passes", profile->passes, "pass counts, comma-separated")
-      ->delimiter(',')
-      ->check(cli::NumberRange::list(1, 257));
+  cli::addNumberList(p, "--passes", profile->passes, "pass counts, comma-separated", 1, 257);
   p->add_option("--frames", profile->frames, "timed frames per pass count")
       ->check(cli::NumberRange(1, 10000))
       ->capture_default_str();

@@ -65,6 +65,13 @@ class NumberRange : public CLI::Validator {
   NumberRange(T min, T max, bool isList);
 };
 
+// A comma-separated option of numbers, each checked by NumberRange::list(min, max).
+template <typename V, typename T>
+CLI::Option* addNumberList(CLI::App* app, const std::string& name, std::vector<V>& into,
+                           const std::string& help, T min, T max) {
+  return app->add_option(name, into, help)->delimiter(',')->check(NumberRange::list(min, max));
+}
+
 // The message of NumberRange for `value` outside [min, max] or not a number (testable
 // without CLI11's option machinery).
 std::string rangeProblem(const std::string& value, const std::string& min, const std::string& max,

@@ -50,38 +50,32 @@ std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
 
 scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options) {
-  // An override refines the whole room, emitters' own regions included (more, smaller
-  // sources: the fine end of the speed/accuracy trade-off).
-  scene::RoomDescription room = scene.room;
-  if (options.patchSize > 0) {
-    for (scene::Quad& q : room.quads) {
-      for (scene::Region& r : q.regions) r.patchSize = std::min(r.patchSize, options.patchSize);
-    }
+  const double e = options.emitterPatchSize;
+  if (!(e == 0 || (e >= scene::kMinPatchSize && e <= scene::kMaxPatchSize))) {
+    throw scene::SceneFileError(scene.source.string(),
+                                "emitter patch size " + core::formatNumber(e),
+                                "is not in [" + core::formatNumber(scene::kMinPatchSize) + ", " +
+                                    core::formatNumber(scene::kMaxPatchSize) + "] metres");
   }
   const double size = options.patchSize > 0 ? options.patchSize : scene.patchSize;
-  if (!(options.emitterPatchSize == 0 || (options.emitterPatchSize >= scene::kMinPatchSize &&
-                                          options.emitterPatchSize <= scene::kMaxPatchSize))) {
-    throw scene::SceneFileError(
-        scene.source.string(), "emitter patch size " + core::formatNumber(options.emitterPatchSize),
-        "is not in [" + core::formatNumber(scene::kMinPatchSize) + ", " +
-            core::formatNumber(scene::kMaxPatchSize) + "] metres");
-  }
-  if (options.emitterPatchSize > 0) {
-    const double e = options.emitterPatchSize;
-    for (scene::Quad& q : room.quads) {
-      for (scene::Region& r : q.regions) {
-        // A region's 0 means the mesh's size, which may be finer already.
-        if (r.material.emits()) r.patchSize = std::min(r.patchSize > 0 ? r.patchSize : size, e);
+  // A patch-size override refines the whole room, emitters' own regions included (more,
+  // smaller sources: the fine end of the speed/accuracy trade-off); an emitter override only
+  // the emitting regions and quads.
+  scene::RoomDescription room = scene.room;
+  for (scene::Quad& q : room.quads) {
+    for (scene::Region& r : q.regions) {
+      if (options.patchSize > 0) r.patchSize = std::min(r.patchSize, options.patchSize);
+      // A region's 0 means the mesh's size, which may be finer already.
+      if (e > 0 && r.material.emits()) {
+        r.patchSize = std::min(r.patchSize > 0 ? r.patchSize : size, e);
       }
-      if (q.material.emits()) q.refinements.push_back({0, 1, 0, 1, e});
     }
+    if (e > 0 && q.material.emits()) q.refinements.push_back({0, 1, 0, 1, e});
   }
   // The scene file checked its own patch size (scene_file.h); an override is checked here.
   if (const double patches = scene::patchCount(room, size); patches > scene::kMaxPatches) {
     std::string sizes = "patch size " + core::formatNumber(size);
-    if (options.emitterPatchSize > 0) {
-      sizes += ", emitters " + core::formatNumber(options.emitterPatchSize);
-    }
+    if (e > 0) sizes += ", emitters " + core::formatNumber(e);
     throw scene::SceneFileError(scene.source.string(), sizes,
                                 "cuts the room into " + core::formatNumber(patches) +
                                     " patches, more than the " +

@@ -224,15 +224,22 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
       for (uint32_t fine : fines) shadow::validateRenderSettings({n, map, fine, true, true});
     }
   }
-  const auto orKept = [](auto values, auto kept) {
-    return values.empty() ? decltype(values){kept} : values;
-  };
-  const shadow::RenderSettings defaultsOf;
-  for (double prune : orKept(o.pruneFractions, defaultsOf.pruneFraction)) {
-    for (uint32_t leaf : orKept(o.receiversPerLeaf, defaultsOf.receiversPerLeaf)) {
-      shadow::validateRenderSettings({64, 256, 16, true, true, prune, leaf});
+  // Every pair of shaft settings to try with the rest of `base` held; a setting without
+  // values to try keeps `base`'s own.
+  const auto forEachShaftPair = [&](const shadow::RenderSettings& base, const auto& visit) {
+    const auto orKept = [](auto values, auto kept) {
+      return values.empty() ? decltype(values){kept} : values;
+    };
+    for (double prune : orKept(o.pruneFractions, base.pruneFraction)) {
+      for (uint32_t leaf : orKept(o.receiversPerLeaf, base.receiversPerLeaf)) {
+        shadow::RenderSettings s = base;
+        s.pruneFraction = prune;
+        s.receiversPerLeaf = leaf;
+        visit(s);
+      }
     }
-  }
+  };
+  forEachShaftPair(shadow::RenderSettings{}, shadow::validateRenderSettings);
 
   const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
   const size_t shaftPairs = o.pruneFractions.empty() && o.receiversPerLeaf.empty()
@@ -325,18 +332,13 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
     shadow::RenderSettings around =
         report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
     around.tuned = true;
-    for (double prune : orKept(o.pruneFractions, around.pruneFraction)) {
-      for (uint32_t leaf : orKept(o.receiversPerLeaf, around.receiversPerLeaf)) {
-        shadow::RenderSettings s = around;
-        s.pruneFraction = prune;
-        s.receiversPerLeaf = leaf;
-        step("shafts: prune " + core::formatNumber(prune) + ", " + std::to_string(leaf) +
-             " receivers per leaf");
-        // The choice itself is measured already.
-        if (report.chosen && s == around) continue;
-        report.candidates.push_back(measurer.measure(s, o.poses, references, true));
-      }
-    }
+    forEachShaftPair(around, [&](const shadow::RenderSettings& s) {
+      step("shafts: prune " + core::formatNumber(s.pruneFraction) + ", " +
+           std::to_string(s.receiversPerLeaf) + " receivers per leaf");
+      // The choice itself is measured already.
+      if (report.chosen && s == around) return;
+      report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+    });
     choose();
   }
 
