@@ -172,12 +172,21 @@ void checkPoses(const shadow::SceneBundle& bundle, const std::vector<NamedPose>&
   }
 }
 
+std::invalid_argument boundsNeeded(const std::string& kind) {
+  return std::invalid_argument(
+      "tune: p99 beyond the reference's bounds needs a reference with bounds (the ray "
+      "tracer's), not " +
+      kind);
+}
+
 }  // namespace
 
 TuneReferences makeTuneReferences(const shadow::SceneBundle& bundle, const TuneOptions& o,
                                   const TuneProgress& progress) {
   checkPoses(bundle, o.poses);
   checkPoses(bundle, o.heldOut);
+  // Refused before the stand-in's references are made, which would have no bounds.
+  if (o.target.p99BeyondBounds && o.measure.penumbraReference) throw boundsNeeded("penumbra");
   TuneReferences r;
   const size_t total = o.poses.size() + o.heldOut.size();
   for (const auto& [poses, into] :
@@ -259,10 +268,7 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
     for (const PoseReference& r : *set) {
       report.references.push_back(r.info);
       if (o.target.p99BeyondBounds && r.lower.pixels.empty()) {
-        throw std::invalid_argument(
-            "tune: p99 beyond the reference's bounds needs a reference with bounds (the ray "
-            "tracer's), not " +
-            r.info.value("kind", std::string("this one")));
+        throw boundsNeeded(r.info.value("kind", std::string("this one")));
       }
     }
   }
