@@ -57,7 +57,13 @@ struct AccuracyCommand {
     // What the flags do not say, the bundle's settings do (as render and the kiosk use them).
     const shadow::RenderSettings& s = bundle.settings;
     options.shadowMapSize = mapSize != 0 ? uint32_t(mapSize) : s.shadowMapSize;
-    options.fineProxyPasses = fineProxyPasses >= 0 ? uint32_t(fineProxyPasses) : s.fineProxyPasses;
+    // --fine-proxy-passes sets every product's; without it each product keeps the bundle's.
+    if (fineProxyPasses >= 0) {
+      options.fineProxyPasses = uint32_t(fineProxyPasses);
+    } else {
+      options.fineProxyPasses = s.fineProxyPasses;
+      options.productFineProxyPasses = s.productFineProxyPasses;
+    }
     options.areaPenumbrae = !hardPasses && s.areaPenumbrae;
     options.shafts.pruneFraction = s.pruneFraction;
     options.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;

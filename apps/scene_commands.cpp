@@ -246,6 +246,11 @@ nlohmann::json bundleInfo(const std::string& path, const shadow::SceneBundle& b)
                         {"triangles", p.mesh.triangleCount()},
                         {"proxy_triangles", p.proxy.triangleCount()},
                         {"fine_proxy_triangles", p.fineProxy.triangleCount()},
+                        // Of kFineProxyReferencePasses (50) passes; 0 without a fine proxy.
+                        {"fine_proxy_passes",
+                         p.fineProxy.indices.empty()
+                             ? 0u
+                             : shadow::fineProxyPassesOf(b.settings, static_cast<uint32_t>(i))},
                         {"vertex_normals", !p.normals.empty()},
                         {"vertex_colours", !p.reflectances.empty()}});
   }
@@ -274,6 +279,7 @@ nlohmann::json bundleInfo(const std::string& path, const shadow::SceneBundle& b)
             {"max_passes", s.maxPasses},
             {"shadow_map_sizes", shadow::shadowMapLadder(s)},
             {"fine_proxy_passes", s.fineProxyPasses},
+            {"product_fine_proxy_passes", s.productFineProxyPasses},
             {"area_penumbrae", s.areaPenumbrae},
             {"prune_fraction", s.pruneFraction},
             {"receivers_per_leaf", s.receiversPerLeaf}}}};
@@ -301,7 +307,11 @@ struct InfoCommand {
     for (const nlohmann::json& p : j["products"]) {
       std::cout << "product " << str(p["index"]) << " " << p["name"].get<std::string>() << ": "
                 << str(p["triangles"]) << " triangles, proxy " << str(p["proxy_triangles"])
-                << ", fine proxy " << str(p["fine_proxy_triangles"]) << "\n";
+                << ", fine proxy " << str(p["fine_proxy_triangles"]);
+      if (p["fine_proxy_triangles"].get<size_t>() > 0) {
+        std::cout << " in " << str(p["fine_proxy_passes"]) << " of 50 passes";
+      }
+      std::cout << "\n";
     }
     const nlohmann::json& s = j["settings"];
     std::cout << "settings " << (s["tuned"].get<bool>() ? "tuned" : "defaults") << ": max_passes "

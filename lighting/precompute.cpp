@@ -193,6 +193,15 @@ shadow::SceneBundle precomputeBundle(const scene::SceneDescription& scene,
     m.specularExponent = static_cast<float>(p.specularExponent);
     b.products.push_back(std::move(m));
   }
+  // Each product's fine-proxy passes when any product states its own (the rest keep the
+  // default), so a bundle whose scene names none stays as before.
+  if (std::any_of(scene.products.begin(), scene.products.end(),
+                  [](const scene::Product& p) { return p.fineProxyPasses.has_value(); })) {
+    for (const scene::Product& p : scene.products) {
+      b.settings.productFineProxyPasses.push_back(
+          p.fineProxyPasses.value_or(b.settings.fineProxyPasses));
+    }
+  }
   b.startPose = {static_cast<uint32_t>(scene.startPose.product),
                  static_cast<float>(scene.startPose.x), static_cast<float>(scene.startPose.z),
                  static_cast<float>(scene.startPose.yawDegrees)};

@@ -139,6 +139,7 @@ shadow::CompositorOptions measuredOptions(const AccuracyOptions& o) {
   measured.perClusterShares = o.perClusterShares;
   measured.depthBias = o.depthBias;
   measured.fineProxyPasses = o.fineProxyPasses;
+  measured.productFineProxyPasses = o.productFineProxyPasses;
   measured.areaPenumbrae = o.areaPenumbrae;
   measured.shafts = o.shafts;
   return measured;
@@ -267,6 +268,7 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
           {"reference", report.reference},
           {"shadow_map", o.shadowMapSize},
           {"fine_proxy_passes", o.fineProxyPasses},
+          {"product_fine_proxy_passes", o.productFineProxyPasses},
           {"area_penumbrae", o.areaPenumbrae},
           {"flip_ppd", o.pixelsPerDegree},
           {"width", report.width},

@@ -48,6 +48,7 @@ struct AccuracyOptions {
   bool perClusterShares = true;
   float depthBias = shadow::CompositorOptions{}.depthBias;
   uint32_t fineProxyPasses = shadow::CompositorOptions{}.fineProxyPasses;
+  std::vector<uint32_t> productFineProxyPasses;  // empty, or per product in its place
   bool areaPenumbrae = shadow::CompositorOptions{}.areaPenumbrae;
   shadow::ShaftBuildOptions shafts;  // pruning fraction and receivers per leaf (§6)
   int contactRadius = 8;

@@ -228,6 +228,17 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   });
   const std::vector<uint32_t> fines =
       anyFine ? o.fineProxyPasses : std::vector<uint32_t>{o.fineProxyPasses.front()};
+  // The posed products with a fine proxy, each searched on its own after the grid when the
+  // set poses more than one product (with one, the grid's uniform count is already its own).
+  std::set<uint32_t> posedProducts;
+  for (const NamedPose& p : o.poses) posedProducts.insert(p.pose.product);
+  std::vector<uint32_t> finePosed;
+  for (const uint32_t product : posedProducts) {
+    if (posedProducts.size() > 1 && !bundle.products[product].fineProxy.indices.empty()) {
+      finePosed.push_back(product);
+    }
+  }
+  const size_t productSteps = finePosed.size() * o.fineProxyPasses.size();
   for (uint32_t map : o.mapSizes) {
     for (uint32_t n : ceilings) {
       for (uint32_t fine : fines) shadow::validateRenderSettings({n, map, fine, true, true});
@@ -248,7 +259,8 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
       }
     }
   };
-  forEachShaftPair(shadow::RenderSettings{}, shadow::validateRenderSettings);
+  forEachShaftPair(shadow::RenderSettings{},
+                   [](const shadow::RenderSettings& s) { shadow::validateRenderSettings(s); });
 
   const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
   const size_t shaftPairs = o.pruneFractions.empty() && o.receiversPerLeaf.empty()
@@ -256,7 +268,7 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
                                 : std::max<size_t>(o.pruneFractions.size(), 1) *
                                       std::max<size_t>(o.receiversPerLeaf.size(), 1);
   const size_t total =
-      combinations * ceilings.size() + shaftPairs + 1 + (o.heldOut.empty() ? 0 : 2);
+      combinations * ceilings.size() + shaftPairs + productSteps + 1 + (o.heldOut.empty() ? 0 : 2);
   size_t done = 0;
   const auto step = [&](const std::string& what) {
     if (progress) progress(done, total, what);
@@ -347,6 +359,35 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
     });
     choose();
   }
+  // Then each posed product's fine-proxy passes on its own, the rest held: one product's
+  // count changes only the frames it stands in, and products want opposite counts
+  // (RenderSettings::productFineProxyPasses).
+  if (productSteps > 0) {
+    shadow::RenderSettings around =
+        report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
+    around.tuned = true;
+    if (around.productFineProxyPasses.empty()) {
+      around.productFineProxyPasses.assign(bundle.products.size(), around.fineProxyPasses);
+    }
+    for (const uint32_t product : finePosed) {
+      for (const uint32_t fine : o.fineProxyPasses) {
+        shadow::RenderSettings s = around;
+        s.productFineProxyPasses[product] = fine;
+        step(bundle.products[product].name + ": fine proxy in " + std::to_string(fine) +
+             " of 50 passes");
+        if (report.chosen && shadow::fineProxyPassesOf(report.candidates[*report.chosen].settings,
+                                                       product) == fine) {
+          continue;  // the choice itself
+        }
+        report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+      }
+      choose();
+      if (report.chosen) around = report.candidates[*report.chosen].settings;
+      if (around.productFineProxyPasses.empty()) {
+        around.productFineProxyPasses.assign(bundle.products.size(), around.fineProxyPasses);
+      }
+    }
+  }
 
   step("the bundle's own settings");
   shadow::RenderSettings defaults = bundle.settings;
@@ -370,6 +411,7 @@ nlohmann::json settingsJson(const shadow::RenderSettings& s) {
   return {{"max_passes", s.maxPasses},
           {"shadow_map_size", s.shadowMapSize},
           {"fine_proxy_passes", s.fineProxyPasses},
+          {"product_fine_proxy_passes", s.productFineProxyPasses},
           {"area_penumbrae", s.areaPenumbrae},
           {"prune_fraction", s.pruneFraction},
           {"receivers_per_leaf", s.receiversPerLeaf}};

@@ -341,8 +341,8 @@ class SceneParser {
 
   Product parseProduct(const JsonValue& v) {
     v.object({"name", "model", "scale", "rotate_y_deg", "rest_on_floor", "colour",
-              "proxy_triangles", "fine_proxy_triangles", "solid", "specular", "specular_exponent",
-              "crease_angle_deg"});
+              "proxy_triangles", "fine_proxy_triangles", "fine_proxy_passes", "solid", "specular",
+              "specular_exponent", "crease_angle_deg"});
     Product p;
     p.name = v["name"].nonEmptyString();
     const std::string model = v["model"].nonEmptyString();
@@ -356,6 +356,11 @@ class SceneParser {
       if (p.fineProxyTriangles <= p.proxyTriangles) {
         n->fail("must be more than proxy_triangles (" + std::to_string(p.proxyTriangles) + ")");
       }
+    }
+    if (const auto n = v.find("fine_proxy_passes")) {
+      if (p.fineProxyTriangles == 0) n->fail("needs fine_proxy_triangles (a fine proxy to draw)");
+      // The renderer's pass limit (shadow/render_settings.h kMaxSettingsPasses).
+      p.fineProxyPasses = count(*n, 0, 257);
     }
     if (const auto s = v.find("solid")) p.solid = s->boolean();
     if (const auto a = v.find("crease_angle_deg")) p.creaseAngleDegrees = a->number(0, 180);

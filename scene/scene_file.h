@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -90,6 +91,11 @@ struct Product {
   // `fine_proxy_triangles`: a second, finer shadow proxy that the frame's most energetic
   // passes draw (shadow/pass_list.h); 0 (the default) gives none. More than proxyTriangles.
   size_t fineProxyTriangles = 0;
+  // `fine_proxy_passes`: how many of a frame's passes draw the fine proxy (stated at 50
+  // passes, shadow/pass_list.h fineProxyPassesFor; 50 or more: every pass); unset: the
+  // bundle's default. Needs fine_proxy_triangles. Precompute writes it into the bundle's
+  // render settings (shadow/render_settings.h productFineProxyPasses).
+  std::optional<uint32_t> fineProxyPasses;
   // `solid`: the product is a solid object, so its proxies' holes are capped
   // (scene/hole_capping.h) and they can be drawn front faces only. False by default: a
   // lampshade's openings let light through.

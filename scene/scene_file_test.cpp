@@ -269,6 +269,12 @@ TEST(SceneFile, BadValuesAreNamed) {
               {"products[2].solid: expected true or false, got 1"});
   expectError([](json& d) { d["products"][1]["fine_proxy_triangles"] = "many"; },
               {"products[1].fine_proxy_triangles"});
+  expectError([](json& d) { d["products"][0]["fine_proxy_passes"] = 8; },
+              {"products[0].fine_proxy_passes: needs fine_proxy_triangles"});
+  expectError([](json& d) { d["products"][1]["fine_proxy_passes"] = 258; },
+              {"products[1].fine_proxy_passes"});
+  expectError([](json& d) { d["products"][1]["fine_proxy_passes"] = -1; },
+              {"products[1].fine_proxy_passes"});
   expectError([](json& d) { d["products"][0]["rest_on_floor"] = 1; },
               {"products[0].rest_on_floor: expected true or false, got 1"});
   expectError([](json& d) { d["start_pose"]["product"] = 3; }, {"start_pose.product"});

@@ -30,6 +30,12 @@ FrameCompositor::FrameCompositor(const SceneBundle& bundle, const CompositorOpti
       envTransfers_(bundle, mesh_, hierarchy_),
       passList_(bundle, mesh_, roomBounds(hierarchy_)) {
   if (bundle.products.empty()) throw std::invalid_argument("scene bundle has no products");
+  if (!options.productFineProxyPasses.empty() &&
+      options.productFineProxyPasses.size() != bundle.products.size()) {
+    throw std::invalid_argument(
+        "fine-proxy passes for " + std::to_string(options.productFineProxyPasses.size()) +
+        " products, the bundle has " + std::to_string(bundle.products.size()));
+  }
   if (options.accumulation == raster::Accumulation::kLinear) {
     shadeTable_ = linearShadeTable(bundle.tone);
   }
@@ -204,7 +210,11 @@ PassListOptions FrameCompositor::passListOptions() const {
   o.pcf2x2 = options_.pcf2x2;
   o.cullReceivers = options_.cullReceivers;
   o.objectDepthBias = options_.objectDepthBias;
-  o.fineProxyPasses = placement_.fineProxy().indices.empty() ? 0 : options_.fineProxyPasses;
+  const uint32_t product = placement_.pose().product;
+  o.fineProxyPasses = placement_.fineProxy().indices.empty() ? 0
+                      : product < options_.productFineProxyPasses.size()
+                          ? options_.productFineProxyPasses[product]
+                          : options_.fineProxyPasses;
   o.areaPenumbrae = options_.areaPenumbrae;
   if (options_.cullClosedProxies) {
     o.closedOccluders = {placement_.proxyClosed(), placement_.fineProxyClosed()};

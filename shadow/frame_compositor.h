@@ -45,6 +45,9 @@ struct CompositorOptions {
   // Passes that draw the product's fine proxy when its model has one
   // (PassListOptions::fineProxyPasses).
   uint32_t fineProxyPasses = 16;
+  // Empty, or one per product in place of fineProxyPasses (RenderSettings::
+  // productFineProxyPasses).
+  std::vector<uint32_t> productFineProxyPasses;
   // Draw a closed proxy's front faces only (PassListOptions::closedOccluders): the same
   // frames, half the shadow-map triangles. False draws every triangle (the A/B of tests).
   bool cullClosedProxies = true;

@@ -75,6 +75,33 @@ TEST(FrameLoop, TheMostEnergeticPassesDrawTheFineProxy) {
   for (const raster::ShadowPass& pass : frame.passes) EXPECT_EQ(pass.occluder, 0u);
 }
 
+// With a count per product (RenderSettings::productFineProxyPasses) each product's frames
+// draw its own: the bunny's fine proxy in every pass, the teapot's in its 8 most energetic of
+// 50 and the same share of 64 (ceil(64 * 8 / 50) = 11), whatever the shared count says.
+TEST(FrameLoop, EachProductDrawsItsOwnFineProxyPasses) {
+  const SceneBundle& b = testing::showroomBundle();
+  CompositorOptions o;
+  o.fineProxyPasses = 0;
+  o.productFineProxyPasses = {16, 50, 8};
+  FrameCompositor compositor(b, o);
+  raster::FrameContent frame;
+  CompositeStats stats;
+  uint32_t tag = 0;
+  for (const size_t passes : {50u, 64u}) {
+    compositor.compose({1, 5.6f, 3.05f, 0.0f}, passes, ++tag, frame, stats);
+    ASSERT_EQ(frame.passes.size(), passes);
+    for (const raster::ShadowPass& pass : frame.passes) EXPECT_EQ(pass.occluder, 1u);
+    compositor.compose({2, 5.6f, 3.05f, 0.0f}, passes, ++tag, frame, stats);
+    ASSERT_EQ(frame.passes.size(), passes);
+    const size_t fine = passes == 50 ? 8 : 11;
+    for (size_t k = 0; k < frame.passes.size(); ++k) {
+      EXPECT_EQ(frame.passes[k].occluder, k < fine ? 1u : 0u) << passes << " " << k;
+    }
+  }
+  o.productFineProxyPasses = {16, 50};
+  EXPECT_THROW(FrameCompositor(b, o), std::invalid_argument);
+}
+
 // The showroom's products are solid: their proxies are closed and wound outward (the Utah
 // teapot's holes capped, scene/hole_capping.h), and culling their back faces draws the
 // same frames, bit for bit.

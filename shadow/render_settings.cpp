@@ -9,7 +9,12 @@
 
 namespace penumbra::shadow {
 
-void validateRenderSettings(const RenderSettings& s) {
+uint32_t fineProxyPassesOf(const RenderSettings& s, uint32_t product) {
+  return product < s.productFineProxyPasses.size() ? s.productFineProxyPasses[product]
+                                                   : s.fineProxyPasses;
+}
+
+void validateRenderSettings(const RenderSettings& s, std::optional<size_t> products) {
   const auto bad = [](const std::string& field, const std::string& why) {
     throw std::invalid_argument("settings." + field + ": " + why);
   };
@@ -25,6 +30,18 @@ void validateRenderSettings(const RenderSettings& s) {
     bad("fine_proxy_passes",
         std::to_string(s.fineProxyPasses) + " is more than " + std::to_string(kMaxSettingsPasses));
   }
+  for (size_t i = 0; i < s.productFineProxyPasses.size(); ++i) {
+    if (s.productFineProxyPasses[i] > kMaxSettingsPasses) {
+      bad("product_fine_proxy_passes[" + std::to_string(i) + "]",
+          std::to_string(s.productFineProxyPasses[i]) + " is more than " +
+              std::to_string(kMaxSettingsPasses));
+    }
+  }
+  if (products && !s.productFineProxyPasses.empty() &&
+      s.productFineProxyPasses.size() != *products) {
+    bad("product_fine_proxy_passes", std::to_string(s.productFineProxyPasses.size()) +
+                                         " values for " + std::to_string(*products) + " products");
+  }
   if (!(s.pruneFraction >= 0 && s.pruneFraction <= kMaxPruneFraction)) {
     bad("prune_fraction", core::formatNumber(s.pruneFraction) + " is not in [0, " +
                               core::formatNumber(kMaxPruneFraction) + "]");
@@ -39,6 +56,7 @@ CompositorOptions compositorOptions(const RenderSettings& s) {
   CompositorOptions c;
   c.shadowMapSize = s.shadowMapSize;
   c.fineProxyPasses = s.fineProxyPasses;
+  c.productFineProxyPasses = s.productFineProxyPasses;
   c.areaPenumbrae = s.areaPenumbrae;
   c.shafts.pruneFraction = s.pruneFraction;
   c.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;

@@ -6,7 +6,9 @@
 // same frames everywhere.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace penumbra::shadow {
@@ -31,6 +33,14 @@ struct RenderSettings {
   // Bundle version 8; older bundles load with these defaults.
   double pruneFraction = 0.02;
   uint32_t receiversPerLeaf = 8;
+  // Empty, or one per product: that product's fine-proxy passes in place of fineProxyPasses
+  // (bundle version 9; a scene file's `fine_proxy_passes`). Products want opposite things: at
+  // the desk corner (64-spp reference) the bunny's contact shadow rose from 50 to 64 passes
+  // with 16 of 50 drawing its fine proxy (0.390 -> 0.471 levels) and falls with 32 (0.383 ->
+  // 0.367), while the teapot's two lit contact pixels there need the coarse proxy in most
+  // passes (p99 beyond the reference's bounds 9 with the fine one in all, 6 with 8 of 50).
+  // docs/accuracy.md, "Fine-proxy passes per product".
+  std::vector<uint32_t> productFineProxyPasses{};
   bool operator==(const RenderSettings&) const = default;
 };
 
@@ -41,11 +51,17 @@ inline constexpr uint32_t kMaxSettingsPasses = 257;
 inline constexpr double kMaxPruneFraction = 0.25;
 inline constexpr uint32_t kMaxReceiversPerLeaf = 64;
 
+// The fine-proxy passes product `product` is drawn with (stated at
+// kFineProxyReferencePasses passes, shadow/pass_list.h): its own when the settings have one per
+// product, else fineProxyPasses.
+uint32_t fineProxyPassesOf(const RenderSettings& s, uint32_t product);
+
 // Throws std::invalid_argument naming the field: maxPasses in [1, kMaxSettingsPasses],
 // shadowMapSize a multiple of 16 in [64, 4096] (its fallbacks stay multiples of 16),
-// fineProxyPasses at most kMaxSettingsPasses, pruneFraction in [0, kMaxPruneFraction],
-// receiversPerLeaf in [1, kMaxReceiversPerLeaf].
-void validateRenderSettings(const RenderSettings& s);
+// fineProxyPasses and each of productFineProxyPasses at most kMaxSettingsPasses, pruneFraction in
+// [0, kMaxPruneFraction], receiversPerLeaf in [1, kMaxReceiversPerLeaf]; with `products` given,
+// productFineProxyPasses empty or one per product.
+void validateRenderSettings(const RenderSettings& s, std::optional<size_t> products = {});
 
 // The compositor's options for these settings (everything else at its default).
 CompositorOptions compositorOptions(const RenderSettings& s);

@@ -27,6 +27,24 @@ TEST(RenderSettings, SettingsReachTheCompositor) {
   EXPECT_FALSE(c.areaPenumbrae);
   EXPECT_EQ(c.shafts.pruneFraction, 0.05);
   EXPECT_EQ(c.shafts.maxReceiversPerLeaf, 16u);
+  EXPECT_TRUE(c.productFineProxyPasses.empty());
+  EXPECT_EQ(compositorOptions({64, 256, 16, true, false, 0.02, 8, {50, 8}}).productFineProxyPasses,
+            (std::vector<uint32_t>{50, 8}));
+}
+
+// A product's own count where the settings have one per product, the shared one otherwise.
+TEST(RenderSettings, FineProxyPassesPerProduct) {
+  RenderSettings s;
+  EXPECT_EQ(fineProxyPassesOf(s, 0), 16u);
+  EXPECT_EQ(fineProxyPassesOf(s, 5), 16u);
+  s.productFineProxyPasses = {0, 50, 8};
+  EXPECT_EQ(fineProxyPassesOf(s, 0), 0u);
+  EXPECT_EQ(fineProxyPassesOf(s, 1), 50u);
+  EXPECT_EQ(fineProxyPassesOf(s, 2), 8u);
+  EXPECT_NO_THROW(validateRenderSettings(s, 3));
+  EXPECT_THROW(validateRenderSettings(s, 2), std::invalid_argument);
+  s.productFineProxyPasses.clear();
+  EXPECT_NO_THROW(validateRenderSettings(s, 2));
 }
 
 // Every valid map size gives three strictly decreasing multiples of 16 of at least 16: what
@@ -70,6 +88,9 @@ TEST(RenderSettings, InvalidSettingsAreNamed) {
             "settings.receivers_per_leaf: 65 is not in [1, 64]");
   EXPECT_EQ(why({64, 256, 16, true, false, 0, 1}), "accepted");
   EXPECT_EQ(why({64, 256, 16, true, false}), "accepted");
+  EXPECT_EQ(why({64, 256, 16, true, false, 0.02, 8, {0, 258}}),
+            "settings.product_fine_proxy_passes[1]: 258 is more than 257");
+  EXPECT_EQ(why({64, 256, 16, true, false, 0.02, 8, {257, 0}}), "accepted");
 }
 
 }  // namespace

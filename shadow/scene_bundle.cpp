@@ -182,6 +182,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   w.addValue<uint32_t>("settings.max_passes", rs.maxPasses);
   w.addValue<uint32_t>("settings.shadow_map_size", rs.shadowMapSize);
   w.addValue<uint32_t>("settings.fine_proxy_passes", rs.fineProxyPasses);
+  w.add<uint32_t>("settings.product_fine_proxy_passes", rs.productFineProxyPasses);
   w.addValue<uint32_t>("settings.area_penumbrae", rs.areaPenumbrae ? 1u : 0u);
   w.addValue<uint32_t>("settings.tuned", rs.tuned ? 1u : 0u);
   w.addValue<double>("settings.prune_fraction", rs.pruneFraction);
@@ -298,8 +299,11 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
       rs.pruneFraction = r.getValue<double>("settings.prune_fraction");
       rs.receiversPerLeaf = r.getValue<uint32_t>("settings.receivers_per_leaf");
     }
+    if (r.version() >= 9) {
+      rs.productFineProxyPasses = r.get<uint32_t>("settings.product_fine_proxy_passes");
+    }
     try {
-      validateRenderSettings(rs);
+      validateRenderSettings(rs, b.products.size());
     } catch (const std::invalid_argument& e) {
       r.fail("settings", e.what());
     }

@@ -28,7 +28,8 @@ namespace penumbra::shadow {
 // 7: the render settings (shadow/render_settings.h); older bundles load with the defaults.
 // 8: the settings' shaft pruning fraction and receivers per leaf; version 7 bundles load
 // with their defaults.
-inline constexpr uint32_t kBundleVersion = 8;
+// 9: the settings' fine-proxy passes per product; older bundles give every product the same.
+inline constexpr uint32_t kBundleVersion = 9;
 inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).

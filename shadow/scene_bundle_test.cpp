@@ -105,7 +105,10 @@ TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
   const fs::path path = tempPath("penumbra-scene-bundle-settings.bundle");
   SceneBundle b = smallBundle();
   EXPECT_EQ(b.settings, RenderSettings{});
-  b.settings = {24, 128, 8, false, true, 0.05, 4};
+  b.settings = {24, 128, 8, false, true, 0.05, 4, {50, 0}};
+  saveBundle(b, path);
+  EXPECT_EQ(loadBundle(path).settings, b.settings);
+  b.settings.productFineProxyPasses.clear();
   saveBundle(b, path);
   EXPECT_EQ(loadBundle(path).settings, b.settings);
   const auto refusal = [&](const RenderSettings& s) {
@@ -127,6 +130,14 @@ TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
   EXPECT_EQ(
       refusal({64, 256, 16, true, false, 0.02, 0}),
       path.string() + ": section 'settings': settings.receivers_per_leaf: 0 is not in [1, 64]");
+  EXPECT_EQ(
+      refusal({64, 256, 16, true, false, 0.02, 8, {16, 258}}),
+      path.string() +
+          ": section 'settings': settings.product_fine_proxy_passes[1]: 258 is more than 257");
+  EXPECT_EQ(
+      refusal({64, 256, 16, true, false, 0.02, 8, {16, 16, 16}}),
+      path.string() +
+          ": section 'settings': settings.product_fine_proxy_passes: 3 values for 2 products");
   fs::remove(path);
 }
 
@@ -296,19 +307,24 @@ std::vector<RawSection> readSections(const fs::path& path) {
 // neither has fine proxies (version 6), so every pass draws the proxy. Before version 7 the
 // settings are the defaults; a version 7 bundle keeps its own but the shaft settings of
 // version 8.
-TEST(SceneBundle, Version4To7BundlesStillLoad) {
+TEST(SceneBundle, Version4To8BundlesStillLoad) {
   SceneBundle b = smallBundle();
   b.products[0].normals.assign(4, {0, 1, 0});
   // Not the defaults, which the older versions must load with.
   b.settings.maxPasses = 12;
   b.settings.pruneFraction = 0.05;
   b.settings.receiversPerLeaf = 4;
+  b.settings.productFineProxyPasses = {4, 30};
   const fs::path path = tempPath("penumbra-scene-bundle-old-compat.bundle");
-  for (const uint32_t version : {4u, 5u, 6u, 7u}) {
+  for (const uint32_t version : {4u, 5u, 6u, 7u, 8u}) {
     saveBundle(b, path);
     // Rewritten as `version`: the same sections without the newer ones, rehashed.
     const auto newer = [&](const std::string& name) {
-      if (name == "settings.prune_fraction" || name == "settings.receivers_per_leaf") return true;
+      if (name == "settings.product_fine_proxy_passes") return true;
+      if (version < 8 &&
+          (name == "settings.prune_fraction" || name == "settings.receivers_per_leaf")) {
+        return true;
+      }
       if (version < 7 && name.starts_with("settings.")) return true;
       if (version < 6 && name.find(".fine_proxy.") != std::string::npos) return true;
       return version < 5 && (name.ends_with(".normals") || name.ends_with(".reflectances"));
@@ -330,11 +346,11 @@ TEST(SceneBundle, Version4To7BundlesStillLoad) {
       body += sec.data;
       ++kept;
     }
-    // The two shaft settings, before version 7 the five others; before version 6 the two
-    // products' fine proxies (positions and indices), before 5 also their normals and
-    // reflectances.
-    EXPECT_EQ(dropped,
-              2u + (version < 7 ? 5u : 0u) + (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u))
+    // The per-product fine-proxy passes, before version 8 the two shaft settings, before 7
+    // the five others; before version 6 the two products' fine proxies (positions and
+    // indices), before 5 also their normals and reflectances.
+    EXPECT_EQ(dropped, 1u + (version < 8 ? 2u : 0u) + (version < 7 ? 5u : 0u) +
+                           (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u))
         << version;
     scene::Sha256 hash;
     hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
@@ -353,7 +369,11 @@ TEST(SceneBundle, Version4To7BundlesStillLoad) {
     EXPECT_TRUE(r.products[0].reflectances.empty());
     EXPECT_EQ(r.products[0].fineProxy.indices.empty(), version < 6) << version;
     RenderSettings expected;
-    if (version == 7) expected.maxPasses = 12;
+    if (version >= 7) expected.maxPasses = 12;
+    if (version == 8) {
+      expected.pruneFraction = 0.05;
+      expected.receiversPerLeaf = 4;
+    }
     EXPECT_EQ(r.settings, expected) << version;
     EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
     EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);
