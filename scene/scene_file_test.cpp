@@ -118,6 +118,10 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
     EXPECT_TRUE(p.model.is_absolute() || p.model.has_parent_path()) << p.name;
   }
   EXPECT_EQ(s.products[0].name, "chair");
+  // The bunny's fine proxy in 32 of 50 passes, the teapot's in 8 (docs/accuracy.md).
+  EXPECT_FALSE(s.products[0].fineProxyPasses.has_value());
+  EXPECT_EQ(s.products[1].fineProxyPasses, 32u);
+  EXPECT_EQ(s.products[2].fineProxyPasses, 8u);
   EXPECT_NEAR(s.products[0].mesh.bounds().max.y, 0.95, 1e-9);
   EXPECT_NEAR(s.products[1].mesh.bounds().size().y, 0.04 * 9.657897, 1e-4);
   EXPECT_EQ(s.startPose.product, 0u);

@@ -80,6 +80,8 @@ TEST(FrameLoop, TheMostEnergeticPassesDrawTheFineProxy) {
 // 50 and the same share of 64 (ceil(64 * 8 / 50) = 11), whatever the shared count says.
 TEST(FrameLoop, EachProductDrawsItsOwnFineProxyPasses) {
   const SceneBundle& b = testing::showroomBundle();
+  // What precompute wrote from the scene file's `fine_proxy_passes` (the chair: the default).
+  EXPECT_EQ(b.settings.productFineProxyPasses, (std::vector<uint32_t>{16, 32, 8}));
   CompositorOptions o;
   o.fineProxyPasses = 0;
   o.productFineProxyPasses = {16, 50, 8};

@@ -22,7 +22,7 @@ done
 "${run[@]}" info "$data/showroom/showroom.bundle" >"$tmp/info" 2>&1
 status=$?
 [[ $status == 0 ]] && grep -qF "settings defaults: max_passes 64, shadow_map_sizes [256,128,64]" "$tmp/info" \
-  && grep -qF "product 2 teapot:" "$tmp/info" && grep -qF "fine proxy 1000 in 16 of 50 passes" "$tmp/info"
+  && grep -qF "product 2 teapot:" "$tmp/info" && grep -qF "fine proxy 1000 in 8 of 50 passes" "$tmp/info"
 check "info: the showroom's products and default settings ($(head -c 300 "$tmp/info"))" $status
 "${run[@]}" info "$data/showroom/showroom.bundle" --json >"$tmp/info.json" 2>&1
 python3 -c "
@@ -30,11 +30,12 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 s = j['settings']
 assert s == {'tuned': False, 'max_passes': 64, 'shadow_map_sizes': [256, 128, 64],
-             'fine_proxy_passes': 16, 'product_fine_proxy_passes': [],
+             'fine_proxy_passes': 16, 'product_fine_proxy_passes': [16, 32, 8],
              'area_penumbrae': True, 'prune_fraction': 0.02, 'receivers_per_leaf': 8}, s
 assert [p['name'] for p in j['products']] == ['chair', 'bunny', 'teapot'], j['products']
-# The chair has no fine proxy; the bunny's and the teapot's are drawn by the shared count.
-assert [p['fine_proxy_passes'] for p in j['products']] == [0, 16, 16], j['products']
+# The scene file's fine_proxy_passes: the bunny's fine proxy in 32 of 50 passes, the teapot's in 8
+# of 50; the chair has none.
+assert [p['fine_proxy_passes'] for p in j['products']] == [0, 32, 8], j['products']
 " "$tmp/info.json"
 check "info --json: settings and products" $?
 head -c 1000 "$data/showroom/showroom.bundle" >"$tmp/cut.bundle"
