@@ -19,8 +19,9 @@ void SteadyTimebase::sleepUntil(int64_t ns) {
 
 namespace {
 
-// A fine proxy is drawn by CompositorOptions::fineProxyPasses (16) passes a frame: 160,000
-// triangles at this limit, half what 64 passes of the largest proxy accepted above draw.
+// A fine proxy is drawn by its product's fine-proxy passes (RenderSettings; 16 of 50 by
+// default, up to every pass): at this limit twice the largest proxy accepted below, so a frame
+// that draws it in every pass costs at most twice one of the largest proxies.
 constexpr size_t kMaxFineProxyTriangles = 10000;
 
 bool meshUsable(const core::Mesh& m, std::string& why) {
