@@ -140,10 +140,19 @@ struct TuneCommand {
   }
 
   static void line(const char* what, const reference::TunedCandidate& c) {
+    // One count, or one per product (RenderSettings::productFineProxyPasses).
+    std::string fine = std::to_string(c.settings.fineProxyPasses);
+    if (!c.settings.productFineProxyPasses.empty()) {
+      fine = "[";
+      for (size_t i = 0; i < c.settings.productFineProxyPasses.size(); ++i) {
+        fine += (i ? "," : "") + std::to_string(c.settings.productFineProxyPasses[i]);
+      }
+      fine += "]";
+    }
     std::printf(
-        "%s: max_passes %u shadow_map_size %u fine_proxy_passes %u area_penumbrae %s "
+        "%s: max_passes %u shadow_map_size %u fine_proxy_passes %s area_penumbrae %s "
         "prune_fraction %s receivers_per_leaf %u | board_ms %.2f worst_mean_abs %.3f meets %s\n",
-        what, c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
+        what, c.settings.maxPasses, c.settings.shadowMapSize, fine.c_str(),
         c.settings.areaPenumbrae ? "on" : "off",
         core::formatNumber(c.settings.pruneFraction).c_str(), c.settings.receiversPerLeaf,
         c.boardMs, c.worstMeanAbs, c.meets ? "yes" : "no");
