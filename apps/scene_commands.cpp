@@ -191,8 +191,9 @@ struct ProfileCommand {
       out << ",stage_" << name;
     }
     // The product's vertices: with the passes and pixels, what the board's cost model charges
-    // (shadow/frame_cost_model.h); the product slides, so it is shaded in every frame.
-    out << ",product_vertices,shadow_map_size\n";
+    // (shadow/frame_cost_model.h); the product slides, so it is shaded in every frame. The
+    // occluder triangles the passes drew, which the model does not charge yet (issue 17).
+    out << ",product_vertices,shadow_map_size,shadow_map_triangles\n";
     // The console: the median frame, then the stages' means grouped (traversal with clusters;
     // room and product transfers; raster: objects, passes, finish; rest: every other stage).
     std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %9s\n", "asked", "passes", "pixels", "median",
@@ -207,7 +208,8 @@ struct ProfileCommand {
         if (!shadow::onBoard(static_cast<FrameStage>(i))) continue;
         out << ',' << s.meanMs(static_cast<FrameStage>(i));
       }
-      out << ',' << loop.stats.productVertices << ',' << shadowMapSize << '\n';
+      out << ',' << loop.stats.productVertices << ',' << shadowMapSize << ','
+          << r.shadowMapTriangles << '\n';
       const auto sum = [&](std::initializer_list<FrameStage> stages) {
         double ms = 0;
         for (FrameStage stage : stages) ms += s.meanMs(stage);

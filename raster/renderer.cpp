@@ -57,7 +57,7 @@ struct alignas(64) Worker {
   std::vector<SetupTriangle> mapTriangles;
   // Per object triangle: 1 when one of this thread's tiles shows a pixel of it.
   std::vector<uint8_t> objectSeen;
-  uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0;
+  uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0, mapTriangleCount = 0;
 };
 
 }  // namespace
@@ -401,6 +401,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   w.mapX1 = w.mapY1 = 0;
   const core::Mesh& occluder = frame.occluders[pass.occluder];
   auto draw = [&](const SetupTriangle& t) {
+    ++w.mapTriangleCount;
     w.mapPixels +=
         kernels->depthTriangle(w.shadowMap.origin(), nullptr, size_t(w.shadowMap.stride()), t, 0);
     w.shadowMap.markWritten(t.minX, t.minY, t.maxX, t.maxY);
@@ -711,7 +712,7 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
     std::copy(frame.shadeTable.begin(), frame.shadeTable.end(), r.shadeTable.begin());
   }
   for (Worker& w : r.workers) {
-    w.mapPixels = w.passPixels = w.objectPixels = 0;
+    w.mapPixels = w.passPixels = w.objectPixels = w.mapTriangleCount = 0;
     if (fine && w.sFine.empty()) w.sFine.assign(r.planeSize * 3, 0);
     if (!fine && w.s.empty()) w.s.assign(r.planeSize, 0);
   }
@@ -775,6 +776,7 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
     std::fill(w.touchedBegin.begin(), w.touchedBegin.end(), r.width);
     std::fill(w.touchedEnd.begin(), w.touchedEnd.end(), 0);
     r.stats.shadowMapPixels += w.mapPixels;
+    r.stats.shadowMapTriangles += w.mapTriangleCount;
     r.stats.passPixels += w.passPixels;
     r.stats.objectPixels += w.objectPixels;
   }

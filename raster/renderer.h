@@ -31,8 +31,11 @@ struct RenderOptions {
 // Per-frame counters (filled by render()); they do not affect the pixels.
 struct FrameStats {
   uint64_t shadowMapPixels = 0;  // covered shadow-map pixels, all passes
-  uint64_t passPixels = 0;       // receiver pixels whose id matched, all passes
-  uint64_t objectPixels = 0;     // object pixels that passed the depth test
+  // Occluder triangles drawn into the shadow maps, all passes: those left after back-face
+  // culling and the viewport test (a fine proxy's passes draw more; issue 17's board cost).
+  uint64_t shadowMapTriangles = 0;
+  uint64_t passPixels = 0;    // receiver pixels whose id matched, all passes
+  uint64_t objectPixels = 0;  // object pixels that passed the depth test
   // Stage times: objects (setup, binning, composite), passes (shadow maps, S, masks),
   // finish (subtracting the sums, output).
   double msObjects = 0, msPasses = 0, msFinish = 0, msTotal = 0;

@@ -104,6 +104,33 @@ TEST(FrameLoop, EachProductDrawsItsOwnFineProxyPasses) {
   EXPECT_THROW(FrameCompositor(b, o), std::invalid_argument);
 }
 
+// The renderer counts the occluder triangles its passes draw (raster::FrameStats): at most
+// the proxy's triangles per pass, more when the passes draw the bunny's fine proxy, and
+// about half with closed proxies drawn front faces only. The same on every thread count.
+TEST(FrameLoop, ShadowMapTrianglesCountWhatThePassesDraw) {
+  const SceneBundle& b = testing::showroomBundle();
+  const ProductPose bunny{1, 5.6f, 3.05f, 0.0f};
+  const auto triangles = [&](std::vector<uint32_t> fine, bool cull, int threads) {
+    CompositorOptions o;
+    o.productFineProxyPasses = std::move(fine);
+    o.cullClosedProxies = cull;
+    FrameLoop loop(b, o, {simd::bestIsa(), threads, 32});
+    loop.step(bunny, 50);
+    EXPECT_EQ(loop.stats.passes, 50u);
+    return loop.renderer.lastStats().shadowMapTriangles;
+  };
+  const uint64_t coarse = triangles({16, 0, 8}, false, 2);
+  const uint64_t fine = triangles({16, 50, 8}, false, 2);
+  EXPECT_GT(coarse, 0u);
+  EXPECT_LE(coarse, 50 * b.products[1].proxy.triangleCount());
+  EXPECT_GT(fine, 5 * coarse);
+  EXPECT_LE(fine, 50 * b.products[1].fineProxy.triangleCount());
+  const uint64_t culled = triangles({16, 50, 8}, true, 2);
+  EXPECT_GT(culled, fine / 3);
+  EXPECT_LT(culled, fine * 2 / 3);
+  EXPECT_EQ(triangles({16, 50, 8}, true, 1), culled);
+}
+
 // The showroom's products are solid: their proxies are closed and wound outward (the Utah
 // teapot's holes capped, scene/hole_capping.h), and culling their back faces draws the
 // same frames, bit for bit.

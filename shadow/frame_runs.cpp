@@ -55,6 +55,7 @@ PassProfile profilePasses(FrameLoop& loop, const ProductPose& pose, size_t passe
   out.receivers = loop.stats.receiverPatches;
   out.shaftsVisited = loop.stats.shaftsVisited;
   out.shadowedPixels = loop.renderer.lastStats().passPixels;
+  out.shadowMapTriangles = loop.renderer.lastStats().shadowMapTriangles;
   out.total = median(total);
   return out;
 }

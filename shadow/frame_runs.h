@@ -41,7 +41,8 @@ FrameRateController::Decision settleFrameRate(FrameLoop& loop, const ProductPose
 struct PassProfile {
   size_t passesAsked = 0;
   uint32_t passes = 0, occludedSources = 0, receivers = 0, shaftsVisited = 0;
-  uint64_t shadowedPixels = 0;  // receiver pixels the passes touched
+  uint64_t shadowedPixels = 0;      // receiver pixels the passes touched
+  uint64_t shadowMapTriangles = 0;  // occluder triangles the passes drew (raster::FrameStats)
   double total = 0;
   FrameStageSamples stages;
 };

@@ -26,6 +26,7 @@ TEST(FrameRuns, ProfileSlidesTheProductAndReportsTheLastFrame) {
   EXPECT_LE(p.passes, 3u);
   EXPECT_GT(p.passes, 0u) << "the product shadows the floor at the start pose";
   EXPECT_EQ(p.shadowedPixels, loop.renderer.lastStats().passPixels);
+  EXPECT_EQ(p.shadowMapTriangles, loop.renderer.lastStats().shadowMapTriangles);
   EXPECT_GT(p.total, 0.0);
 
   // The same frames stepped by hand: frame f slides the product by 0.01 * (f % 7).
