@@ -177,6 +177,10 @@ struct ProfileCommand {
     Session session(scene);
     shadow::FrameLoop& loop = session.loop;
     if (shadowMapSize != 0) loop.compositor.setShadowMapSize(static_cast<uint32_t>(shadowMapSize));
+    // The size the passes draw: the flag's, or the bundle's settings (bench/board_cost_model.py
+    // prices passes x size^2 from this column).
+    const uint32_t mapSize = shadowMapSize != 0 ? static_cast<uint32_t>(shadowMapSize)
+                                                : session.bundle.settings.shadowMapSize;
     std::ofstream out(csv);
     if (!out) throw std::runtime_error(csv + ": cannot write");
     // ms_total: the median frame; ms_mean: the mean frame, which the stages' means (the
@@ -208,8 +212,8 @@ struct ProfileCommand {
         if (!shadow::onBoard(static_cast<FrameStage>(i))) continue;
         out << ',' << s.meanMs(static_cast<FrameStage>(i));
       }
-      out << ',' << loop.stats.productVertices << ',' << shadowMapSize << ','
-          << r.shadowMapTriangles << '\n';
+      out << ',' << loop.stats.productVertices << ',' << mapSize << ',' << r.shadowMapTriangles
+          << '\n';
       const auto sum = [&](std::initializer_list<FrameStage> stages) {
         double ms = 0;
         for (FrameStage stage : stages) ms += s.meanMs(stage);

@@ -45,6 +45,20 @@ status=$?
 status=$?
 check "info: a truncated bundle is refused naming it ($(head -c 200 "$tmp/stderr"))" $status
 
+# profile: the map size the passes drew (the bundle's 256 without --shadow-map-size; the
+# board's cost model prices passes x size^2 from it) and the occluder triangles they drew.
+"${run[@]}" profile "$data/showroom/showroom.bundle" --product 1 --passes 8 --frames 1 \
+  --csv "$tmp/profile.csv" >/dev/null 2>&1
+python3 -c "
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 1, rows
+r = rows[0]
+assert r['shadow_map_size'] == '256', r
+assert r['passes'] == '8' and 0 < int(r['shadow_map_triangles']) <= 8 * 2500, r
+" "$tmp/profile.csv"
+check "profile: the map size and the occluder triangles drawn" $?
+
 want="$(awk '$1 == "tiny.json" {print $2}' "$golden")"
 got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)"
 [[ "$got" == "sha256 $want" ]]
