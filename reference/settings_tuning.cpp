@@ -363,12 +363,17 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   // count changes only the frames it stands in, and products want opposite counts
   // (RenderSettings::productFineProxyPasses).
   if (productSteps > 0) {
-    shadow::RenderSettings around =
-        report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
-    around.tuned = true;
-    if (around.productFineProxyPasses.empty()) {
-      around.productFineProxyPasses.assign(bundle.products.size(), around.fineProxyPasses);
-    }
+    // The choice so far (the bundle's own settings when nothing met), one count per product.
+    const auto aroundChoice = [&] {
+      shadow::RenderSettings s =
+          report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
+      s.tuned = true;
+      if (s.productFineProxyPasses.empty()) {
+        s.productFineProxyPasses.assign(bundle.products.size(), s.fineProxyPasses);
+      }
+      return s;
+    };
+    shadow::RenderSettings around = aroundChoice();
     for (const uint32_t product : finePosed) {
       for (const uint32_t fine : o.fineProxyPasses) {
         shadow::RenderSettings s = around;
@@ -382,10 +387,7 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
         report.candidates.push_back(measurer.measure(s, o.poses, references, true));
       }
       choose();
-      if (report.chosen) around = report.candidates[*report.chosen].settings;
-      if (around.productFineProxyPasses.empty()) {
-        around.productFineProxyPasses.assign(bundle.products.size(), around.fineProxyPasses);
-      }
+      around = aroundChoice();
     }
   }
 

@@ -210,11 +210,11 @@ PassListOptions FrameCompositor::passListOptions() const {
   o.pcf2x2 = options_.pcf2x2;
   o.cullReceivers = options_.cullReceivers;
   o.objectDepthBias = options_.objectDepthBias;
-  const uint32_t product = placement_.pose().product;
-  o.fineProxyPasses = placement_.fineProxy().indices.empty() ? 0
-                      : product < options_.productFineProxyPasses.size()
-                          ? options_.productFineProxyPasses[product]
-                          : options_.fineProxyPasses;
+  o.fineProxyPasses =
+      placement_.fineProxy().indices.empty()
+          ? 0
+          : fineProxyPassesOf(options_.fineProxyPasses, options_.productFineProxyPasses,
+                              placement_.pose().product);
   o.areaPenumbrae = options_.areaPenumbrae;
   if (options_.cullClosedProxies) {
     o.closedOccluders = {placement_.proxyClosed(), placement_.fineProxyClosed()};

@@ -9,9 +9,13 @@
 
 namespace penumbra::shadow {
 
+uint32_t fineProxyPassesOf(uint32_t shared, std::span<const uint32_t> perProduct,
+                           uint32_t product) {
+  return product < perProduct.size() ? perProduct[product] : shared;
+}
+
 uint32_t fineProxyPassesOf(const RenderSettings& s, uint32_t product) {
-  return product < s.productFineProxyPasses.size() ? s.productFineProxyPasses[product]
-                                                   : s.fineProxyPasses;
+  return fineProxyPassesOf(s.fineProxyPasses, s.productFineProxyPasses, product);
 }
 
 void validateRenderSettings(const RenderSettings& s, std::optional<size_t> products) {

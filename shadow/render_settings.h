@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace penumbra::shadow {
@@ -55,6 +56,9 @@ inline constexpr uint32_t kMaxReceiversPerLeaf = 64;
 // kFineProxyReferencePasses passes, shadow/pass_list.h): its own when the settings have one per
 // product, else fineProxyPasses.
 uint32_t fineProxyPassesOf(const RenderSettings& s, uint32_t product);
+// The same rule on its two parts (CompositorOptions holds them too): perProduct[product] when
+// perProduct has one per product, else `shared`.
+uint32_t fineProxyPassesOf(uint32_t shared, std::span<const uint32_t> perProduct, uint32_t product);
 
 // Throws std::invalid_argument naming the field: maxPasses in [1, kMaxSettingsPasses],
 // shadowMapSize a multiple of 16 in [64, 4096] (its fallbacks stay multiples of 16),
