@@ -96,16 +96,29 @@ shadow::ProductPose poseOf(const SceneFlags& f, const shadow::SceneBundle& b) {
 // One product in the showroom, frame after frame (design §1, per frame): the bundle, the
 // pose the flags ask for, and the per-frame loop (shadow/frame_loop.h).
 struct Session {
-  explicit Session(const SceneFlags& flags)
+  // `fineProxyPasses` >= 0 draws every product's fine proxy in that many of 50 passes instead
+  // of the bundle's counts (profile's --fine-proxy-passes).
+  explicit Session(const SceneFlags& flags, int fineProxyPasses = -1)
       : bundle(shadow::loadBundle(flags.bundle)),
         pose(poseOf(flags, bundle)),
-        loop(bundle, shadow::compositorOptions(bundle.settings), toOptions(flags.render)) {}
+        loop(bundle, shadow::compositorOptions(settingsOf(bundle, fineProxyPasses)),
+             toOptions(flags.render)) {}
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
   const shadow::SceneBundle bundle;
   const shadow::ProductPose pose;
   shadow::FrameLoop loop;
+
+ private:
+  static shadow::RenderSettings settingsOf(const shadow::SceneBundle& b, int fineProxyPasses) {
+    shadow::RenderSettings s = b.settings;
+    if (fineProxyPasses >= 0) {
+      s.fineProxyPasses = static_cast<uint32_t>(fineProxyPasses);
+      s.productFineProxyPasses.clear();
+    }
+    return s;
+  }
 };
 
 // --- render ------------------------------------------------------------------------------
@@ -170,11 +183,12 @@ struct ProfileCommand {
   SceneFlags scene;
   std::vector<int> passes{1, 5, 10, 20, 50, 100, 200};
   int frames = 20;
-  int shadowMapSize = 0;  // 0: the bundle's (its settings)
+  int shadowMapSize = 0;     // 0: the bundle's (its settings)
+  int fineProxyPasses = -1;  // -1: the bundle's (its settings)
   std::string csv, plot;
 
   int run() const {
-    Session session(scene);
+    Session session(scene, fineProxyPasses);
     shadow::FrameLoop& loop = session.loop;
     if (shadowMapSize != 0) loop.compositor.setShadowMapSize(static_cast<uint32_t>(shadowMapSize));
     // The size the passes draw: the flag's, or the bundle's settings (bench/board_cost_model.py
@@ -196,7 +210,7 @@ struct ProfileCommand {
     }
     // The product's vertices: with the passes and pixels, what the board's cost model charges
     // (shadow/frame_cost_model.h); the product slides, so it is shaded in every frame. The
-    // occluder triangles the passes drew, which the model does not charge yet (issue 17).
+    // occluder triangles the passes drew: what a pass drawing the fine proxy costs more.
     out << ",product_vertices,shadow_map_size,shadow_map_triangles\n";
     // The console: the median frame, then the stages' means grouped (traversal with clusters;
     // room and product transfers; raster: objects, passes, finish; rest: every other stage).
@@ -432,6 +446,10 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
                 "shadow-map side in texels, a multiple of 16 (default: the bundle's settings, "
                 "`penumbra info`)")
       ->check(CLI::Range(16, 4096));  // and a multiple of 16: FrameCompositor::setShadowMapSize
+  p->add_option("--fine-proxy-passes", profile->fineProxyPasses,
+                "passes of 50 that draw every product's fine shadow proxy, the same share of "
+                "more (default: the bundle's settings)")
+      ->check(CLI::Range(0, 257));
   p->add_option("--csv", profile->csv, "CSV output")->required();
   p->add_option("--plot", profile->plot, "PNG chart (matplotlib)");
   commands.push_back({p, [profile] { return profile->run(); }});

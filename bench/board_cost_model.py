@@ -5,7 +5,8 @@
 
 COUNTS_DIR is bench/board_instruction_counts.sh's output: per stage, millions of aarch64
 instructions per frame on one thread. This fits each stage to the work that drives it (passes P,
-receiver pixels summed over the passes X, shadow-map texels per pass T, product vertices V),
+receiver pixels summed over the passes X, shadow-map texels per pass T, product vertices V,
+occluder triangles drawn into the maps summed over the passes S),
 checks the fit against the counts, and turns instructions into nanoseconds on a Raspberry Pi 4
 and 5 under the assumptions stated in ASSUMPTIONS, each with a low and a high end. It prints the
 stage table and the `board` keys of a session file (shadow/frame_cost_model.h) for each board.
@@ -19,13 +20,16 @@ import re
 import sys
 
 # What drives each stage's instructions. Terms: "1" (once a frame), "P", "PT" (P x texels),
-# "X", "V", "PV" (P x V). Which stages run on the renderer's worker threads ("parallel") comes
+# "X", "V", "PV" (P x V), "S" (occluder triangles drawn, raster::FrameStats::shadowMapTriangles). Which stages run on the renderer's worker threads ("parallel") comes
 # from the code: core::forEachChunk / the tile pool (docs/performance.md "The whole kiosk frame").
 STAGES = {
     # No per-pass constant of its own: with every map but eight 256², P and P·T move together
     # and a free constant comes out negative; a pass's fixed work is its map (T) and its
-    # receivers (X).
-    "raster_passes": (["PT", "X", "PV"], True),
+    # receivers (X). Its occluder is the proxy, or in the first passes the fine proxy (S, the
+    # triangles drawn: with the fine proxy in none or every pass, the bunny's and the
+    # teapot's frames differ by 630-1,040 instructions per triangle); the product's own
+    # triangles receive for self-shadowing (PV, dropped when the fit makes it negative).
+    "raster_passes": (["PT", "X", "PV", "S"], True),
     "pass_list": (["P", "X", "PV"], True),
     "product_transfers": (["1", "V", "PV"], True),
     "product_shading": (["V"], True),  # in the frames the product moved (the profile: all)
@@ -69,6 +73,7 @@ def read_profiles(directory):
     for path in sorted(directory.glob("profile-*.csv")):
         with open(path) as f:
             for r in csv.DictReader(f):
+                r["file"] = path.name
                 rows.append(r)
     if not rows:
         sys.exit(f"board_cost_model.py: {directory}: no profile-*.csv")
@@ -96,6 +101,7 @@ def term(r, name):
         "X": float(r["shadowed_pixels"]),
         "V": float(r["product_vertices"]),
         "PV": p * float(r["product_vertices"]),
+        "S": float(r["shadow_map_triangles"]),
     }[name]
 
 
@@ -205,6 +211,7 @@ def main():
         "shaded_vertex": (0.0, fits["product_shading"].get("V", 0.0)),
         "transferred_vertex": (0.0, fits["product_transfers"].get("V", 0.0)),
         "pass_transferred_vertex": (0.0, fits["product_transfers"].get("PV", 0.0)),
+        "shadow_map_triangle": gather("S"),
     }
 
     boards = {}
@@ -224,6 +231,7 @@ def main():
                 "per_shaded_vertex_ps": round(cost["shaded_vertex"] * 1000),
                 "per_transferred_vertex_ps": round(cost["transferred_vertex"] * 1000),
                 "per_pass_transferred_vertex_ps": round(cost["pass_transferred_vertex"] * 1000),
+                "per_shadow_map_triangle_ps": round(cost["shadow_map_triangle"] * 1000),
                 "ns_per_instruction": ns,
                 "speedup": s,
             }
@@ -247,16 +255,19 @@ def main():
         f"**{t[1]:.1f}** ({t[0]:.1f}-{t[2]:.1f})" for t in totals.values()) + " |")
 
     # How many passes fit a 30 fps frame on each board, per product at its profiled pose (its
-    # receiver pixels per pass from the 64-pass frames; shaded every frame: it is moving).
+    # receiver pixels and occluder triangles per pass from the 64-pass frames at the bundle's
+    # settings; shaded every frame: it is moving).
     budget_ns = 1e9 / 30
     products = {}
     for r in rows:
-        if r["shadow_map_size"] == "256" and r["passes"] == "64":
-            products[int(r["product_vertices"])] = float(r["shadowed_pixels"]) / 64
-    fit_lines = ["| product (vertices) | receiver px per pass | " + " | ".join(
-        f"{a['name'].split(' (')[0]}: passes at 30 fps (range)" for a in ASSUMPTIONS.values()) + " |",
-        "|---|---|" + "---|" * len(ASSUMPTIONS)]
-    for v, px in sorted(products.items()):
+        if re.fullmatch(r"profile-\d+\.csv", r["file"]) and r["passes"] == "64":
+            products[int(r["product_vertices"])] = (float(r["shadowed_pixels"]) / 64,
+                                                    float(r["shadow_map_triangles"]) / 64)
+    fit_lines = ["| product (vertices) | receiver px per pass | occluder triangles per pass | "
+                 + " | ".join(f"{a['name'].split(' (')[0]}: passes at 30 fps (range)"
+                              for a in ASSUMPTIONS.values()) + " |",
+        "|---|---|---|" + "---|" * len(ASSUMPTIONS)]
+    for v, (px, tri) in sorted(products.items()):
         cells = []
         for key in ASSUMPTIONS:
             n = []
@@ -266,13 +277,15 @@ def main():
                                                + b["per_transferred_vertex_ps"]) * v / 1e3
                 per_pass = b["per_pass_us"] * 1e3 + (
                     b["per_texel_ps"] * 256**2 + b["per_pixel_ps"] * px
-                    + (b["per_pass_vertex_ps"] + b["per_pass_transferred_vertex_ps"]) * v) / 1e3
+                    + (b["per_pass_vertex_ps"] + b["per_pass_transferred_vertex_ps"]) * v
+                    + b["per_shadow_map_triangle_ps"] * tri) / 1e3
                 n.append(max(0, int((budget_ns - fixed) // per_pass)))
             cells.append(f"{n[1]} ({n[2]}-{n[0]})")
-        fit_lines.append(f"| {v} | {px:,.0f} | " + " | ".join(cells) + " |")
+        fit_lines.append(f"| {v} | {px:,.0f} | {tri:,.0f} | " + " | ".join(cells) + " |")
 
     out = ["Stage fits (instructions per frame; P passes, T texels per map, X receiver pixels "
-           "over the passes, V product vertices):", ""] + lines + [
+           "over the passes, V product vertices, S occluder triangles drawn over the passes):",
+           ""] + lines + [
            "", "The demo session's mean board frame (`penumbra-sim data/sessions/demo.json`, the "
            "counted frames), per stage:", ""] + table + ["", "`board` keys per board (central; "
            "low and high cost in the JSON):", ""]

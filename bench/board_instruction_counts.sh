@@ -21,6 +21,10 @@
 #   profile-<product>-map<size>.csv
 #                           the chair and the teapot at 16 and 64 passes on 64² and 128² shadow
 #                           maps (the controller's ladder; the others use 256²)
+#   profile-<product>-fine<n>.csv
+#                           the bunny and the teapot at 16 and 64 passes with their fine shadow
+#                           proxies in none or every pass (--fine-proxy-passes 0 and 50; the
+#                           others use the bundle's counts): the occluder triangles' own cost
 #   demo.txt                `penumbra-sim data/sessions/demo.json --bench` over FRAMES frames
 #                           (default 240): the whole board frame by stage, M instructions
 #   console.log             the VM's serial console
@@ -96,6 +100,15 @@ for size in 64 128; do
     echo "=== end"
   done
 done
+for fine in 0 50; do
+  for product in 1 2; do
+    /bin/penumbra profile showroom/showroom.bundle --product \$product --passes 16,64 \
+        --frames 8 --threads 1 --fine-proxy-passes \$fine --csv /tmp/profile.csv >/dev/null
+    echo "=== begin profile-\$product-fine\$fine.csv"
+    /bin/busybox cat /tmp/profile.csv
+    echo "=== end"
+  done
+done
 echo "=== begin demo.txt"
 /bin/penumbra-sim sessions/demo.json --threads 1 --frames $frames --bench
 echo "=== end"
@@ -105,7 +118,7 @@ chmod +x "$initramfs/init"
 (cd "$initramfs" && find . | cpio -o -H newc --quiet | gzip -1 >"$work/initrd.gz")
 
 timeout 3600 qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 1 -m 1024 -icount shift=0 \
-  -nographic -no-reboot -kernel "$work"/kernel/boot/vmlinuz-* -initrd "$work/initrd.gz" \
+  -nic none -nographic -no-reboot -kernel "$work"/kernel/boot/vmlinuz-* -initrd "$work/initrd.gz" \
   -append "console=ttyAMA0 rdinit=/init quiet" | tr -d '\r' >"$out/console.log"
 
 # Split the console into the files between the markers; a missing one fails the run.
@@ -114,7 +127,7 @@ awk -v dir="$out" '
   /^=== end/    { close(file); system("mv \"" file "\" \"" dir "/" name "\""); file = ""; next }
   file != ""    { print >> file }
 ' "$out/console.log"
-for f in profile-{0,1,2}.csv profile-{0,2}-map{64,128}.csv demo.txt; do
+for f in profile-{0,1,2}.csv profile-{0,2}-map{64,128}.csv profile-{1,2}-fine{0,50}.csv demo.txt; do
   [[ -s "$out/$f" ]] || {
     echo "board_instruction_counts.sh: $out/$f missing; see $out/console.log" >&2
     exit 1

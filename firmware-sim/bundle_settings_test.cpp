@@ -168,6 +168,7 @@ TEST(BundleSettings, TuneCostsFramesOnTheSessionsBoard) {
     EXPECT_EQ(b.perShadedVertexPs, pi4.perShadedVertexPs) << name;
     EXPECT_EQ(b.perTransferredVertexPs, pi4.perTransferredVertexPs) << name;
     EXPECT_EQ(b.perPassTransferredVertexPs, pi4.perPassTransferredVertexPs) << name;
+    EXPECT_EQ(b.perShadowMapTrianglePs, pi4.perShadowMapTrianglePs) << name;
   }
 }
 

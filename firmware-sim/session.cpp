@@ -27,6 +27,7 @@ void readBoard(const JsonValue& b, Session& s) {
   s.cost.perTransferredVertexPs = b.integerOr("per_transferred_vertex_ps", 0, 0, 1'000'000'000);
   s.cost.perPassTransferredVertexPs =
       b.integerOr("per_pass_transferred_vertex_ps", 0, 0, 1'000'000'000);
+  s.cost.perShadowMapTrianglePs = b.integerOr("per_shadow_map_triangle_ps", 0, 0, 1'000'000'000);
   for (const JsonValue& e : b.optionalArray("load_steps")) {
     e.object({"at_ms", "permille"});
     const int64_t at = e["at_ms"].integer(0, kHour) * kNsPerMs;
@@ -168,12 +169,12 @@ Session loadSession(const std::filesystem::path& path) {
   s.frames = static_cast<uint32_t>(root.integerOr("frames", 600, 1, 1'000'000));
 
   s.kiosk = kiosk::readLoopOptions(root, "kiosk", kiosk::HudMode::kOn);
-  readBoard(
-      root.optionalObject(
-          "board", {"fixed_us", "per_pass_us", "per_texel_ps", "per_pixel_ps", "per_pass_vertex_ps",
-                    "per_product_vertex_ps", "per_shaded_vertex_ps", "per_transferred_vertex_ps",
-                    "per_pass_transferred_vertex_ps", "load_steps", "overruns"}),
-      s);
+  readBoard(root.optionalObject(
+                "board", {"fixed_us", "per_pass_us", "per_texel_ps", "per_pixel_ps",
+                          "per_pass_vertex_ps", "per_product_vertex_ps", "per_shaded_vertex_ps",
+                          "per_transferred_vertex_ps", "per_pass_transferred_vertex_ps",
+                          "per_shadow_map_triangle_ps", "load_steps", "overruns"}),
+            s);
   readCamera(root.optionalObject("camera", {"present", "source", "fps", "transport_us", "drift",
                                             "person", "faults"}),
              dir, s);

@@ -600,7 +600,7 @@ FrameReport KioskLoop::step() {
   io_.time->charge({r.frame,
                     start,
                     {passes, passPixels, d.shadowMapSize, c.productVertices, c.shadedVertices,
-                     c.transferredVertices}});
+                     c.transferredVertices, s.loop.renderer.lastStats().shadowMapTriangles}});
   noteBudget(start, d.overBudget);
 
   r.warnings = warnings(start, camera, d.overBudget);

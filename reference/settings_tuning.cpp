@@ -61,6 +61,7 @@ double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop, ui
   work.productVertices = loop.stats.productVertices;
   work.shadedVertices = loop.stats.productVertices;
   work.transferredVertices = loop.stats.productVertices;
+  work.shadowMapTriangles = loop.renderer.lastStats().shadowMapTriangles;
   return double(board.frameNs(0, work)) * 1e-6;
 }
 

@@ -29,7 +29,7 @@ CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
   if (params_.fixedNs < 0 || params_.perPassNs < 0 || params_.perTexelPs < 0 ||
       params_.perPixelPs < 0 || params_.perPassVertexPs < 0 || params_.perProductVertexPs < 0 ||
       params_.perShadedVertexPs < 0 || params_.perTransferredVertexPs < 0 ||
-      params_.perPassTransferredVertexPs < 0) {
+      params_.perPassTransferredVertexPs < 0 || params_.perShadowMapTrianglePs < 0) {
     throw std::invalid_argument("CostModel: costs must be >= 0");
   }
   for (size_t i = 0; i < loadSteps_.size(); ++i) {
@@ -45,15 +45,16 @@ CostModel::CostModel(Params params, std::vector<LoadStep> loadSteps)
 
 CostModel::Params CostModel::raspberryPi4() {
   Params p;
-  p.fixedNs = 6'877'000;
+  p.fixedNs = 7'166'000;
   p.perPassNs = 2'000;
-  p.perTexelPs = 2'444;
-  p.perPixelPs = 10'685;
-  p.perPassVertexPs = 41'628;
-  p.perProductVertexPs = 459'438;
-  p.perShadedVertexPs = 2'425'589;
-  p.perTransferredVertexPs = 83'941;
-  p.perPassTransferredVertexPs = 10'905;
+  p.perTexelPs = 2'141;
+  p.perPixelPs = 21'383;
+  p.perPassVertexPs = 11'565;
+  p.perProductVertexPs = 558'635;
+  p.perShadedVertexPs = 2'036'679;
+  p.perTransferredVertexPs = 83'992;
+  p.perPassTransferredVertexPs = 10'900;
+  p.perShadowMapTrianglePs = 191'449;
   return p;
 }
 
@@ -74,15 +75,18 @@ int64_t CostModel::frameNs(int64_t nowNs, const Workload& work) const {
       addSat(addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels)),
              addSat(mulSat(params_.perPassVertexPs, work.productVertices),
                     mulSat(params_.perPassTransferredVertexPs, work.transferredVertices)));
-  const int64_t pixels = work.shadowedPixels > static_cast<uint64_t>(kInt64Max)
-                             ? kInt64Max
-                             : static_cast<int64_t>(work.shadowedPixels);
+  const auto clamped = [](uint64_t n) {
+    return n > static_cast<uint64_t>(kInt64Max) ? kInt64Max : static_cast<int64_t>(n);
+  };
+  const int64_t pixels = clamped(work.shadowedPixels);
   const int64_t productPs =
       addSat(addSat(mulSat(params_.perProductVertexPs, work.productVertices),
                     mulSat(params_.perShadedVertexPs, work.shadedVertices)),
              mulSat(params_.perTransferredVertexPs, work.transferredVertices));
-  const int64_t variablePs =
-      addSat(addSat(mulSat(perPassPs, work.passes), mulSat(params_.perPixelPs, pixels)), productPs);
+  const int64_t passWorkPs =
+      addSat(mulSat(params_.perPixelPs, pixels),
+             mulSat(params_.perShadowMapTrianglePs, clamped(work.shadowMapTriangles)));
+  const int64_t variablePs = addSat(addSat(mulSat(perPassPs, work.passes), passWorkPs), productPs);
   const int64_t variableNs = mulSat(variablePs / 1000, loadPermilleAt(nowNs)) / 1000;
   return addSat(params_.fixedNs, variableNs);
 }

@@ -15,6 +15,7 @@ namespace penumbra::shadow {
 //                                                  + perPassTransferredVertexPs * transferred)
 //                                      / 1000)
 //                          + (perPixelPs * shadowedPixels + perProductVertexPs * productVertices
+//                             + perShadowMapTrianglePs * shadowMapTriangles
 //                             + perTransferredVertexPs * transferred
 //                             + perShadedVertexPs * shadedVertices) / 1000)
 //
@@ -22,12 +23,13 @@ namespace penumbra::shadow {
 // fixed shading/compositing part) and design.md §1 step 7 (each pass renders a size×size
 // shadow map, then touches its shadowed pixels); the product's terms are its own stages
 // (issue 13): its triangles in the pass list and in every pass grow with its vertices and the
-// passes; its transfers (per vertex, and per vertex and cluster) and its shading are paid only
-// in the frames that work them out again (it moved, or the clusters changed).
-// The coefficients come from counted instructions (bench/board_cost_model.py, docs/kiosk.md
-// "Cost model"). `load` is a scripted factor, piecewise constant in time, that stands for the
-// scene getting heavier or lighter (a load step); it scales the variable part only, so the
-// fixed part stays what the controller was told.
+// passes, and the occluder triangles the passes really drew into their maps (a pass that draws
+// the fine shadow proxy draws several times the coarse one's; issue 17); its transfers (per vertex,
+// and per vertex and cluster) and its shading are paid only in the frames that work them out again
+// (it moved, or the clusters changed). The coefficients come from counted instructions
+// (bench/board_cost_model.py, docs/kiosk.md "Cost model"). `load` is a scripted factor, piecewise
+// constant in time, that stands for the scene getting heavier or lighter (a load step); it scales
+// the variable part only, so the fixed part stays what the controller was told.
 class CostModel {
  public:
   struct LoadStep {
@@ -45,6 +47,7 @@ class CostModel {
     int64_t perShadedVertexPs = 0;       // product vertices shaded this frame
     int64_t perTransferredVertexPs = 0;  // product vertices whose transfers were worked out
     int64_t perPassTransferredVertexPs = 0;  // the same, per pass (cluster)
+    int64_t perShadowMapTrianglePs = 0;      // occluder triangles drawn, summed over the passes
   };
 
   // What one frame did (the kiosk hands it over in kiosk::FrameWork).
@@ -53,6 +56,7 @@ class CostModel {
     uint64_t shadowedPixels = 0;  // receiver pixels summed over the passes
     uint32_t shadowMapSize = 0;
     uint32_t productVertices = 0, shadedVertices = 0, transferredVertices = 0;
+    uint64_t shadowMapTriangles = 0;  // raster::FrameStats::shadowMapTriangles
   };
 
   // The Raspberry Pi 4's central coefficients (docs/kiosk.md "Cost model", from counted

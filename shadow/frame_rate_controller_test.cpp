@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -155,6 +156,22 @@ TEST(CostModel, ChargesTheProductsVerticesPerPassPerFrameAndWhenWorkedOut) {
   EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 100, 100}), 1'000 + 433 * 2);
   EXPECT_THROW(CostModel({0, 0, 0, 0, 0, -1, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(CostModel({0, 0, 0, 0, 0, 0, 0, 0, -1}), std::invalid_argument);
+}
+
+TEST(CostModel, ChargesTheOccluderTrianglesThePassesDrew) {
+  // The frame of the test above (426,746 ps) and 23 ps per occluder triangle drawn: a pass
+  // with the fine proxy costs more than one with the coarse proxy, at the same vertex count.
+  const CostModel m({1'000, 200, 3, 7, 5, 11, 13, 19, 17, 23}, {{100, 2000}});
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 0}), 1'000 + 426);
+  // 600 coarse triangles: + 13,800 ps -> 440,546 ps -> 440 ns.
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 600}), 1'000 + 440);
+  // 5,000 fine ones: + 115,000 ps -> 541,746 ps -> 541 ns; the load scales them too.
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 5'000}), 1'000 + 541);
+  EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 0, 0, 5'000}), 1'000 + 541 * 2);
+  // Saturates at INT64_MAX picoseconds instead of wrapping to a negative cost.
+  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, ~uint64_t{0}}),
+            1'000 + std::numeric_limits<int64_t>::max() / 1000);
+  EXPECT_THROW(CostModel({0, 0, 0, 0, 0, 0, 0, 0, 0, -1}), std::invalid_argument);
 }
 
 TEST(FrameRateController, ColdStartSettlesOnTheBestFit) {

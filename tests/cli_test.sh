@@ -58,6 +58,19 @@ assert r['shadow_map_size'] == '256', r
 assert r['passes'] == '8' and 0 < int(r['shadow_map_triangles']) <= 8 * 2500, r
 " "$tmp/profile.csv"
 check "profile: the map size and the occluder triangles drawn" $?
+# --fine-proxy-passes: the bunny's fine proxy (2,500 triangles) in none or every pass; the
+# board's cost-model counts (bench/board_instruction_counts.sh) price a triangle from these.
+for fine in 0 50; do
+  "${run[@]}" profile "$data/showroom/showroom.bundle" --product 1 --passes 8 --frames 1 \
+    --fine-proxy-passes "$fine" --csv "$tmp/profile-fine$fine.csv" >/dev/null 2>&1
+done
+python3 -c "
+import csv, sys
+none, every = (list(csv.DictReader(open(f)))[0] for f in sys.argv[1:3])
+assert int(none['shadow_map_triangles']) <= 8 * 300 < int(every['shadow_map_triangles']), (none, every)
+assert none['shadowed_pixels'] == every['shadowed_pixels'], (none, every)
+" "$tmp/profile-fine0.csv" "$tmp/profile-fine50.csv"
+check "profile --fine-proxy-passes: none or every pass draws the fine proxy" $?
 
 want="$(awk '$1 == "tiny.json" {print $2}' "$golden")"
 got="$("${run[@]}" replay "$data/traces/tiny.json" --hash --threads 3 --tile 16)"
