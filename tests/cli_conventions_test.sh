@@ -66,7 +66,7 @@ done
 # the MP4's sample description is 'avc1', not MPEG-4 Part 2's 'mp4v'.
 for program in "$@"; do
   [[ "$(basename "$program")" == penumbra-sim ]] || continue
-  "$program" --help | grep -q 'write an MP4 video' || continue
+  grep -q 'write an MP4 video' <<<"$("$program" --help)" || continue
   "$program" "$data/sessions/demo.json" --frames 3 --video "$tmp/v.mp4" >/dev/null 2>"$tmp/stderr"
   rc=$?
   if command -v ffprobe >/dev/null; then

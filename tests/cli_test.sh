@@ -235,7 +235,7 @@ check "unknown --accumulation is refused" $?
 check "unknown --isa is refused" $?
 
 # The showroom commands, where this build has them (precompute needs Embree + meshoptimizer).
-if "${run[@]}" --help 2>/dev/null | grep -q "^  precompute"; then
+if grep -q "^  precompute" <<<"$("${run[@]}" --help 2>/dev/null)"; then
   "${run[@]}" precompute "$data/showroom/showroom.json" -o "$tmp/showroom.bundle" >"$tmp/stdout" 2>&1
   check "precompute the showroom" $?
   "${run[@]}" render "$tmp/showroom.bundle" --passes 20 --threads 2 --out "$tmp/frame.png" --hash \
