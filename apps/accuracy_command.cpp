@@ -98,9 +98,9 @@ struct AccuracyCommand {
 struct TuneCommand {
   std::string bundlePath, out, report, chart, posesPath, heldOutPath;
   std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
-  // Scene models tried (a scene file's): every power share with every emitter patch size;
-  // empty: the file's own.
-  std::vector<double> powerShares, emitterPatchSizes;
+  // Scene models tried (a scene file's): every power share with every emitter patch size and
+  // every proxy scale; empty: the file's own.
+  std::vector<double> powerShares, emitterPatchSizes, proxyScales;
   double fps = 0;
   RenderFlags render;
   // The shaft settings are tried around the grid's choice unless the flags say otherwise.
@@ -115,6 +115,7 @@ struct TuneCommand {
   struct SceneModel {
     double powerShare = 0;
     double emitterPatchSize = 0;
+    double proxyScale = 0;
   };
 
   // A bundle, or a scene file (.json) precomputed here with precompute's defaults and the
@@ -126,7 +127,7 @@ struct TuneCommand {
     lighting::PrecomputeOptions precompute;
     precompute.powerShare = model.powerShare;
     precompute.emitterPatchSize = model.emitterPatchSize;
-    return precomputeScene(bundlePath, precompute, timings);
+    return precomputeScene(bundlePath, precompute, timings, model.proxyScale);
 #else
     (void)model;
     throw cli::UsageError(bundlePath +
@@ -168,7 +169,8 @@ struct TuneCommand {
   // The references of the last model made them: a model with the same photograph (another
   // power share keeps the room, its photograph, tone and products) measures against them.
   // Cutting the emitters finer changes the photograph a little (it is drawn from the
-  // patches' radiance), so such a model makes its own.
+  // patches' radiance), so such a model makes its own. Other proxies change neither: the
+  // reference casts the product's own mesh.
   std::optional<reference::TuneReferences> references;
   std::vector<uint8_t> referencesBackground;
 
@@ -178,6 +180,9 @@ struct TuneCommand {
     if (s.emitterPatchSize > 0) {
       d += (d.empty() ? "" : ", ") + std::string("emitter patches ") +
            core::formatNumber(s.emitterPatchSize) + " m";
+    }
+    if (s.proxyScale > 0) {
+      d += (d.empty() ? "" : ", ") + std::string("proxies x") + core::formatNumber(s.proxyScale);
     }
     return d;
   }
@@ -213,16 +218,19 @@ struct TuneCommand {
     if (maxError.size() > 1) options.target.p99 = maxError[1];
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
-    const bool sceneModels = !powerShares.empty() || !emitterPatchSizes.empty();
+    const bool sceneModels =
+        !powerShares.empty() || !emitterPatchSizes.empty() || !proxyScales.empty();
     if (sceneModels && !sceneInput()) {
-      throw cli::UsageError(
-          std::string(powerShares.empty() ? "--emitter-patch-sizes" : "--power-shares") +
-          " needs a scene file (.json): " + bundlePath + "'s sources are fixed");
+      const char* flag = !powerShares.empty()         ? "--power-shares"
+                         : !emitterPatchSizes.empty() ? "--emitter-patch-sizes"
+                                                      : "--proxy-scales";
+      throw cli::UsageError(std::string(flag) + " needs a scene file (.json): " + bundlePath +
+                            "'s scene model is fixed");
     }
     if (!posesPath.empty()) options.poses = reference::loadPoseSet(posesPath);
     if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
     // Scene models from the smallest (fewest sources: the smallest share, the largest
-    // emitter patches) up: among equal costs the first wins.
+    // emitter patches; the fewest proxy triangles) up: among equal costs the first wins.
     auto values = [](std::vector<double> v, bool descending) {
       if (v.empty()) return std::vector<double>{0.0};
       std::sort(v.begin(), v.end());
@@ -233,7 +241,9 @@ struct TuneCommand {
     std::vector<Model> models;
     for (double share : values(powerShares, false)) {
       for (double emitter : values(emitterPatchSizes, true)) {
-        models.push_back(tuneModel({share, emitter}));
+        for (double proxies : values(proxyScales, false)) {
+          models.push_back(tuneModel({share, emitter, proxies}));
+        }
       }
     }
     const Model* best = nullptr;
@@ -248,7 +258,8 @@ struct TuneCommand {
       auto orNull = [](double v) { return v > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
       auto modelJson = [&](const SceneModel& m) {
         return nlohmann::json{{"power_share", orNull(m.powerShare)},
-                              {"emitter_patch_size", orNull(m.emitterPatchSize)}};
+                              {"emitter_patch_size", orNull(m.emitterPatchSize)},
+                              {"proxy_scale", orNull(m.proxyScale)}};
       };
       if (!sceneModels) {
         j = reference::toJson(options, models[0].report);
@@ -459,6 +470,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       "each patch a source, comma-separated, each precomputed from the scene file "
       "INPUT (with --power-shares: every pair)",
       0.02, 10.0);
+  cli::addNumberList(
+      t, "--proxy-scales", tune->proxyScales,
+      "scene models tried: every product's shadow proxies simplified to these shares of the "
+      "scene file's triangle counts, comma-separated (with the other scene-model flags: "
+      "every combination)",
+      0.01, 16.0);
   t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
                 "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))

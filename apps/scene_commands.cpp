@@ -349,8 +349,10 @@ struct InfoCommand {
 #ifdef PENUMBRA_HAVE_LIGHTING
 shadow::SceneBundle precomputeScene(const std::string& scenePath,
                                     const lighting::PrecomputeOptions& options,
-                                    std::vector<lighting::StageTiming>& timings) {
-  const scene::SceneDescription scene = scene::loadSceneFile(scenePath);
+                                    std::vector<lighting::StageTiming>& timings,
+                                    double proxyScale) {
+  scene::SceneDescription scene = scene::loadSceneFile(scenePath);
+  if (proxyScale > 0) scene::scaleShadowProxies(scene, proxyScale);
   // What the models' loaders could not honour and implausible sizes (a unit slip): not
   // errors, but a technician must see them.
   for (const scene::Product& p : scene.products) {
@@ -371,6 +373,7 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
 #ifdef PENUMBRA_HAVE_LIGHTING
   auto precompute = std::make_shared<std::pair<std::string, std::string>>();
   auto precomputeOptions = std::make_shared<lighting::PrecomputeOptions>();
+  auto proxyScale = std::make_shared<double>(0.0);
   CLI::App* pre = app.add_subcommand("precompute", "Scene file -> scene bundle (Gibson 2003 §4-5)");
   pre->add_option("SCENE", precompute->first, "scene description (.json)")->required();
   pre->add_option("-o,--out", precompute->second, "bundle to write")->required();
@@ -389,15 +392,19 @@ std::vector<Command> addSceneCommands(CLI::App& app) {
                   "cut emitters into patches of at most this size in metres, each a source "
                   "(default: as the scene file cuts them)")
       ->check(cli::NumberRange(0.02, 10.0));
+  pre->add_option("--proxy-scale", *proxyScale,
+                  "every product's shadow proxies simplified to this share of the scene file's "
+                  "proxy_triangles and fine_proxy_triangles (default: as the file says)")
+      ->check(cli::NumberRange(0.01, 16.0));
   pre->add_option("--threads", precomputeOptions->threads, "threads")
       ->check(cli::NumberRange(1, 256))
       ->capture_default_str();
   commands.push_back(
-      {pre, [precompute, precomputeOptions] {
+      {pre, [precompute, precomputeOptions, proxyScale] {
          core::Stopwatch watch;
          std::vector<lighting::StageTiming> timings;
          const shadow::SceneBundle bundle =
-             precomputeScene(precompute->first, *precomputeOptions, timings);
+             precomputeScene(precompute->first, *precomputeOptions, timings, *proxyScale);
          shadow::saveBundle(bundle, precompute->second);
          for (const auto& t : timings) {
            std::printf("stage %-22s %9.1f ms\n", t.stage.c_str(), t.ms);

@@ -26,11 +26,14 @@ std::vector<Command> addSceneCommands(CLI::App& app);
 
 #ifdef PENUMBRA_HAVE_LIGHTING
 // `penumbra precompute`'s work: the scene file loaded (its models' warnings to stderr), then
-// the bundle precomputed with each stage announced on stderr. Throws the loaders' errors,
-// which name the file and the field.
+// the bundle precomputed with each stage announced on stderr. `proxyScale` > 0 simplifies
+// every product's shadow proxies again to that share of the file's triangle counts
+// (scene::scaleShadowProxies); 0 keeps them. Throws the loaders' errors, which name the file
+// and the field.
 shadow::SceneBundle precomputeScene(const std::string& scenePath,
                                     const lighting::PrecomputeOptions& options,
-                                    std::vector<lighting::StageTiming>& timings);
+                                    std::vector<lighting::StageTiming>& timings,
+                                    double proxyScale = 0);
 #endif
 
 // --pose "X,Y,Z" or "X,Y,Z,YAW": floor position X, Z and lift Y above the floor in metres,

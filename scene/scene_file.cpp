@@ -468,4 +468,22 @@ SceneDescription loadSceneFile(const std::filesystem::path& path) {
   return SceneParser(path).parse(doc.root());
 }
 
+void scaleShadowProxies(SceneDescription& scene, double scale) {
+  if (!(scale > 0 && scale <= 16)) {
+    throw std::invalid_argument("proxy scale " + core::formatNumber(scale) + " is not in (0, 16]");
+  }
+  static constexpr size_t kMinTriangles = 4, kMaxTriangles = 100'000;  // the scene file's bounds
+  const auto scaled = [scale](size_t n, size_t least) {
+    return std::clamp<size_t>(static_cast<size_t>(std::llround(double(n) * scale)), least,
+                              kMaxTriangles);
+  };
+  for (Product& p : scene.products) {
+    p.proxyTriangles = scaled(p.proxyTriangles, kMinTriangles);
+    p.proxy = simplifyForShadows(p.mesh, p.proxyTriangles, p.solid);
+    if (p.fineProxyTriangles == 0) continue;
+    p.fineProxyTriangles = scaled(p.fineProxyTriangles, p.proxyTriangles + 1);
+    p.fineProxy = simplifyForShadows(p.mesh, p.fineProxyTriangles, p.solid);
+  }
+}
+
 }  // namespace penumbra::scene

@@ -143,4 +143,11 @@ SceneDescription loadSceneFile(const std::filesystem::path& path);
 // paths (it need not exist).
 SceneDescription parseSceneFile(std::string_view text, const std::filesystem::path& path);
 
+// Issue 17's proxy scene models: every product's shadow proxy and fine proxy simplified again
+// to `scale` times the scene file's triangle counts (rounded; at least 4, a fine proxy still
+// larger than its proxy, at most 100,000). A proxy's triangles are what each pass draws into
+// its shadow map: fewer are cheaper and further from the product's silhouette. Throws
+// std::invalid_argument unless scale is in (0, 16].
+void scaleShadowProxies(SceneDescription& scene, double scale);
+
 }  // namespace penumbra::scene

@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -128,6 +130,51 @@ TEST(SceneFile, LoadsTheBundledShowroom) {
   EXPECT_EQ(s.startPose.x, 3.0);
   // The shipped products measure what showroom products measure: no unit warning.
   for (const Product& p : s.products) EXPECT_TRUE(p.warnings.empty()) << p.name;
+}
+
+// Issue 17's proxy scene models: every proxy simplified again to a share of its triangles.
+TEST(SceneFile, ScaleShadowProxiesSimplifiesEveryProxyAgain) {
+  const SceneDescription file = loadSceneFile(showroomPath());
+  SceneDescription half = file;
+  scaleShadowProxies(half, 0.5);
+  SceneDescription twice = file;
+  scaleShadowProxies(twice, 2);
+  for (size_t i = 0; i < file.products.size(); ++i) {
+    const Product &p = file.products[i], &h = half.products[i], &t = twice.products[i];
+    EXPECT_EQ(h.proxyTriangles, p.proxyTriangles / 2) << p.name;
+    EXPECT_EQ(t.proxyTriangles, p.proxyTriangles * 2) << p.name;
+    EXPECT_LE(h.proxy.triangleCount(), h.proxyTriangles) << p.name;
+    EXPECT_LT(h.proxy.triangleCount(), p.proxy.triangleCount()) << p.name;
+    // More triangles than the model has leave the model (the chair's proxy is its whole mesh).
+    if (i > 0) {
+      EXPECT_GT(t.proxy.triangleCount(), p.proxy.triangleCount()) << p.name;
+    }
+    EXPECT_GE(t.proxy.triangleCount(), p.proxy.triangleCount()) << p.name;
+    EXPECT_EQ(h.fineProxyTriangles, p.fineProxyTriangles / 2) << p.name;
+    if (p.fineProxyTriangles > 0) {
+      EXPECT_LT(h.fineProxy.triangleCount(), p.fineProxy.triangleCount()) << p.name;
+      EXPECT_GT(h.fineProxy.triangleCount(), h.proxy.triangleCount()) << p.name;
+    } else {
+      EXPECT_EQ(h.fineProxy.triangleCount(), 0u) << p.name;  // none is made
+    }
+    // The display mesh is the model's: only the shadows' stand-ins change.
+    EXPECT_EQ(h.mesh.positions, p.mesh.positions) << p.name;
+  }
+  // Scale 1 rebuilds the same proxies, so the file's own model is one of the candidates.
+  SceneDescription same = file;
+  scaleShadowProxies(same, 1);
+  for (size_t i = 0; i < file.products.size(); ++i) {
+    EXPECT_EQ(same.products[i].proxy.positions, file.products[i].proxy.positions);
+    EXPECT_EQ(same.products[i].fineProxy.indices, file.products[i].fineProxy.indices);
+  }
+  // The floor of 4 triangles, and a fine proxy kept larger than its proxy.
+  SceneDescription tiny = file;
+  scaleShadowProxies(tiny, 0.001);
+  EXPECT_EQ(tiny.products[1].proxyTriangles, 4u);
+  EXPECT_EQ(tiny.products[1].fineProxyTriangles, 5u);
+  for (double bad : {0.0, -1.0, 17.0, std::nan("")}) {
+    EXPECT_THROW(scaleShadowProxies(tiny, bad), std::invalid_argument) << bad;
+  }
 }
 
 #ifdef PENUMBRA_HAVE_GLTF

@@ -255,6 +255,21 @@ if grep -q "^  precompute" <<<"$("${run[@]}" --help 2>/dev/null)"; then
   "${run[@]}" precompute "$tmp/absent.json" -o "$tmp/x.bundle" >/dev/null 2>"$tmp/stderr"
   [[ $? == 1 ]] && grep -q "absent.json" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
   check "precompute: a missing scene file is named" $?
+  # --proxy-scale: every product's shadow proxies simplified to half the file's triangles
+  # (what tune --proxy-scales searches); the showroom's bunny 300 -> 150, 2,500 -> 1,250.
+  "${run[@]}" precompute "$data/showroom/showroom.json" --proxy-scale 0.5 \
+    -o "$tmp/half-proxies.bundle" >/dev/null 2>&1 &&
+    "${run[@]}" info "$tmp/half-proxies.bundle" --json >"$tmp/half-proxies.json" &&
+    python3 -c "
+import json, sys
+bunny = json.load(open(sys.argv[1]))['products'][1]
+assert bunny['name'] == 'bunny' and bunny['proxy_triangles'] <= 150 and 1000 < bunny['fine_proxy_triangles'] <= 1250, bunny
+" "$tmp/half-proxies.json"
+  check "precompute --proxy-scale: the proxies at half the file's triangles" $?
+  "${run[@]}" precompute "$data/showroom/showroom.json" --proxy-scale 0 \
+    -o "$tmp/x.bundle" >/dev/null 2>"$tmp/stderr"
+  [[ $? == 2 ]] && grep -q -- "--proxy-scale" "$tmp/stderr" && [[ ! -e "$tmp/x.bundle" ]]
+  check "precompute: --proxy-scale 0 is refused" $?
 
   # Issue 18: precompute refuses what render would refuse, naming the file and the field,
   # with exit 1 and no bundle left behind.

@@ -96,21 +96,29 @@ check "tune: a scene file is precomputed, then tuned ($(tail -c 200 "$tmp/err"))
 # The help is read whole before grep: under pipefail, grep -q leaving at the first match
 # killed the writer with SIGPIPE (exit 141), and this whole branch was skipped.
 if grep -q -- "--spp" <<<"$("${run[@]}" tune --help)"; then
-  for target in 3 6.5; do
-    "${run[@]}" tune "$data/showroom/showroom.json" --max-error "$target,255" \
-      --power-shares 1.0,0.5 --spp 2 --light-samples 8 --passes 16,64 --maps 256 \
-      --fine-proxy-passes 16 --threads 2 -o "$tmp/share-$target.bundle" \
-      --report "$tmp/share-$target.json" >"$tmp/out" 2>"$tmp/err" &&
-      "${run[@]}" info "$tmp/share-$target.bundle" --json >"$tmp/share-info.json" 2>&1 && $py -c "
-import json, sys
+  # tune_models NAME SCENE TARGET CHECK [TUNE FLAGS...]: tunes the scene models of SCENE to
+  # TARGET (mean, any p99) with 2-spp references and writes the tuned bundle's info; CHECK is
+  # Python run with the report, the info and the target as argv[1:4].
+  tune_models() {
+    local name=$1 scene=$2 target=$3 script=$4
+    shift 4
+    "${run[@]}" tune "$scene" --max-error "$target,255" --spp 2 --light-samples 8 --maps 256 \
+      --fine-proxy-passes 16 --threads 2 "$@" -o "$tmp/$name-$target.bundle" \
+      --report "$tmp/$name-$target.json" >"$tmp/out" 2>"$tmp/err" &&
+      "${run[@]}" info "$tmp/$name-$target.bundle" --json >"$tmp/$name-info.json" 2>&1 &&
+      $py -c "import json, sys
 r = json.load(open(sys.argv[1])); info = json.load(open(sys.argv[2])); target = float(sys.argv[3])
+$script" "$tmp/$name-$target.json" "$tmp/$name-info.json" "$target"
+    check "tune --$name: target $target keeps the model that meets it most cheaply ($(tail -c 200 "$tmp/err"))" $?
+  }
+  for target in 3 6.5; do
+    tune_models power-shares "$data/showroom/showroom.json" "$target" "
 want = 1.0 if target < 5 else 0.5
-assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
 shares = {m['power_share']: m for m in r['scene_models']}
 assert shares[0.5]['sources'] < shares[1.0]['sources'], shares.keys()
-assert info['power_share'] == want and info['sources'] == shares[want]['sources'], info
-" "$tmp/share-$target.json" "$tmp/share-info.json" "$target"
-    check "tune --power-shares: target $target keeps the model that meets it most cheaply ($(tail -c 200 "$tmp/err"))" $?
+assert info['power_share'] == want and info['sources'] == shares[want]['sources'], info" \
+      --power-shares 1.0,0.5 --passes 16,64
   done
   # --emitter-patch-sizes: the spotlight showroom's 0.2 m spot as one source, or cut into 16
   # of 5 cm. One pass cannot draw the penumbra of the spot's whole area: at the bunny rotated
@@ -118,35 +126,42 @@ assert info['power_share'] == want and info['sources'] == shares[want]['sources'
   # takes the 16; one of 12 the single source, which draws one pass.
   printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "bunny-rotated", "product": 1, "at": [2.6, 0, 2.0, 120]}]}' >"$tmp/bunny-rotated.json"
   for target in 5 12; do
-    "${run[@]}" tune "$data/showroom/spotlight.json" --max-error "$target,255" \
-      --emitter-patch-sizes 0.2,0.05 --poses "$tmp/bunny-rotated.json" --spp 2 \
-      --light-samples 8 --passes 16 --maps 256 --fine-proxy-passes 16 --threads 2 \
-      -o "$tmp/emitters-$target.bundle" --report "$tmp/emitters-$target.json" >"$tmp/out" \
-      2>"$tmp/err" &&
-      "${run[@]}" info "$tmp/emitters-$target.bundle" --json >"$tmp/emitters-info.json" 2>&1 &&
-      $py -c "
-import json, sys
-r = json.load(open(sys.argv[1])); info = json.load(open(sys.argv[2])); target = float(sys.argv[3])
+    tune_models emitter-patch-sizes "$data/showroom/spotlight.json" "$target" "
 want = 0.05 if target < 10 else 0.2
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want, 'proxy_scale': None}, r['chosen_scene_model']
 models = {m['emitter_patch_size']: m for m in r['scene_models']}
 assert models[0.2]['sources'] == 1 and models[0.05]['sources'] == 16, models.keys()
-assert info['sources'] == models[want]['sources'], info
-" "$tmp/emitters-$target.json" "$tmp/emitters-info.json" "$target"
-    check "tune --emitter-patch-sizes: target $target keeps the model that meets it most cheaply ($(tail -c 200 "$tmp/err"))" $?
+assert info['sources'] == models[want]['sources'], info" \
+      --emitter-patch-sizes 0.2,0.05 --poses "$tmp/bunny-rotated.json" --passes 16
   done
-  rm -f "$tmp/refused.bundle"
-  "${run[@]}" tune "$bundle" --max-error 1 --emitter-patch-sizes 0.1 "${fast[@]}" \
-    -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
-  rc=$?
-  [[ $rc != 0 ]] && grep -qF "needs a scene file" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
-  check "tune: --emitter-patch-sizes with a bundle is refused (exit $rc: $(head -c 200 "$tmp/err"))" $?
-  rm -f "$tmp/refused.bundle"
-  "${run[@]}" tune "$bundle" --max-error 1 --power-shares 0.5 "${fast[@]}" \
-    -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
-  rc=$?
-  [[ $rc != 0 ]] && grep -qF "needs a scene file" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
-  check "tune: --power-shares with a bundle is refused (exit $rc: $(head -c 200 "$tmp/err"))" $?
+  # --proxy-scales: every product's shadow proxies simplified to a tenth of the scene file's
+  # triangles, or kept. At the bunny's corner (2 spp, 16 passes) a tenth (30 and 250
+  # triangles) is 3.94 levels off at a board cost of 16.1 ms, the file's (300 and 2,500)
+  # 3.62 at 19.6 ms: the occluder triangles have a price (shadow/frame_cost_model.h). A target
+  # of 3.8 keeps the file's proxies, one of 4.5 the tenth. The references are shared: the
+  # ray tracer casts the product's own mesh whatever the proxy.
+  printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "bunny-corner", "product": 1, "at": [5.6, 0, 3.05, 0]}]}' >"$tmp/bunny-corner.json"
+  for target in 3.8 4.5; do
+    tune_models proxy-scales "$data/showroom/showroom.json" "$target" "
+want = 1.0 if target < 4 else 0.1
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'proxy_scale': want}, r['chosen_scene_model']
+models = {m['proxy_scale']: m['tune'] for m in r['scene_models']}
+assert list(models) == [0.1, 1.0], models.keys()  # the fewest triangles first
+cost = {k: t['candidates'][t['chosen']]['board_ms'] for k, t in models.items()}
+assert cost[0.1] < cost[1.0], cost
+bunny = info['products'][1]
+assert bunny['proxy_triangles'] <= (30 if want < 1 else 300), bunny
+assert bunny['fine_proxy_triangles'] <= (250 if want < 1 else 2500), bunny" \
+      --proxy-scales 1,0.1 --poses "$tmp/bunny-corner.json" --passes 16
+  done
+  for flag in --emitter-patch-sizes --power-shares --proxy-scales; do
+    rm -f "$tmp/refused.bundle"
+    "${run[@]}" tune "$bundle" --max-error 1 "$flag" 0.5 "${fast[@]}" \
+      -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
+    rc=$?
+    [[ $rc != 0 ]] && grep -qF "$flag needs a scene file" "$tmp/err" && [[ ! -e "$tmp/refused.bundle" ]]
+    check "tune: $flag with a bundle is refused (exit $rc: $(head -c 200 "$tmp/err"))" $?
+  done
 fi
 printf '{"format": "penumbra-scene", "version": 1, "image": {"width": 64}}' >"$tmp/bad-scene.json"
 rm -f "$tmp/refused.bundle"
