@@ -98,9 +98,9 @@ struct AccuracyCommand {
 struct TuneCommand {
   std::string bundlePath, out, report, chart, posesPath, heldOutPath;
   std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
-  // Scene models tried (a scene file's): every power share with every emitter patch size and
-  // every proxy scale; empty: the file's own.
-  std::vector<double> powerShares, emitterPatchSizes, proxyScales;
+  // Scene models tried (a scene file's): every combination of power share, emitter patch size,
+  // receiver patch size and proxy scale; empty: the file's own.
+  std::vector<double> powerShares, emitterPatchSizes, patchSizes, proxyScales;
   double fps = 0;
   RenderFlags render;
   // The shaft settings are tried around the grid's choice unless the flags say otherwise.
@@ -115,6 +115,7 @@ struct TuneCommand {
   struct SceneModel {
     double powerShare = 0;
     double emitterPatchSize = 0;
+    double patchSize = 0;
     double proxyScale = 0;
   };
 
@@ -127,6 +128,7 @@ struct TuneCommand {
     lighting::PrecomputeOptions precompute;
     precompute.powerShare = model.powerShare;
     precompute.emitterPatchSize = model.emitterPatchSize;
+    precompute.patchSize = model.patchSize;
     return precomputeScene(bundlePath, precompute, timings, model.proxyScale);
 #else
     (void)model;
@@ -169,8 +171,8 @@ struct TuneCommand {
   // The references of the last model made them: a model with the same photograph (another
   // power share keeps the room, its photograph, tone and products) measures against them.
   // Cutting the emitters finer changes the photograph a little (it is drawn from the
-  // patches' radiance), so such a model makes its own. Other proxies change neither: the
-  // reference casts the product's own mesh.
+  // patches' radiance), and so does cutting the room's patches coarser or finer: such a model
+  // makes its own. Other proxies change neither: the reference casts the product's own mesh.
   std::optional<reference::TuneReferences> references;
   std::vector<uint8_t> referencesBackground;
 
@@ -180,6 +182,10 @@ struct TuneCommand {
     if (s.emitterPatchSize > 0) {
       d += (d.empty() ? "" : ", ") + std::string("emitter patches ") +
            core::formatNumber(s.emitterPatchSize) + " m";
+    }
+    if (s.patchSize > 0) {
+      d += (d.empty() ? "" : ", ") + std::string("patches ") + core::formatNumber(s.patchSize) +
+           " m";
     }
     if (s.proxyScale > 0) {
       d += (d.empty() ? "" : ", ") + std::string("proxies x") + core::formatNumber(s.proxyScale);
@@ -218,11 +224,12 @@ struct TuneCommand {
     if (maxError.size() > 1) options.target.p99 = maxError[1];
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
-    const bool sceneModels =
-        !powerShares.empty() || !emitterPatchSizes.empty() || !proxyScales.empty();
+    const bool sceneModels = !powerShares.empty() || !emitterPatchSizes.empty() ||
+                             !patchSizes.empty() || !proxyScales.empty();
     if (sceneModels && !sceneInput()) {
       const char* flag = !powerShares.empty()         ? "--power-shares"
                          : !emitterPatchSizes.empty() ? "--emitter-patch-sizes"
+                         : !patchSizes.empty()        ? "--patch-sizes"
                                                       : "--proxy-scales";
       throw cli::UsageError(std::string(flag) + " needs a scene file (.json): " + bundlePath +
                             "'s scene model is fixed");
@@ -230,7 +237,10 @@ struct TuneCommand {
     if (!posesPath.empty()) options.poses = reference::loadPoseSet(posesPath);
     if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
     // Scene models from the smallest (fewest sources: the smallest share, the largest
-    // emitter patches; the fewest proxy triangles) up: among equal costs the first wins.
+    // emitter patches; the largest receiver patches; the fewest proxy triangles) up: among
+    // equal costs the first wins. The board's model has no term for the receivers' patch
+    // count (a pass's receivers cost by their pixels, which do not change), so equal errors
+    // keep the coarsest patches: the smallest bundle and the fastest precompute.
     auto values = [](std::vector<double> v, bool descending) {
       if (v.empty()) return std::vector<double>{0.0};
       std::sort(v.begin(), v.end());
@@ -241,8 +251,10 @@ struct TuneCommand {
     std::vector<Model> models;
     for (double share : values(powerShares, false)) {
       for (double emitter : values(emitterPatchSizes, true)) {
-        for (double proxies : values(proxyScales, false)) {
-          models.push_back(tuneModel({share, emitter, proxies}));
+        for (double patches : values(patchSizes, true)) {
+          for (double proxies : values(proxyScales, false)) {
+            models.push_back(tuneModel({share, emitter, patches, proxies}));
+          }
         }
       }
     }
@@ -259,6 +271,7 @@ struct TuneCommand {
       auto modelJson = [&](const SceneModel& m) {
         return nlohmann::json{{"power_share", orNull(m.powerShare)},
                               {"emitter_patch_size", orNull(m.emitterPatchSize)},
+                              {"patch_size", orNull(m.patchSize)},
                               {"proxy_scale", orNull(m.proxyScale)}};
       };
       if (!sceneModels) {
@@ -470,6 +483,11 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       "each patch a source, comma-separated, each precomputed from the scene file "
       "INPUT (with --power-shares: every pair)",
       0.02, 10.0);
+  cli::addNumberList(t, "--patch-sizes", tune->patchSizes,
+                     "scene models tried: the room's patches cut to at most these sizes in "
+                     "metres (the scene file's finer regions, contact and shadow-boundary "
+                     "patches kept), comma-separated",
+                     0.02, 10.0);
   cli::addNumberList(
       t, "--proxy-scales", tune->proxyScales,
       "scene models tried: every product's shadow proxies simplified to these shares of the "

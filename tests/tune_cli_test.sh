@@ -114,7 +114,7 @@ $script" "$tmp/$name-$target.json" "$tmp/$name-info.json" "$target"
   for target in 3 6.5; do
     tune_models power-shares "$data/showroom/showroom.json" "$target" "
 want = 1.0 if target < 5 else 0.5
-assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
 shares = {m['power_share']: m for m in r['scene_models']}
 assert shares[0.5]['sources'] < shares[1.0]['sources'], shares.keys()
 assert info['power_share'] == want and info['sources'] == shares[want]['sources'], info" \
@@ -128,7 +128,7 @@ assert info['power_share'] == want and info['sources'] == shares[want]['sources'
   for target in 5 12; do
     tune_models emitter-patch-sizes "$data/showroom/spotlight.json" "$target" "
 want = 0.05 if target < 10 else 0.2
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want, 'proxy_scale': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want, 'patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
 models = {m['emitter_patch_size']: m for m in r['scene_models']}
 assert models[0.2]['sources'] == 1 and models[0.05]['sources'] == 16, models.keys()
 assert info['sources'] == models[want]['sources'], info" \
@@ -144,7 +144,7 @@ assert info['sources'] == models[want]['sources'], info" \
   for target in 3.8 4.5; do
     tune_models proxy-scales "$data/showroom/showroom.json" "$target" "
 want = 1.0 if target < 4 else 0.1
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'proxy_scale': want}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': want}, r['chosen_scene_model']
 models = {m['proxy_scale']: m['tune'] for m in r['scene_models']}
 assert list(models) == [0.1, 1.0], models.keys()  # the fewest triangles first
 cost = {k: t['candidates'][t['chosen']]['board_ms'] for k, t in models.items()}
@@ -154,7 +154,26 @@ assert bunny['proxy_triangles'] <= (30 if want < 1 else 300), bunny
 assert bunny['fine_proxy_triangles'] <= (250 if want < 1 else 2500), bunny" \
       --proxy-scales 1,0.1 --poses "$tmp/bunny-corner.json" --passes 16
   done
-  for flag in --emitter-patch-sizes --power-shares --proxy-scales; do
+  # --patch-sizes: the room's patches cut to at most 3 m or 0.4 m (the file's; its contact
+  # and shadow-boundary patches kept). A pass draws each receiver it may shadow whole, so 3 m
+  # patches draw more pixels: at three poses (2 spp, 16 passes) 36.8 board ms against 24.3,
+  # and 3.55 levels off against 3.13. Even a loose target keeps 0.4 m, being cheaper.
+  cat >"$tmp/three-poses.json" <<'JSON'
+{"format": "penumbra-poses", "version": 1, "poses": [
+  {"name": "chair-wall", "product": 0, "at": [3.0, 0, 3.45, 0]},
+  {"name": "chair-open", "product": 0, "at": [3.0, 0, 2.0, 0]},
+  {"name": "bunny-open", "product": 1, "at": [2.6, 0, 2.0, 0]}]}
+JSON
+  tune_models patch-sizes "$data/showroom/showroom.json" 100 "
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': 0.4, 'proxy_scale': None}, r['chosen_scene_model']
+models = {m['patch_size']: m['tune'] for m in r['scene_models']}
+assert list(models) == [3.0, 0.4], models.keys()  # the coarsest first
+chosen = {k: t['candidates'][t['chosen']] for k, t in models.items()}
+assert chosen[3.0]['board_ms'] > chosen[0.4]['board_ms'], chosen
+assert chosen[3.0]['worst_mean_abs_shadow'] > chosen[0.4]['worst_mean_abs_shadow'], chosen
+assert info['patches'] > 2000, info" \
+    --patch-sizes 3,0.4 --poses "$tmp/three-poses.json" --passes 16
+  for flag in --emitter-patch-sizes --power-shares --patch-sizes --proxy-scales; do
     rm -f "$tmp/refused.bundle"
     "${run[@]}" tune "$bundle" --max-error 1 "$flag" 0.5 "${fast[@]}" \
       -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
