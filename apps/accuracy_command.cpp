@@ -99,8 +99,8 @@ struct TuneCommand {
   std::string bundlePath, out, report, chart, posesPath, heldOutPath;
   std::vector<double> maxError;  // mean abs [, p99 [, FLIP]]
   // Scene models tried (a scene file's): every combination of power share, emitter patch size,
-  // receiver patch size and proxy scale; empty: the file's own.
-  std::vector<double> powerShares, emitterPatchSizes, patchSizes, proxyScales;
+  // receiver patch size, proxy scale and irradiance-volume scale; empty: the file's own.
+  std::vector<double> powerShares, emitterPatchSizes, patchSizes, proxyScales, volumeScales;
   double fps = 0;
   RenderFlags render;
   // The shaft settings are tried around the grid's choice unless the flags say otherwise.
@@ -117,6 +117,7 @@ struct TuneCommand {
     double emitterPatchSize = 0;
     double patchSize = 0;
     double proxyScale = 0;
+    double volumeScale = 0;
   };
 
   // A bundle, or a scene file (.json) precomputed here with precompute's defaults and the
@@ -129,6 +130,8 @@ struct TuneCommand {
     precompute.powerShare = model.powerShare;
     precompute.emitterPatchSize = model.emitterPatchSize;
     precompute.patchSize = model.patchSize;
+    if (model.volumeScale > 0)
+      precompute.volumeDims = lighting::scaledVolumeDims(model.volumeScale);
     return precomputeScene(bundlePath, precompute, timings, model.proxyScale);
 #else
     (void)model;
@@ -172,7 +175,8 @@ struct TuneCommand {
   // power share keeps the room, its photograph, tone and products) measures against them.
   // Cutting the emitters finer changes the photograph a little (it is drawn from the
   // patches' radiance), and so does cutting the room's patches coarser or finer: such a model
-  // makes its own. Other proxies change neither: the reference casts the product's own mesh.
+  // makes its own. Other proxies and volumes change neither: the reference casts and shades
+  // the product's own mesh.
   std::optional<reference::TuneReferences> references;
   std::vector<uint8_t> referencesBackground;
 
@@ -189,6 +193,9 @@ struct TuneCommand {
     }
     if (s.proxyScale > 0) {
       d += (d.empty() ? "" : ", ") + std::string("proxies x") + core::formatNumber(s.proxyScale);
+    }
+    if (s.volumeScale > 0) {
+      d += (d.empty() ? "" : ", ") + std::string("volume x") + core::formatNumber(s.volumeScale);
     }
     return d;
   }
@@ -225,12 +232,13 @@ struct TuneCommand {
     if (maxError.size() > 2) options.target.flip = maxError[2];
     if (fps > 0) options.maxBoardMs = 1000.0 / fps;
     const bool sceneModels = !powerShares.empty() || !emitterPatchSizes.empty() ||
-                             !patchSizes.empty() || !proxyScales.empty();
+                             !patchSizes.empty() || !proxyScales.empty() || !volumeScales.empty();
     if (sceneModels && !sceneInput()) {
       const char* flag = !powerShares.empty()         ? "--power-shares"
                          : !emitterPatchSizes.empty() ? "--emitter-patch-sizes"
                          : !patchSizes.empty()        ? "--patch-sizes"
-                                                      : "--proxy-scales";
+                         : !proxyScales.empty()       ? "--proxy-scales"
+                                                      : "--volume-scales";
       throw cli::UsageError(std::string(flag) + " needs a scene file (.json): " + bundlePath +
                             "'s scene model is fixed");
     }
@@ -238,9 +246,9 @@ struct TuneCommand {
     if (!heldOutPath.empty()) options.heldOut = reference::loadPoseSet(heldOutPath);
     // Scene models from the smallest (fewest sources: the smallest share, the largest
     // emitter patches; the largest receiver patches; the fewest proxy triangles) up: among
-    // equal costs the first wins. The board's model has no term for the receivers' patch
-    // count (a pass's receivers cost by their pixels, which do not change), so equal errors
-    // keep the coarsest patches: the smallest bundle and the fastest precompute.
+    // equal costs the first wins; the coarsest irradiance volume first, which costs the
+    // frame nothing more or less (a product vertex looks it up in constant time), so the
+    // smallest volume that meets the product's target is kept.
     auto values = [](std::vector<double> v, bool descending) {
       if (v.empty()) return std::vector<double>{0.0};
       std::sort(v.begin(), v.end());
@@ -253,7 +261,9 @@ struct TuneCommand {
       for (double emitter : values(emitterPatchSizes, true)) {
         for (double patches : values(patchSizes, true)) {
           for (double proxies : values(proxyScales, false)) {
-            models.push_back(tuneModel({share, emitter, patches, proxies}));
+            for (double volume : values(volumeScales, false)) {
+              models.push_back(tuneModel({share, emitter, patches, proxies, volume}));
+            }
           }
         }
       }
@@ -272,7 +282,8 @@ struct TuneCommand {
         return nlohmann::json{{"power_share", orNull(m.powerShare)},
                               {"emitter_patch_size", orNull(m.emitterPatchSize)},
                               {"patch_size", orNull(m.patchSize)},
-                              {"proxy_scale", orNull(m.proxyScale)}};
+                              {"proxy_scale", orNull(m.proxyScale)},
+                              {"volume_scale", orNull(m.volumeScale)}};
       };
       if (!sceneModels) {
         j = reference::toJson(options, models[0].report);
@@ -494,6 +505,15 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       "scene file's triangle counts, comma-separated (with the other scene-model flags: "
       "every combination)",
       0.01, 16.0);
+  cli::addNumberList(t, "--volume-scales", tune->volumeScales,
+                     "scene models tried: the irradiance volume's grid (20x10x20) times these "
+                     "scales per axis, comma-separated; judge them with --max-product-error",
+                     0.05, 8.0);
+  t->add_option("--max-product-error", tune->options.target.productMeanAbs,
+                "mean abs error over the product's own pixels (8-bit levels) every pose must "
+                "also meet: its shading, which the irradiance volume gives (default: not "
+                "checked)")
+      ->check(cli::NumberRange(0.0, 255.0));
   t->add_option("--ppd", tune->options.measure.pixelsPerDegree,
                 "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))

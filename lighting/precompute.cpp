@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -47,6 +48,18 @@ std::vector<uint8_t> renderBackground(const shadow::SceneBundle& b) {
 }
 
 }  // namespace
+
+glm::uvec3 scaledVolumeDims(double scale) {
+  if (!(scale > 0 && scale <= 8)) {
+    throw std::invalid_argument("volume scale " + core::formatNumber(scale) + " is not in (0, 8]");
+  }
+  const glm::uvec3 dims = PrecomputeOptions{}.volumeDims;
+  glm::uvec3 out;
+  for (int k = 0; k < 3; ++k) {
+    out[k] = static_cast<unsigned>(std::max<long long>(1, std::llround(double(dims[k]) * scale)));
+  }
+  return out;
+}
 
 scene::PatchMesh precomputePatchMesh(const scene::SceneDescription& scene,
                                      const PrecomputeOptions& options) {

@@ -48,6 +48,10 @@ struct PrecomputeOptions {
   int volumeDirectionsPerSide = 12;
 };
 
+// Issue 17's volume scene models: PrecomputeOptions' default grid with each axis times
+// `scale` (rounded, at least 1 cell). Throws std::invalid_argument unless scale is in (0, 8].
+glm::uvec3 scaledVolumeDims(double scale);
+
 struct StageTiming {
   std::string stage;
   double ms;

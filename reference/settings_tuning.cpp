@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -12,6 +13,7 @@
 
 #include "core/json_reader.h"
 #include "core/replace_file.h"
+#include "reference/shadow_region.h"
 #include "shadow/frame_loop.h"
 
 namespace penumbra::reference {
@@ -67,8 +69,9 @@ double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop, ui
 
 bool within(const PoseError& e, const ErrorTarget& t) {
   const uint32_t p99 = t.p99BeyondBounds ? e.p99BeyondBounds.value() : e.p99;
-  return e.pixels == 0 ||
-         (e.meanAbs <= t.meanAbs && double(p99) <= t.p99 && (t.flip <= 0 || e.flip <= t.flip));
+  const bool shadow = e.pixels == 0 || (e.meanAbs <= t.meanAbs && double(p99) <= t.p99 &&
+                                        (t.flip <= 0 || e.flip <= t.flip));
+  return shadow && (t.productMeanAbs <= 0 || e.productMeanAbs <= t.productMeanAbs);
 }
 
 class Measurer {
@@ -81,11 +84,13 @@ class Measurer {
   }
 
   // Every pose of `poses` with `settings` (stopping at the first that misses when
-  // `stopAtMiss`), against `references` in the same order. `missed` (when given) gets the
+  // `stopAtMiss`), against `references` in the same order, the product's pixels against
+  // `productReferences` (empty: against `references`). `missed` (when given) gets the
   // frame at the first pose that missed, and `missedPose` its index.
   TunedCandidate measure(const shadow::RenderSettings& settings,
                          const std::vector<NamedPose>& poses,
-                         const std::vector<PoseReference>& references, bool stopAtMiss,
+                         const std::vector<PoseReference>& references,
+                         const std::vector<core::Image8>& productReferences, bool stopAtMiss,
                          core::Image8* missed = nullptr, size_t* missedPose = nullptr) {
     TunedCandidate c;
     c.settings = settings;
@@ -103,6 +108,16 @@ class Measurer {
       e.p99 = cmp.masked->pixels ? cmp.masked->p99Abs : 0;
       e.flip = cmp.masked->pixels ? cmp.masked->flipMean : 0.0;
       e.pixels = cmp.masked->pixels;
+      // The product's own pixels: where the shadow-free frame differs from the background
+      // (reference/shadow_region.h), the same silhouette whatever the candidate.
+      // An interval of one value is the reference itself: the plain error, without the
+      // whole-frame SSIM compareImages would add.
+      const core::Image8& productReference =
+          productReferences.empty() ? references[i].image : productReferences[i];
+      const RegionErrors product = intervalErrors(productReference, productReference, frame,
+                                                  productRegion(references[i].unshadowed));
+      e.productPixels = product.pixels;
+      e.productMeanAbs = product.pixels ? product.meanAbs : 0.0;
       if (!references[i].lower.pixels.empty()) {
         e.p99BeyondBounds =
             intervalErrors(references[i].lower, references[i].upper, frame, references[i].region)
@@ -126,6 +141,17 @@ class Measurer {
   }
 
  private:
+  // The product's pixels of a pose as a mask, from its reference's shadow-free frame.
+  core::Image8 productRegion(std::span<const uint8_t> unshadowed) const {
+    core::Image8 region;
+    region.width = bundle_.view.width;
+    region.height = bundle_.view.height;
+    region.channels = 1;
+    region.pixels = productPixels(unshadowed, bundle_.background, region.width, region.height);
+    for (uint8_t& v : region.pixels) v = v ? 255 : 0;
+    return region;
+  }
+
   const shadow::SceneBundle& bundle_;
   const TuneOptions& options_;
   shadow::CostModel board_;
@@ -188,13 +214,26 @@ TuneReferences makeTuneReferences(const shadow::SceneBundle& bundle, const TuneO
   checkPoses(bundle, o.heldOut);
   // Refused before the stand-in's references are made, which would have no bounds.
   if (o.target.p99BeyondBounds && o.measure.penumbraReference) throw boundsNeeded("penumbra");
+  const bool product = o.target.productMeanAbs > 0;
+  if (product && o.measure.penumbraReference) {
+    throw std::invalid_argument(
+        "tune: a product target needs the ray tracer's reference: the stand-in's product is "
+        "Penumbra's own shading");
+  }
   TuneReferences r;
-  const size_t total = o.poses.size() + o.heldOut.size();
-  for (const auto& [poses, into] :
-       {std::pair{&o.poses, &r.poses}, std::pair{&o.heldOut, &r.heldOut}}) {
+  const size_t total = (o.poses.size() + o.heldOut.size()) * (product ? 2 : 1);
+  AccuracyOptions withBounces = o.measure;
+  withBounces.rays.bounces = o.productBounces;
+  size_t made = 0;
+  for (const auto& [poses, into, productInto] :
+       {std::tuple{&o.poses, &r.poses, &r.productPoses},
+        std::tuple{&o.heldOut, &r.heldOut, &r.productHeldOut}}) {
     for (const NamedPose& p : *poses) {
-      if (progress) progress(r.poses.size() + r.heldOut.size(), total, "reference " + p.name);
+      if (progress) progress(made++, total, "reference " + p.name);
       into->push_back(makePoseReference(bundle, o.measure, p.pose));
+      if (!product) continue;
+      if (progress) progress(made++, total, "product reference " + p.name);
+      productInto->push_back(makePoseReference(bundle, withBounces, p.pose).image);
     }
   }
   if (progress) progress(total, total, "references made");
@@ -217,6 +256,10 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   checkPoses(bundle, o.heldOut);
   if (made.poses.size() != o.poses.size() || made.heldOut.size() != o.heldOut.size()) {
     throw std::invalid_argument("tune: the references are not one per pose");
+  }
+  if ((o.target.productMeanAbs > 0) && (made.productPoses.size() != o.poses.size() ||
+                                        made.productHeldOut.size() != o.heldOut.size())) {
+    throw std::invalid_argument("tune: a product target needs a product reference per pose");
   }
   const std::vector<PoseReference>& references = made.poses;
   const std::vector<PoseReference>& heldOutReferences = made.heldOut;
@@ -307,8 +350,8 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
                (area ? "on" : "off") + ", " + std::to_string(ceilings[k]) + " passes");
           core::Image8 missed;
           size_t missedPose = SIZE_MAX;
-          report.candidates.push_back(
-              measurer.measure(s, o.poses, references, true, &missed, &missedPose));
+          report.candidates.push_back(measurer.measure(s, o.poses, references, made.productPoses,
+                                                       true, &missed, &missedPose));
           TunedCandidate& c = report.candidates.back();
           bool stop = c.meets;
           if (!c.meets && o.perceptualStop && missedPose == previousPose) {
@@ -356,7 +399,8 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
            std::to_string(s.receiversPerLeaf) + " receivers per leaf");
       // The choice itself is measured already.
       if (report.chosen && s == around) return;
-      report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+      report.candidates.push_back(
+          measurer.measure(s, o.poses, references, made.productPoses, true));
     });
     choose();
   }
@@ -385,7 +429,8 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
                                                        product) == fine) {
           continue;  // the choice itself
         }
-        report.candidates.push_back(measurer.measure(s, o.poses, references, true));
+        report.candidates.push_back(
+            measurer.measure(s, o.poses, references, made.productPoses, true));
       }
       choose();
       around = aroundChoice();
@@ -394,14 +439,15 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
 
   step("the bundle's own settings");
   shadow::RenderSettings defaults = bundle.settings;
-  report.defaults = measurer.measure(defaults, o.poses, references, false);
+  report.defaults = measurer.measure(defaults, o.poses, references, made.productPoses, false);
   if (!o.heldOut.empty()) {
     step("held-out poses, the bundle's settings");
-    report.heldOutDefaults = measurer.measure(defaults, o.heldOut, heldOutReferences, false);
+    report.heldOutDefaults =
+        measurer.measure(defaults, o.heldOut, heldOutReferences, made.productHeldOut, false);
     if (report.chosen) {
       step("held-out poses, the choice");
       report.heldOutChosen = measurer.measure(report.candidates[*report.chosen].settings, o.heldOut,
-                                              heldOutReferences, false);
+                                              heldOutReferences, made.productHeldOut, false);
     }
   }
   if (progress) progress(total, total, "done");
@@ -430,6 +476,8 @@ nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {
                       e.p99BeyondBounds ? nlohmann::json(*e.p99BeyondBounds) : nullptr},
                      {"flip_shadow", flipMeasured ? nlohmann::json(e.flip) : nullptr},
                      {"shadow_pixels", e.pixels},
+                     {"mean_abs_product", e.productMeanAbs},
+                     {"product_pixels", e.productPixels},
                      {"board_ms", e.boardMs}});
   }
   return {{"settings", settingsJson(c.settings)},
@@ -454,7 +502,9 @@ nlohmann::json toJson(const TuneOptions& o, const TuneReport& r) {
        {{"mean_abs_shadow", o.target.meanAbs},
         {"p99_abs_shadow", o.target.p99},
         {"p99_beyond_bounds", o.target.p99BeyondBounds},
-        {"flip_shadow", o.target.flip > 0 ? nlohmann::json(o.target.flip) : nullptr}}},
+        {"flip_shadow", o.target.flip > 0 ? nlohmann::json(o.target.flip) : nullptr},
+        {"mean_abs_product",
+         o.target.productMeanAbs > 0 ? nlohmann::json(o.target.productMeanAbs) : nullptr}}},
       {"max_board_ms", o.maxBoardMs > 0 ? nlohmann::json(o.maxBoardMs) : nullptr},
       {"board", "Raspberry Pi 4 cost model (shadow::CostModel::raspberryPi4)"},
       {"references", r.references},

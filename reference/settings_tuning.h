@@ -58,6 +58,11 @@ struct ErrorTarget {
   // bits leave the reference open) instead of against its midpoint. Needs a reference with
   // bounds (the ray tracer's); the mean stays against the midpoint.
   bool p99BeyondBounds = false;
+  // Mean abs over the product's own pixels (8-bit levels, per channel sample): how it is
+  // shaded (Gibson & Chalmers 2003 §5, the irradiance volume) rather than its shadow, against
+  // a reference with TuneOptions::productBounces of indirect light; 0: not checked. Needs the
+  // ray tracer's reference (the stand-in's product is Penumbra's own).
+  double productMeanAbs = 0;
 };
 
 struct TuneOptions {
@@ -67,6 +72,12 @@ struct TuneOptions {
   // The reference at each pose and how frames are drawn and compared (its reference fields,
   // rays, render options and FLIP viewing condition; the pipeline fields are the candidates').
   AccuracyOptions measure;
+  // The product's own reference (only with target.productMeanAbs): the ray tracer's with this
+  // many indirect bounces. The shadow's reference has measure.rays.bounces (0 by default:
+  // the passes take away the sources' direct light, and the photograph holds the rest), but
+  // the irradiance volume shades the product with the room's whole light, and against
+  // direct light only the bunny's underside alone is 50 levels off (docs/tuning.md).
+  int productBounces = 2;
   // The candidates: every map size x fine-proxy passes x area penumbrae, each with the pass
   // ceilings in increasing order. Fine-proxy passes are tried only when a posed product has a
   // fine proxy (otherwise just the first value).
@@ -94,7 +105,9 @@ struct PoseError {
   uint32_t p99 = 0;
   std::optional<uint32_t> p99BeyondBounds;  // when the reference has bounds
   uint64_t pixels = 0;                      // in the shadow region
-  double boardMs = 0;                       // the frame's cost on the board, fresh at this pose
+  double productMeanAbs = 0;                // over the product's pixels (ErrorTarget)
+  uint64_t productPixels = 0;
+  double boardMs = 0;  // the frame's cost on the board, fresh at this pose
 };
 
 struct TunedCandidate {
@@ -129,6 +142,9 @@ using TuneProgress = std::function<void(size_t done, size_t total, const std::st
 // product the bundle lacks.
 struct TuneReferences {
   std::vector<PoseReference> poses, heldOut;
+  // With a product target: per pose, the reference with productBounces (its product pixels
+  // are what is measured); empty otherwise.
+  std::vector<core::Image8> productPoses, productHeldOut;
 };
 TuneReferences makeTuneReferences(const shadow::SceneBundle& bundle, const TuneOptions& options,
                                   const TuneProgress& progress = {});

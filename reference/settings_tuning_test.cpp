@@ -231,18 +231,24 @@ TEST(TuneSettings, PassesThatChangeNothingVisibleEndTheSearch) {
 // candidate. Its p99 beyond the bounds is below its p99 against the midpoint (the photograph's
 // rounding near black); a target between the two is met only when judged beyond the bounds.
 // The stand-in has no bounds, and asking for them is refused.
-TEST(TuneSettings, P99BeyondTheReferencesBounds) {
-  if (!accuracyHasRayTracer()) GTEST_SKIP() << "built without the ray tracer";
-  const std::vector<NamedPose> set = loadPoseSet(testing::dataDir() / "showroom/poses.json");
+// One candidate (`passes` on 256² maps, 16 fine-proxy passes, area penumbrae) at one pose of
+// issue 15's set, against the ray tracer through the pixel centres at `spp`.
+TuneOptions rayTracedTune(const std::string& pose, uint32_t passes, uint32_t spp) {
   TuneOptions o;
-  o.poses = {poseNamed(set, "teapot-corner")};
-  o.measure.rays.samplesPerPixel = 4;
+  o.poses = {poseNamed(loadPoseSet(testing::dataDir() / "showroom/poses.json"), pose)};
+  o.measure.rays.samplesPerPixel = spp;
   o.measure.rays.pixelCentres = true;
   o.measure.render.threads = 2;
-  o.passCeilings = {50};
+  o.passCeilings = {passes};
   o.mapSizes = {256};
   o.fineProxyPasses = {16};
   o.areaPenumbrae = {true};
+  return o;
+}
+
+TEST(TuneSettings, P99BeyondTheReferencesBounds) {
+  if (!accuracyHasRayTracer()) GTEST_SKIP() << "built without the ray tracer";
+  TuneOptions o = rayTracedTune("teapot-corner", 50, 4);
   o.perceptualStop = false;
   o.target = {2.0, 255.0, 0.0};
   const TuneReferences references = makeTuneReferences(testing::showroomBundle(), o);
@@ -261,6 +267,39 @@ TEST(TuneSettings, P99BeyondTheReferencesBounds) {
   o.measure.penumbraReference = true;
   o.measure.referenceMapSize = 512;
   EXPECT_THROW(tuneSettings(testing::showroomBundle(), o), std::invalid_argument);
+}
+
+// The product's own pixels (--max-product-error): measured against a reference with
+// indirect light, since the irradiance volume shades the product with the room's whole light.
+// Against the direct-light reference the shadow uses, the chair is further off.
+TEST(TuneSettings, TheProductsShadingIsMeasuredAgainstIndirectLight) {
+  if (!accuracyHasRayTracer()) GTEST_SKIP() << "built without the ray tracer";
+  TuneOptions o = rayTracedTune("chair-open-floor", 16, 1);
+  o.measure.rays.lightSamples = 4;
+  o.target = {100.0, 255.0, 0.0};
+  const TuneReferences shadowOnly = makeTuneReferences(testing::showroomBundle(), o);
+  EXPECT_TRUE(shadowOnly.productPoses.empty());  // no product target: no second reference
+  const PoseError direct =
+      tuneSettings(testing::showroomBundle(), o, shadowOnly).candidates.at(0).poses.at(0);
+  EXPECT_GT(direct.productPixels, 1000u);
+
+  o.target.productMeanAbs = 100;
+  const TuneReferences withProduct = makeTuneReferences(testing::showroomBundle(), o);
+  ASSERT_EQ(withProduct.productPoses.size(), 1u);
+  const TuneReport report = tuneSettings(testing::showroomBundle(), o, withProduct);
+  const PoseError& e = report.candidates.at(0).poses.at(0);
+  EXPECT_EQ(e.productPixels, direct.productPixels);  // the same silhouette
+  EXPECT_EQ(e.meanAbs, direct.meanAbs);              // the shadow's reference is unchanged
+  EXPECT_LT(e.productMeanAbs, direct.productMeanAbs - 10) << direct.productMeanAbs;
+  EXPECT_TRUE(report.candidates[0].meets);
+  o.target.productMeanAbs = e.productMeanAbs * 0.9;
+  EXPECT_FALSE(tuneSettings(testing::showroomBundle(), o, withProduct).candidates[0].meets);
+  EXPECT_EQ(toJson(o, report)["candidates"][0]["poses"][0]["mean_abs_product"], e.productMeanAbs);
+  // Product references missing, or the stand-in's (the product would be Penumbra's own).
+  EXPECT_THROW(tuneSettings(testing::showroomBundle(), o, shadowOnly), std::invalid_argument);
+  o.measure.penumbraReference = true;
+  o.measure.referenceMapSize = 512;
+  EXPECT_THROW(makeTuneReferences(testing::showroomBundle(), o), std::invalid_argument);
 }
 
 TEST(TuneSettings, ShippedPoseSetsLoad) {

@@ -114,7 +114,7 @@ $script" "$tmp/$name-$target.json" "$tmp/$name-info.json" "$target"
   for target in 3 6.5; do
     tune_models power-shares "$data/showroom/showroom.json" "$target" "
 want = 1.0 if target < 5 else 0.5
-assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': want, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': None, 'volume_scale': None}, r['chosen_scene_model']
 shares = {m['power_share']: m for m in r['scene_models']}
 assert shares[0.5]['sources'] < shares[1.0]['sources'], shares.keys()
 assert info['power_share'] == want and info['sources'] == shares[want]['sources'], info" \
@@ -128,7 +128,7 @@ assert info['power_share'] == want and info['sources'] == shares[want]['sources'
   for target in 5 12; do
     tune_models emitter-patch-sizes "$data/showroom/spotlight.json" "$target" "
 want = 0.05 if target < 10 else 0.2
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want, 'patch_size': None, 'proxy_scale': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': want, 'patch_size': None, 'proxy_scale': None, 'volume_scale': None}, r['chosen_scene_model']
 models = {m['emitter_patch_size']: m for m in r['scene_models']}
 assert models[0.2]['sources'] == 1 and models[0.05]['sources'] == 16, models.keys()
 assert info['sources'] == models[want]['sources'], info" \
@@ -144,7 +144,7 @@ assert info['sources'] == models[want]['sources'], info" \
   for target in 3.8 4.5; do
     tune_models proxy-scales "$data/showroom/showroom.json" "$target" "
 want = 1.0 if target < 4 else 0.1
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': want}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': None, 'proxy_scale': want, 'volume_scale': None}, r['chosen_scene_model']
 models = {m['proxy_scale']: m['tune'] for m in r['scene_models']}
 assert list(models) == [0.1, 1.0], models.keys()  # the fewest triangles first
 cost = {k: t['candidates'][t['chosen']]['board_ms'] for k, t in models.items()}
@@ -165,7 +165,7 @@ assert bunny['fine_proxy_triangles'] <= (250 if want < 1 else 2500), bunny" \
   {"name": "bunny-open", "product": 1, "at": [2.6, 0, 2.0, 0]}]}
 JSON
   tune_models patch-sizes "$data/showroom/showroom.json" 100 "
-assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': 0.4, 'proxy_scale': None}, r['chosen_scene_model']
+assert r['chosen_scene_model'] == {'power_share': None, 'emitter_patch_size': None, 'patch_size': 0.4, 'proxy_scale': None, 'volume_scale': None}, r['chosen_scene_model']
 models = {m['patch_size']: m['tune'] for m in r['scene_models']}
 assert list(models) == [3.0, 0.4], models.keys()  # the coarsest first
 chosen = {k: t['candidates'][t['chosen']] for k, t in models.items()}
@@ -173,7 +173,21 @@ assert chosen[3.0]['board_ms'] > chosen[0.4]['board_ms'], chosen
 assert chosen[3.0]['worst_mean_abs_shadow'] > chosen[0.4]['worst_mean_abs_shadow'], chosen
 assert info['patches'] > 2000, info" \
     --patch-sizes 3,0.4 --poses "$tmp/three-poses.json" --passes 16
-  for flag in --emitter-patch-sizes --power-shares --patch-sizes --proxy-scales; do
+  # --volume-scales with --max-product-error: the irradiance volume's grid (20x10x20) at a
+  # tenth, a quarter or whole. It shades the product, not its shadow, and costs the frame
+  # nothing, so the smallest that meets the product's target is kept. The chair against the
+  # wall (2 spp, its product reference with 2 bounces): 2x1x2 cells 18.6 levels off over the
+  # chair's pixels, 5x3x5 10.7, 20x10x20 10.4; a product target of 12 keeps 5x3x5.
+  printf '{"format": "penumbra-poses", "version": 1, "poses": [{"name": "chair-wall", "product": 0, "at": [3.0, 0, 3.45, 0]}]}' >"$tmp/chair-wall.json"
+  tune_models volume-scales "$data/showroom/showroom.json" 100 "
+assert r['chosen_scene_model']['volume_scale'] == 0.25, r['chosen_scene_model']
+models = {m['volume_scale']: m['tune'] for m in r['scene_models']}
+assert list(models) == [0.1, 0.25, 1.0], models.keys()  # the smallest first
+product = {k: t['defaults']['poses'][0]['mean_abs_product'] for k, t in models.items()}
+assert product[0.1] > 12 >= product[0.25] and product[1.0] <= 12, product
+assert models[0.1]['chosen'] is None and models[0.25]['target']['mean_abs_product'] == 12, models[0.1]['chosen']" \
+    --volume-scales 1,0.25,0.1 --max-product-error 12 --poses "$tmp/chair-wall.json" --passes 16
+  for flag in --emitter-patch-sizes --power-shares --patch-sizes --proxy-scales --volume-scales; do
     rm -f "$tmp/refused.bundle"
     "${run[@]}" tune "$bundle" --max-error 1 "$flag" 0.5 "${fast[@]}" \
       -o "$tmp/refused.bundle" >/dev/null 2>"$tmp/err"
