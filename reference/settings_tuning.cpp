@@ -541,7 +541,11 @@ void writeParetoChart(const std::filesystem::path& path, const TuneOptions& o,
   };
   cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
   const cv::Scalar black(0, 0, 0), grey(170, 170, 170), green(40, 150, 40), red(30, 30, 200);
+  // Text at `at`, moved left as far as it takes to end inside the image.
   const auto text = [&](const std::string& t, cv::Point at, double scale = 0.45) {
+    int baseline = 0;
+    const int w = cv::getTextSize(t, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline).width;
+    at.x = std::max(2, std::min(at.x, width - 4 - w));
     cv::putText(img, t, at, cv::FONT_HERSHEY_SIMPLEX, scale, black, 1, cv::LINE_AA);
   };
   cv::line(img, px(0, 0), px(maxMs, 0), black);
@@ -560,7 +564,9 @@ void writeParetoChart(const std::filesystem::path& path, const TuneOptions& o,
     cv::line(img, px(ms, o.target.meanAbs), px(std::min(maxMs, ms + maxMs / 120), o.target.meanAbs),
              red);
   }
-  text("target", px(maxMs, o.target.meanAbs) + cv::Point(-60, -6));
+  text("target", px(0, o.target.meanAbs) + cv::Point(6, -6));
+  text("green: meets the target at every pose; grey: misses it (mean, p99 or budget)",
+       cv::Point(left, top - 8), 0.4);
   for (const TunedCandidate& c : r.candidates) {
     cv::circle(img, px(c.boardMs, c.worstMeanAbs), 4, c.meets ? green : grey, cv::FILLED,
                cv::LINE_AA);
@@ -572,9 +578,18 @@ void writeParetoChart(const std::filesystem::path& path, const TuneOptions& o,
     const TunedCandidate& c = r.candidates[*r.chosen];
     const cv::Point p = px(c.boardMs, c.worstMeanAbs);
     cv::circle(img, p, 10, red, 2, cv::LINE_AA);
-    char label[96];
-    std::snprintf(label, sizeof label, "chosen: %u passes, map %u, fine %u, area %s",
-                  c.settings.maxPasses, c.settings.shadowMapSize, c.settings.fineProxyPasses,
+    // The fine-proxy passes: one count, or one per product.
+    std::string fine = std::to_string(c.settings.fineProxyPasses);
+    if (!c.settings.productFineProxyPasses.empty()) {
+      fine.clear();
+      for (const uint32_t n : c.settings.productFineProxyPasses) {
+        if (!fine.empty()) fine += '/';
+        fine += std::to_string(n);
+      }
+    }
+    char label[128];
+    std::snprintf(label, sizeof label, "chosen: %u passes, map %u, fine %s, area %s",
+                  c.settings.maxPasses, c.settings.shadowMapSize, fine.c_str(),
                   c.settings.areaPenumbrae ? "on" : "off");
     text(label, p + cv::Point(14, 16));
   }
