@@ -84,29 +84,25 @@ cat >"$initramfs/init" <<EOF
 /bin/busybox mount -t sysfs sys /sys
 /bin/busybox mount -t devtmpfs dev /dev
 cd /data
-for product in 0 1 2; do
-  /bin/penumbra profile showroom/showroom.bundle --product \$product --passes 8,16,32,64 \\
-      --frames 8 --threads 1 --csv /tmp/profile.csv >/dev/null
-  echo "=== begin profile-\$product.csv"
+# profile NAME PRODUCT PASSES [FLAGS...]: one product's profile, printed between markers.
+profile() {
+  name=\$1 product=\$2 passes=\$3
+  shift 3
+  /bin/penumbra profile showroom/showroom.bundle --product \$product --passes \$passes \
+      --frames 8 --threads 1 "\$@" --csv /tmp/profile.csv >/dev/null
+  echo "=== begin \$name.csv"
   /bin/busybox cat /tmp/profile.csv
   echo "=== end"
-done
+}
+for product in 0 1 2; do profile profile-\$product \$product 8,16,32,64; done
 for size in 64 128; do
   for product in 0 2; do
-    /bin/penumbra profile showroom/showroom.bundle --product \$product --passes 16,64 \
-        --frames 8 --threads 1 --shadow-map-size \$size --csv /tmp/profile.csv >/dev/null
-    echo "=== begin profile-\$product-map\$size.csv"
-    /bin/busybox cat /tmp/profile.csv
-    echo "=== end"
+    profile profile-\$product-map\$size \$product 16,64 --shadow-map-size \$size
   done
 done
 for fine in 0 50; do
   for product in 1 2; do
-    /bin/penumbra profile showroom/showroom.bundle --product \$product --passes 16,64 \
-        --frames 8 --threads 1 --fine-proxy-passes \$fine --csv /tmp/profile.csv >/dev/null
-    echo "=== begin profile-\$product-fine\$fine.csv"
-    /bin/busybox cat /tmp/profile.csv
-    echo "=== end"
+    profile profile-\$product-fine\$fine \$product 16,64 --fine-proxy-passes \$fine
   done
 done
 echo "=== begin demo.txt"

@@ -180,6 +180,9 @@ PoseReference makePoseReference(const shadow::SceneBundle& bundle, const Accurac
   // the floor) the difference is the product's, not the shadow's: the region rule
   // (reference/shadow_region.h) leaves out Penumbra's product pixels too.
   excludeProductPixels(r.region, r.unshadowed, bundle.background);
+  r.productRegion = core::Image8(bundle.view.width, bundle.view.height, 1, "product pixels");
+  r.productRegion.pixels =
+      productPixels(r.unshadowed, bundle.background, bundle.view.width, bundle.view.height);
   return r;
 }
 

@@ -105,6 +105,7 @@ struct PoseReference {
   core::Image8 image, region;
   core::Image8 lower, upper;        // the reference's bounds; empty when it has none
   std::vector<uint8_t> unshadowed;  // RGBA8
+  core::Image8 productRegion;       // the product's own pixels (productPixels of unshadowed)
   nlohmann::json info;              // which reference: kind and its settings
 };
 

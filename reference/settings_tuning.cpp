@@ -13,7 +13,6 @@
 
 #include "core/json_reader.h"
 #include "core/replace_file.h"
-#include "reference/shadow_region.h"
 #include "shadow/frame_loop.h"
 
 namespace penumbra::reference {
@@ -108,14 +107,13 @@ class Measurer {
       e.p99 = cmp.masked->pixels ? cmp.masked->p99Abs : 0;
       e.flip = cmp.masked->pixels ? cmp.masked->flipMean : 0.0;
       e.pixels = cmp.masked->pixels;
-      // The product's own pixels: where the shadow-free frame differs from the background
-      // (reference/shadow_region.h), the same silhouette whatever the candidate.
-      // An interval of one value is the reference itself: the plain error, without the
+      // Over the product's own pixels (the same silhouette whatever the candidate). An
+      // interval of one value is the reference itself: the plain error, without the
       // whole-frame SSIM compareImages would add.
       const core::Image8& productReference =
           productReferences.empty() ? references[i].image : productReferences[i];
-      const RegionErrors product = intervalErrors(productReference, productReference, frame,
-                                                  productRegion(references[i].unshadowed));
+      const RegionErrors product =
+          intervalErrors(productReference, productReference, frame, references[i].productRegion);
       e.productPixels = product.pixels;
       e.productMeanAbs = product.pixels ? product.meanAbs : 0.0;
       if (!references[i].lower.pixels.empty()) {
@@ -141,17 +139,6 @@ class Measurer {
   }
 
  private:
-  // The product's pixels of a pose as a mask, from its reference's shadow-free frame.
-  core::Image8 productRegion(std::span<const uint8_t> unshadowed) const {
-    core::Image8 region;
-    region.width = bundle_.view.width;
-    region.height = bundle_.view.height;
-    region.channels = 1;
-    region.pixels = productPixels(unshadowed, bundle_.background, region.width, region.height);
-    for (uint8_t& v : region.pixels) v = v ? 255 : 0;
-    return region;
-  }
-
   const shadow::SceneBundle& bundle_;
   const TuneOptions& options_;
   shadow::CostModel board_;
