@@ -73,7 +73,8 @@ case "$mode" in
         "product chair: refused .*truncated.obj" "product bunny: model .*chair.obj" \
         "product chair: model .*chair.obj" \
         "delivered again (already shown), ignored" "refused: frame size 320x240"; do
-      grep -q -- "$line" "$tmp/log.txt" || fail "faults session: no log line '$line'"
+      grep -q -- "$line" "$tmp/log.txt" ||
+        fail "faults session: no log line '$line'; the log: $(cat "$tmp/log.txt")"
     done
     # Outages are reported apart from the latency (issue 18): the drop of 6 frames at
     # camera frame 40 and the 150 ms late frames are outages, so there are some.
