@@ -34,6 +34,7 @@ struct AccuracyCommand {
   bool hardPasses = false;
   int mapSize = 0;                                               // 0: the bundle's
   int fineProxyPasses = -1;                                      // -1: the bundle's
+  double texelsPerShadowPixel = -1;                              // < 0: the bundle's
   std::vector<std::string> referenceBounds, referenceBoundsOut;  // lower, upper
   RenderFlags render;
   reference::AccuracyOptions options;
@@ -65,6 +66,8 @@ struct AccuracyCommand {
       options.productFineProxyPasses = s.productFineProxyPasses;
     }
     options.areaPenumbrae = !hardPasses && s.areaPenumbrae;
+    options.texelsPerShadowPixel =
+        texelsPerShadowPixel >= 0 ? texelsPerShadowPixel : s.texelsPerShadowPixel;
     options.shafts.pruneFraction = s.pruneFraction;
     options.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;
     if (!pose.empty() || product >= 0) options.pose = requestedPose(bundle, pose, product);
@@ -108,6 +111,7 @@ struct TuneCommand {
     reference::TuneOptions o;
     o.pruneFractions = {0.005, 0.01, 0.02, 0.05};
     o.receiversPerLeaf = {4, 8, 16};
+    o.texelsPerShadowPixel = {0.5, 1, 2};
     return o;
   }();
 
@@ -157,11 +161,13 @@ struct TuneCommand {
     }
     std::printf(
         "%s: max_passes %u shadow_map_size %u fine_proxy_passes %s area_penumbrae %s "
-        "prune_fraction %s receivers_per_leaf %u | board_ms %.2f worst_mean_abs %.3f meets %s\n",
+        "prune_fraction %s receivers_per_leaf %u texels_per_shadow_pixel %s | board_ms %.2f "
+        "worst_mean_abs %.3f meets %s\n",
         what, c.settings.maxPasses, c.settings.shadowMapSize, fine.c_str(),
         c.settings.areaPenumbrae ? "on" : "off",
         core::formatNumber(c.settings.pruneFraction).c_str(), c.settings.receiversPerLeaf,
-        c.boardMs, c.worstMeanAbs, c.meets ? "yes" : "no");
+        core::formatNumber(c.settings.texelsPerShadowPixel).c_str(), c.boardMs, c.worstMeanAbs,
+        c.meets ? "yes" : "no");
   }
 
   // One scene model: its render settings searched (reference/settings_tuning.h).
@@ -389,6 +395,11 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
       ->capture_default_str();
   c->add_option("--shadow-map", cmd->mapSize, "shadow-map size (default: the bundle's settings)")
       ->check(cli::NumberRange(16, 8192));
+  c->add_option("--texels-per-shadow-pixel", cmd->texelsPerShadowPixel,
+                "a shadow map per source cluster: texels per pixel of its shadow on screen, at "
+                "most the frame's map (0: every pass at the frame's map; default: the bundle's "
+                "settings)")
+      ->check(cli::NumberRange(0.0, shadow::kMaxTexelsPerShadowPixel));
   c->add_option("--ppd", cmd->options.pixelsPerDegree, "FLIP viewing condition: pixels per degree")
       ->check(cli::NumberRange(1.0, 1000.0))
       ->capture_default_str();
@@ -487,6 +498,12 @@ std::vector<Command> addAccuracyCommands([[maybe_unused]] CLI::App& app) {
                      "receivers per shaft-hierarchy leaf tried around the grid's choice, "
                      "comma-separated",
                      1, int(shadow::kMaxReceiversPerLeaf))
+      ->capture_default_str();
+  cli::addNumberList(t, "--texels-per-shadow-pixel", tune->options.texelsPerShadowPixel,
+                     "a shadow map per source cluster, tried around the choice: texels per "
+                     "pixel of the cluster's shadow on screen, comma-separated (0: every pass at "
+                     "the frame's map)",
+                     0.0, shadow::kMaxTexelsPerShadowPixel)
       ->capture_default_str();
   cli::addNumberList(
       t, "--emitter-patch-sizes", tune->emitterPatchSizes,

@@ -13,6 +13,7 @@
 #include "apps/render_flags.h"
 #include "core/cli.h"
 #include "core/clock.h"
+#include "core/json_reader.h"
 #include "core/process_memory.h"
 #include "raster/renderer.h"
 #include "scene/image_io.h"
@@ -302,7 +303,8 @@ nlohmann::json bundleInfo(const std::string& path, const shadow::SceneBundle& b)
             {"product_fine_proxy_passes", s.productFineProxyPasses},
             {"area_penumbrae", s.areaPenumbrae},
             {"prune_fraction", s.pruneFraction},
-            {"receivers_per_leaf", s.receiversPerLeaf}}}};
+            {"receivers_per_leaf", s.receiversPerLeaf},
+            {"texels_per_shadow_pixel", s.texelsPerShadowPixel}}}};
 }
 
 struct InfoCommand {
@@ -339,6 +341,10 @@ struct InfoCommand {
               << ", fine_proxy_passes " << str(s["fine_proxy_passes"]) << ", area_penumbrae "
               << (s["area_penumbrae"].get<bool>() ? "on" : "off") << ", prune_fraction "
               << str(s["prune_fraction"]) << ", receivers_per_leaf " << str(s["receivers_per_leaf"])
+              << ", texels_per_shadow_pixel "
+              << (s["texels_per_shadow_pixel"].get<double>() > 0
+                      ? core::formatNumber(s["texels_per_shadow_pixel"].get<double>())
+                      : std::string("off"))
               << "\n";
     return 0;
   }

@@ -597,10 +597,11 @@ FrameReport KioskLoop::step() {
   const uint32_t passes = s.loop.stats.passes;
   const uint64_t passPixels = s.loop.renderer.lastStats().passPixels;
   const shadow::CompositeStats& c = s.loop.stats;
-  io_.time->charge({r.frame,
-                    start,
-                    {passes, passPixels, d.shadowMapSize, c.productVertices, c.shadedVertices,
-                     c.transferredVertices, s.loop.renderer.lastStats().shadowMapTriangles}});
+  io_.time->charge(
+      {r.frame,
+       start,
+       {passes, passPixels, s.loop.renderer.lastStats().shadowMapTexels, c.productVertices,
+        c.shadedVertices, c.transferredVertices, s.loop.renderer.lastStats().shadowMapTriangles}});
   noteBudget(start, d.overBudget);
 
   r.warnings = warnings(start, camera, d.overBudget);

@@ -57,7 +57,7 @@ struct alignas(64) Worker {
   std::vector<SetupTriangle> mapTriangles;
   // Per object triangle: 1 when one of this thread's tiles shows a pixel of it.
   std::vector<uint8_t> objectSeen;
-  uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0, mapTriangleCount = 0;
+  uint64_t mapPixels = 0, passPixels = 0, objectPixels = 0, mapTriangleCount = 0, mapTexels = 0;
 };
 
 }  // namespace
@@ -389,6 +389,7 @@ void Renderer::Impl::runPass(const FrameContent& frame, size_t index, Worker& w)
   const ShadowPass& pass = frame.passes[index];
   const uint32_t size = pass.shadowMapSize;
   const int32_t isize = static_cast<int32_t>(size);
+  w.mapTexels += uint64_t{size} * size;
 
   // The map is +inf outside the rectangle the previous pass on this thread wrote, so only
   // that rectangle needs clearing (and the whole map when the size changes).
@@ -712,7 +713,7 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
     std::copy(frame.shadeTable.begin(), frame.shadeTable.end(), r.shadeTable.begin());
   }
   for (Worker& w : r.workers) {
-    w.mapPixels = w.passPixels = w.objectPixels = w.mapTriangleCount = 0;
+    w.mapPixels = w.passPixels = w.objectPixels = w.mapTriangleCount = w.mapTexels = 0;
     if (fine && w.sFine.empty()) w.sFine.assign(r.planeSize * 3, 0);
     if (!fine && w.s.empty()) w.s.assign(r.planeSize, 0);
   }
@@ -777,6 +778,7 @@ void Renderer::render(const FrameContent& frame, std::span<uint8_t> rgbaOut) {
     std::fill(w.touchedEnd.begin(), w.touchedEnd.end(), 0);
     r.stats.shadowMapPixels += w.mapPixels;
     r.stats.shadowMapTriangles += w.mapTriangleCount;
+    r.stats.shadowMapTexels += w.mapTexels;
     r.stats.passPixels += w.passPixels;
     r.stats.objectPixels += w.objectPixels;
   }

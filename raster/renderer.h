@@ -34,6 +34,9 @@ struct FrameStats {
   // Occluder triangles drawn into the shadow maps, all passes: those left after back-face
   // culling and the viewport test (a fine proxy's passes draw more; issue 17's board cost).
   uint64_t shadowMapTriangles = 0;
+  // The passes' shadow-map texels (each map's size squared), summed: what the maps' clearing
+  // and summing costs grows with (the board's cost model; maps differ with a size per cluster).
+  uint64_t shadowMapTexels = 0;
   uint64_t passPixels = 0;    // receiver pixels whose id matched, all passes
   uint64_t objectPixels = 0;  // object pixels that passed the depth test
   // Stage times: objects (setup, binning, composite), passes (shadow maps, S, masks),

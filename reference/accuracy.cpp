@@ -141,6 +141,7 @@ shadow::CompositorOptions measuredOptions(const AccuracyOptions& o) {
   measured.fineProxyPasses = o.fineProxyPasses;
   measured.productFineProxyPasses = o.productFineProxyPasses;
   measured.areaPenumbrae = o.areaPenumbrae;
+  measured.texelsPerShadowPixel = o.texelsPerShadowPixel;
   measured.shafts = o.shafts;
   return measured;
 }
@@ -273,6 +274,7 @@ nlohmann::json toJson(const std::string& bundlePath, const AccuracyOptions& o,
           {"fine_proxy_passes", o.fineProxyPasses},
           {"product_fine_proxy_passes", o.productFineProxyPasses},
           {"area_penumbrae", o.areaPenumbrae},
+          {"texels_per_shadow_pixel", o.texelsPerShadowPixel},
           {"flip_ppd", o.pixelsPerDegree},
           {"width", report.width},
           {"height", report.height},

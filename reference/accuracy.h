@@ -50,6 +50,7 @@ struct AccuracyOptions {
   uint32_t fineProxyPasses = shadow::CompositorOptions{}.fineProxyPasses;
   std::vector<uint32_t> productFineProxyPasses;  // empty, or per product in its place
   bool areaPenumbrae = shadow::CompositorOptions{}.areaPenumbrae;
+  double texelsPerShadowPixel = 0;   // a map per cluster (shadow/cluster_map_size.h); 0: off
   shadow::ShaftBuildOptions shafts;  // pruning fraction and receivers per leaf (§6)
   int contactRadius = 8;
 

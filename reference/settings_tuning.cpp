@@ -54,11 +54,11 @@ namespace {
 // shadowed pixels, every product vertex placed, transferred and shaded again (what a kiosk
 // frame pays while a visitor moves the product), so the cost does not depend on which frame
 // came before.
-double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop, uint32_t mapSize) {
+double boardMs(const shadow::CostModel& board, const shadow::FrameLoop& loop) {
   shadow::CostModel::Workload work;
   work.passes = loop.stats.passes;
   work.shadowedPixels = loop.renderer.lastStats().passPixels;
-  work.shadowMapSize = mapSize;
+  work.shadowMapTexels = loop.renderer.lastStats().shadowMapTexels;
   work.productVertices = loop.stats.productVertices;
   work.shadedVertices = loop.stats.productVertices;
   work.transferredVertices = loop.stats.productVertices;
@@ -121,7 +121,7 @@ class Measurer {
             intervalErrors(references[i].lower, references[i].upper, frame, references[i].region)
                 .p99Abs;
       }
-      e.boardMs = boardMs(board_, loop, settings.shadowMapSize);
+      e.boardMs = boardMs(board_, loop);
       c.boardMs = std::max(c.boardMs, e.boardMs);
       c.worstMeanAbs = std::max(c.worstMeanAbs, e.meanAbs);
       const bool ok = within(e, options_.target);
@@ -292,14 +292,20 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
   };
   forEachShaftPair(shadow::RenderSettings{},
                    [](const shadow::RenderSettings& s) { shadow::validateRenderSettings(s); });
+  for (const double texels : o.texelsPerShadowPixel) {
+    shadow::RenderSettings s;
+    s.texelsPerShadowPixel = texels;
+    shadow::validateRenderSettings(s);
+  }
+  const size_t clusterMapSteps = o.texelsPerShadowPixel.size() * o.mapSizes.size();
 
   const size_t combinations = o.mapSizes.size() * fines.size() * o.areaPenumbrae.size();
   const size_t shaftPairs = o.pruneFractions.empty() && o.receiversPerLeaf.empty()
                                 ? 0
                                 : std::max<size_t>(o.pruneFractions.size(), 1) *
                                       std::max<size_t>(o.receiversPerLeaf.size(), 1);
-  const size_t total =
-      combinations * ceilings.size() + shaftPairs + productSteps + 1 + (o.heldOut.empty() ? 0 : 2);
+  const size_t total = combinations * ceilings.size() + shaftPairs + clusterMapSteps +
+                       productSteps + 1 + (o.heldOut.empty() ? 0 : 2);
   size_t done = 0;
   const auto step = [&](const std::string& what) {
     if (progress) progress(done, total, what);
@@ -391,6 +397,31 @@ TuneReport tuneSettings(const shadow::SceneBundle& bundle, const TuneOptions& o,
     });
     choose();
   }
+  // Then a map per cluster, around the choice: each pass's map shrinks from the frame's to what
+  // its shadow's footprint on screen needs, so it is tried under the choice's map and the larger
+  // ones (mapSizes in the order given; smaller caps only shrink the maps further).
+  if (clusterMapSteps > 0) {
+    shadow::RenderSettings around =
+        report.chosen ? report.candidates[*report.chosen].settings : bundle.settings;
+    around.tuned = true;
+    for (const double texels : o.texelsPerShadowPixel) {
+      for (const uint32_t map : o.mapSizes) {
+        if (map < around.shadowMapSize) {
+          ++done;
+          continue;
+        }
+        shadow::RenderSettings s = around;
+        s.texelsPerShadowPixel = texels;
+        s.shadowMapSize = map;
+        step("map per cluster: " + core::formatNumber(texels) + " texels per pixel, at most " +
+             std::to_string(map));
+        if (report.chosen && s == report.candidates[*report.chosen].settings) continue;
+        report.candidates.push_back(
+            measurer.measure(s, o.poses, references, made.productPoses, true));
+      }
+    }
+    choose();
+  }
   // Then each posed product's fine-proxy passes on its own, the rest held: one product's
   // count changes only the frames it stands in, and products want opposite counts
   // (RenderSettings::productFineProxyPasses).
@@ -450,7 +481,8 @@ nlohmann::json settingsJson(const shadow::RenderSettings& s) {
           {"product_fine_proxy_passes", s.productFineProxyPasses},
           {"area_penumbrae", s.areaPenumbrae},
           {"prune_fraction", s.pruneFraction},
-          {"receivers_per_leaf", s.receiversPerLeaf}};
+          {"receivers_per_leaf", s.receiversPerLeaf},
+          {"texels_per_shadow_pixel", s.texelsPerShadowPixel}};
 }
 
 nlohmann::json candidateJson(const TunedCandidate& c, bool flipMeasured) {

@@ -92,6 +92,12 @@ struct TuneOptions {
   // it. `penumbra tune` tries 0.005, 0.01, 0.02, 0.05 and 4, 8, 16.
   std::vector<double> pruneFractions;
   std::vector<uint32_t> receiversPerLeaf;
+  // Then a shadow map per source cluster (RenderSettings::texelsPerShadowPixel,
+  // shadow/cluster_map_size.h): each value tried around the choice so far, under its map size
+  // and under every larger one of mapSizes (each pass's own map only shrinks from that cap, so a
+  // larger cap lets the clusters whose shadows look large get finer maps than the uniform
+  // choice). Empty: not searched. `penumbra tune` tries 0.5, 1 and 2.
+  std::vector<double> texelsPerShadowPixel;
   // Stop raising a combination's passes when the frames no longer change visibly (above).
   bool perceptualStop = true;
   // The frame budget on the board, ms (from `--fps`); 0: none.

@@ -74,6 +74,16 @@ TuneReferences withoutHeldOut(TuneReferences references) {
   return references;
 }
 
+// Nothing measured that meets the target is cheaper than the choice.
+void expectNothingCheaperMeets(const TuneReport& r) {
+  ASSERT_TRUE(r.chosen.has_value());
+  for (const TunedCandidate& c : r.candidates) {
+    if (c.meets) {
+      EXPECT_GE(c.boardMs, r.candidates[*r.chosen].boardMs);
+    }
+  }
+}
+
 const TuneReport& smallReport() {
   static const TuneReport report =
       tuneSettings(testing::showroomBundle(), smallTune(2), smallReferences());
@@ -91,12 +101,7 @@ TEST(TuneSettings, TheChoiceMeetsTheTargetOnHeldOutPosesAndCostsLess) {
   EXPECT_TRUE(r.defaults.meets) << "the defaults meet this target: the choice must be cheaper";
   EXPECT_LT(c.boardMs, r.defaults.boardMs);
   EXPECT_LE(c.settings.maxPasses, r.defaults.settings.maxPasses);
-  // Nothing measured that meets the target is cheaper.
-  for (const TunedCandidate& other : r.candidates) {
-    if (other.meets) {
-      EXPECT_GE(other.boardMs, c.boardMs);
-    }
-  }
+  expectNothingCheaperMeets(r);
   // At the poses it was not tuned on, measured afresh by `penumbra accuracy`'s function.
   ASSERT_EQ(r.heldOutChosen.poses.size(), o.heldOut.size());
   EXPECT_TRUE(r.heldOutChosen.meets);
@@ -109,6 +114,7 @@ TEST(TuneSettings, TheChoiceMeetsTheTargetOnHeldOutPosesAndCostsLess) {
     a.fineProxyPasses = c.settings.fineProxyPasses;
     a.productFineProxyPasses = c.settings.productFineProxyPasses;
     a.areaPenumbrae = c.settings.areaPenumbrae;
+    a.texelsPerShadowPixel = c.settings.texelsPerShadowPixel;
     a.shafts.pruneFraction = c.settings.pruneFraction;
     a.shafts.maxReceiversPerLeaf = c.settings.receiversPerLeaf;
     const AccuracyReport m = measureAccuracy(testing::showroomBundle(), a);
@@ -195,13 +201,43 @@ TEST(TuneSettings, ShaftSettingsAreTriedAroundTheChoice) {
     costs.insert(r.candidates[i].boardMs);
   }
   EXPECT_GT(costs.size(), 1u) << "the shaft settings moved no cost";
-  ASSERT_TRUE(r.chosen.has_value());
-  for (const TunedCandidate& c : r.candidates) {
-    if (c.meets) {
-      EXPECT_GE(c.boardMs, r.candidates[*r.chosen].boardMs);
+  expectNothingCheaperMeets(r);
+  o.pruneFractions = {0.3};
+  EXPECT_THROW(tuneSettings(testing::showroomBundle(), o, references), std::invalid_argument);
+}
+
+// Then a map per cluster around the choice: each value under the choice's map and the larger
+// ones, the rest held. Each pass's map only shrinks from the frame's, so under the choice's own
+// map the board charges fewer texels for the same passes.
+TEST(TuneSettings, AMapPerClusterIsTriedAroundTheChoice) {
+  TuneOptions o = smallTune(2);
+  o.heldOut.clear();
+  o.passCeilings = {64};
+  o.mapSizes = {256, 512};
+  o.fineProxyPasses = {16};
+  const TuneReferences references = withoutHeldOut(smallReferences());
+  const TuneReport grid = tuneSettings(testing::showroomBundle(), o, references);
+  ASSERT_EQ(grid.candidates.size(), 2u);
+  ASSERT_TRUE(grid.chosen.has_value());
+  const TunedCandidate& gridChoice = grid.candidates[*grid.chosen];
+  ASSERT_EQ(gridChoice.settings.shadowMapSize, 256u) << "the smaller map is the cheaper";
+  o.texelsPerShadowPixel = {0.5, 1};
+  const TuneReport r = tuneSettings(testing::showroomBundle(), o, references);
+  // The grid's two candidates, then each value under 256 and under 512.
+  ASSERT_EQ(r.candidates.size(), 6u);
+  for (size_t i = 2; i < r.candidates.size(); ++i) {
+    shadow::RenderSettings s = r.candidates[i].settings;
+    EXPECT_EQ(s.texelsPerShadowPixel, i < 4 ? 0.5 : 1.0) << i;
+    EXPECT_EQ(s.shadowMapSize, i % 2 == 0 ? 256u : 512u) << i;
+    s.texelsPerShadowPixel = 0;
+    s.shadowMapSize = 256;
+    EXPECT_EQ(s, gridChoice.settings) << i;
+    if (r.candidates[i].settings.shadowMapSize == 256) {
+      EXPECT_LT(r.candidates[i].boardMs, gridChoice.boardMs) << i;
     }
   }
-  o.pruneFractions = {0.3};
+  expectNothingCheaperMeets(r);
+  o.texelsPerShadowPixel = {65};
   EXPECT_THROW(tuneSettings(testing::showroomBundle(), o, references), std::invalid_argument);
 }
 

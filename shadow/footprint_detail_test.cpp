@@ -5,11 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <numbers>
 #include <vector>
 
-#include "scene/camera.h"
 #include "shadow/frame_loop.h"
+#include "tests/camera_view.h"
 #include "tests/showroom_bundle.h"
 
 namespace penumbra::shadow {
@@ -17,14 +16,7 @@ namespace {
 
 // A 640x480 camera at (0, 1, 0) looking along -z with a 60° vertical field of view.
 raster::StaticView testView() {
-  raster::StaticView v;
-  v.width = 640;
-  v.height = 480;
-  const glm::dmat4 vp =
-      scene::perspective(std::numbers::pi / 3.0, 640.0 / 480.0, 0.05, 20.0) *
-      scene::lookAt(glm::dvec3(0, 1, 0), glm::dvec3(0, 1, -1), glm::dvec3(0, 1, 0));
-  v.cameraViewProj = scene::toRasterMat4(vp);
-  return v;
+  return testing::cameraView(glm::dvec3(0, 1, 0), glm::dvec3(0, 1, -1), glm::dvec3(0, 1, 0));
 }
 
 // 2 texels per pixel, the whole ceiling from 160 pixels: round numbers for the tests.
@@ -44,7 +36,7 @@ TEST(FootprintDetail, YawSphereHoldsTheMeshAtEveryYaw) {
 TEST(FootprintDetail, FootprintIsTheSpheresProjectedDiameter) {
   const raster::StaticView view = testView();
   const YawSphere sphere{0.5, 0.5};
-  const double focal = 240.0 / std::tan(std::numbers::pi / 6.0);
+  const double focal = testing::kFocalPx;
   for (const float z : {-2.0f, -4.0f, -8.0f}) {
     const ProductPose pose{0, 0.3f, z, 45.0f, 0.5f};
     const double depth = -double(z);

@@ -216,6 +216,7 @@ PassListOptions FrameCompositor::passListOptions() const {
           : fineProxyPassesOf(options_.fineProxyPasses, options_.productFineProxyPasses,
                               placement_.pose().product);
   o.areaPenumbrae = options_.areaPenumbrae;
+  o.texelsPerShadowPixel = options_.texelsPerShadowPixel;
   if (options_.cullClosedProxies) {
     o.closedOccluders = {placement_.proxyClosed(), placement_.fineProxyClosed()};
   }

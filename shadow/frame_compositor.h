@@ -55,6 +55,10 @@ struct CompositorOptions {
   // (PassListOptions::areaPenumbrae, shadow/area_penumbra.h). Off: Gibson 2003's hard-edged
   // passes (2x2 PCF), the A/B of docs/accuracy.md.
   bool areaPenumbrae = true;
+  // Each point-light pass's map from its shadow's footprint on screen, this many texels per
+  // pixel, at most shadowMapSize (PassListOptions::texelsPerShadowPixel); 0: all at
+  // shadowMapSize.
+  double texelsPerShadowPixel = 0;
   uint64_t setSeed = 1;  // Fig. 4's set assignment (stable per source patch)
   // Beyond Fig. 4 (docs/fig3.md): where the previous frame measured how much of a receiver
   // vertex's light the product blocked (observe()), take its intensity transfers at that

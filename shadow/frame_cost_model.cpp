@@ -68,11 +68,10 @@ uint32_t CostModel::loadPermilleAt(int64_t nowNs) const {
 }
 
 int64_t CostModel::frameNs(int64_t nowNs, const Workload& work) const {
-  const int64_t texels = mulSat(work.shadowMapSize, work.shadowMapSize);
   // Picoseconds are summed before the single division by 1000, so the rounding happens once
   // and does not depend on how the work is split between terms.
   const int64_t perPassPs =
-      addSat(addSat(mulSat(params_.perPassNs, 1000), mulSat(params_.perTexelPs, texels)),
+      addSat(mulSat(params_.perPassNs, 1000),
              addSat(mulSat(params_.perPassVertexPs, work.productVertices),
                     mulSat(params_.perPassTransferredVertexPs, work.transferredVertices)));
   const auto clamped = [](uint64_t n) {
@@ -84,8 +83,9 @@ int64_t CostModel::frameNs(int64_t nowNs, const Workload& work) const {
                     mulSat(params_.perShadedVertexPs, work.shadedVertices)),
              mulSat(params_.perTransferredVertexPs, work.transferredVertices));
   const int64_t passWorkPs =
-      addSat(mulSat(params_.perPixelPs, pixels),
-             mulSat(params_.perShadowMapTrianglePs, clamped(work.shadowMapTriangles)));
+      addSat(addSat(mulSat(params_.perPixelPs, pixels),
+                    mulSat(params_.perShadowMapTrianglePs, clamped(work.shadowMapTriangles))),
+             mulSat(params_.perTexelPs, clamped(work.shadowMapTexels)));
   const int64_t variablePs = addSat(addSat(mulSat(perPassPs, work.passes), passWorkPs), productPs);
   const int64_t variableNs = mulSat(variablePs / 1000, loadPermilleAt(nowNs)) / 1000;
   return addSat(params_.fixedNs, variableNs);

@@ -58,7 +58,8 @@ struct Session {
       const Decision d = ctl.next();
       const int64_t t0 = clock.nowNanoseconds();
       const uint64_t pixels = kPixelsPerPass * d.passes;
-      int64_t cost = model.frameNs(t0, {d.passes, pixels, d.shadowMapSize});
+      int64_t cost = model.frameNs(
+          t0, {d.passes, pixels, CostModel::uniformMapTexels(d.passes, d.shadowMapSize)});
       if (jitterPermille != 0) {
         // A counter-based hash of the frame index, never a running generator or time.
         const uint64_t h = splitmix(decisions.size());
@@ -110,7 +111,8 @@ uint32_t bestPasses(uint32_t permille, uint32_t minP, uint32_t maxP) {
   const CostModel m(kioskCost(), {{0, permille}});
   uint32_t best = minP;
   for (uint32_t n = minP; n <= maxP; ++n) {
-    if (m.frameNs(0, {n, kPixelsPerPass * n, 256}) <= kTarget) best = n;
+    if (m.frameNs(0, {n, kPixelsPerPass * n, CostModel::uniformMapTexels(n, 256)}) <= kTarget)
+      best = n;
   }
   return best;
 }
@@ -129,12 +131,12 @@ void expectGoodSettle(const Session& s, size_t frame, uint32_t permille) {
 TEST(CostModel, IsTheDocumentedIntegerFormula) {
   const CostModel m({1'000, 200, 3, 7}, {{100, 1500}, {200, 500}});
   // 1000 + (2·(200·1000 + 3·64²) + 7·10) / 1000 = 1000 + 424,646 / 1000 = 1424.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64}), 1'424);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64}), 1'424);
   EXPECT_EQ(m.loadPermilleAt(99), 1000u);
   EXPECT_EQ(m.loadPermilleAt(100), 1500u);
-  EXPECT_EQ(m.frameNs(150, {2, 10, 64}), 1'000 + 424 * 1500 / 1000);
-  EXPECT_EQ(m.frameNs(250, {2, 10, 64}), 1'000 + 424 * 500 / 1000);
-  EXPECT_EQ(m.frameNs(0, {0, 0, 64}), 1'000);
+  EXPECT_EQ(m.frameNs(150, {2, 10, 2 * 64 * 64}), 1'000 + 424 * 1500 / 1000);
+  EXPECT_EQ(m.frameNs(250, {2, 10, 2 * 64 * 64}), 1'000 + 424 * 500 / 1000);
+  EXPECT_EQ(m.frameNs(0, {0, 0, 0}), 1'000);
   EXPECT_THROW(CostModel({-1, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(CostModel({0, 1, 0, 0}, {{5, 1000}, {5, 900}}), std::invalid_argument);
   EXPECT_THROW(CostModel({0, 1, 0, 0}, {{5, 0}}), std::invalid_argument);
@@ -147,13 +149,13 @@ TEST(CostModel, ChargesTheProductsVerticesPerPassPerFrameAndWhenWorkedOut) {
   const CostModel m({1'000, 200, 3, 7, 5, 11, 13, 19, 17}, {{100, 2000}});
   // 2 passes of 64² with 100 vertices: 2·(200,000 + 12,288 + 500) = 425,576 ps; 10 pixels 70;
   // 100 vertices 1,100; none shaded or transferred. 426,746 ps -> 426 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0}), 1'000 + 426);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 0, 0}), 1'000 + 426);
   // Shaded this frame: + 1,300 ps -> 428,046 ps -> 428 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 100, 0}), 1'000 + 428);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 100, 0}), 1'000 + 428);
   // And transferred: + 1,900 + 2·1,700 ps -> 433,346 ps -> 433 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 100, 100}), 1'000 + 433);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 100, 100}), 1'000 + 433);
   // The load scales the product's part with the rest of the variable part.
-  EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 100, 100}), 1'000 + 433 * 2);
+  EXPECT_EQ(m.frameNs(100, {2, 10, 2 * 64 * 64, 100, 100, 100}), 1'000 + 433 * 2);
   EXPECT_THROW(CostModel({0, 0, 0, 0, 0, -1, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(CostModel({0, 0, 0, 0, 0, 0, 0, 0, -1}), std::invalid_argument);
 }
@@ -162,14 +164,14 @@ TEST(CostModel, ChargesTheOccluderTrianglesThePassesDrew) {
   // The frame of the test above (426,746 ps) and 23 ps per occluder triangle drawn: a pass
   // with the fine proxy costs more than one with the coarse proxy, at the same vertex count.
   const CostModel m({1'000, 200, 3, 7, 5, 11, 13, 19, 17, 23}, {{100, 2000}});
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 0}), 1'000 + 426);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 0, 0, 0}), 1'000 + 426);
   // 600 coarse triangles: + 13,800 ps -> 440,546 ps -> 440 ns.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 600}), 1'000 + 440);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 0, 0, 600}), 1'000 + 440);
   // 5,000 fine ones: + 115,000 ps -> 541,746 ps -> 541 ns; the load scales them too.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, 5'000}), 1'000 + 541);
-  EXPECT_EQ(m.frameNs(100, {2, 10, 64, 100, 0, 0, 5'000}), 1'000 + 541 * 2);
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 0, 0, 5'000}), 1'000 + 541);
+  EXPECT_EQ(m.frameNs(100, {2, 10, 2 * 64 * 64, 100, 0, 0, 5'000}), 1'000 + 541 * 2);
   // Saturates at INT64_MAX picoseconds instead of wrapping to a negative cost.
-  EXPECT_EQ(m.frameNs(0, {2, 10, 64, 100, 0, 0, ~uint64_t{0}}),
+  EXPECT_EQ(m.frameNs(0, {2, 10, 2 * 64 * 64, 100, 0, 0, ~uint64_t{0}}),
             1'000 + std::numeric_limits<int64_t>::max() / 1000);
   EXPECT_THROW(CostModel({0, 0, 0, 0, 0, 0, 0, 0, 0, -1}), std::invalid_argument);
 }
@@ -494,7 +496,8 @@ TEST(FrameRateController, ASpikeOnAMapChangeIsProbedAwayInBoundedTime) {
   std::vector<Decision> d;
   for (int i = 0; i < 1000; ++i) {
     d.push_back(c.next());
-    int64_t ns = heavy.frameNs(0, {4, 4 * 3'000, d.back().shadowMapSize});
+    int64_t ns =
+        heavy.frameNs(0, {4, 4 * 3'000, CostModel::uniformMapTexels(4, d.back().shadowMapSize)});
     if (i == 10) ns *= 10;
     c.report(ns, 4, 0);
   }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "shadow/area_penumbra.h"
+#include "shadow/cluster_map_size.h"
 #include "shadow/light_frustum.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -23,7 +24,10 @@ bool anyS(const std::array<core::Rgb16, 3>& s) {
 }  // namespace
 
 PassList::PassList(const SceneBundle& bundle, const scene::PatchMesh& mesh, const scene::Aabb& room)
-    : bundle_(bundle), mesh_(mesh), farDistance_(2.0 * glm::length(room.size()) + 1.0) {}
+    : bundle_(bundle),
+      mesh_(mesh),
+      room_(room),
+      farDistance_(2.0 * glm::length(room.size()) + 1.0) {}
 
 glm::dvec3 PassList::clusterCentroid(const SourceCluster& cluster,
                                      std::span<const uint32_t> sources) const {
@@ -83,13 +87,17 @@ uint32_t PassList::build(const PassListOptions& options, const ClusterSelection&
       ++skipped;
       continue;
     }
-    addPass(options, *frustum, k, options.depthBias, options.objectDepthBias, finePasses, passes);
-    if (options.areaPenumbrae && options.pcf2x2 &&
-        options.shadowMapSize <= raster::kMaxAreaPenumbraMapSize) {
+    const uint32_t mapSize =
+        options.texelsPerShadowPixel > 0
+            ? clusterMapSize(shadowFootprintPx(bundle_.view, *frustum, light, room_),
+                             options.texelsPerShadowPixel, options.shadowMapSize)
+            : options.shadowMapSize;
+    addPass(options, *frustum, k, mapSize, options.depthBias, options.objectDepthBias, finePasses,
+            passes);
+    if (options.areaPenumbrae && options.pcf2x2 && mapSize <= raster::kMaxAreaPenumbraMapSize) {
       const glm::dvec3 axis = glm::normalize(frustum->sphereCentre - light);
       const double scale = penumbraScale(
-          *frustum, clusterHalfWidth(bundle_, cluster, selection.sources, light, axis),
-          options.shadowMapSize);
+          *frustum, clusterHalfWidth(bundle_, cluster, selection.sources, light, axis), mapSize);
       // A light whose box stays within half a texel from the near plane to the far one
       // (window depths 0 and 1) keeps its hard pass: the same bytes in the frustum, and no
       // coverage to sum.
@@ -121,7 +129,8 @@ void PassList::buildDirectional(const PassListOptions& options,
     // Window depth is linear here: a bias of b metres is b / (zFar - zNear). The same
     // distances as the point lights' biases give at the product (~5 mm and ~2.7 cm at 2 m).
     const double perMetre = 1.0 / (frustum->zFar - frustum->zNear);
-    addPass(options, *frustum, k, static_cast<float>(options.directionalBiasMetres * perMetre),
+    addPass(options, *frustum, k, options.shadowMapSize,
+            static_cast<float>(options.directionalBiasMetres * perMetre),
             static_cast<float>(options.directionalObjectBiasMetres * perMetre),
             options.fineProxyPasses, passes);
     widest = std::max<size_t>(widest, lightPatchStart[k + 1] - lightPatchStart[k]);
@@ -142,13 +151,13 @@ void PassList::beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes
 }
 
 void PassList::addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
-                       float depthBias, float objectDepthBias, uint32_t finePasses,
-                       std::vector<raster::ShadowPass>& passes) {
+                       uint32_t mapSize, float depthBias, float objectDepthBias,
+                       uint32_t finePasses, std::vector<raster::ShadowPass>& passes) {
   const size_t index = passCluster_.size();
   raster::ShadowPass& pass = passes[index];
   passCluster_.push_back(static_cast<uint32_t>(column));
   pass.lightViewProj = frustum.rasterViewProj;
-  pass.shadowMapSize = options.shadowMapSize;
+  pass.shadowMapSize = mapSize;
   pass.depthBias = depthBias;
   pass.pcf2x2 = options.pcf2x2;
   pass.occluder = index < finePasses ? 1 : 0;

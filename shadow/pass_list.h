@@ -52,6 +52,10 @@ struct PassListOptions {
   // its shadow edges over the penumbra of its cluster's extent. Maps larger than
   // raster::kMaxAreaPenumbraMapSize keep hard-edged passes. Not for distant lights.
   bool areaPenumbrae = false;
+  // A map size per point-light pass from its shadow's footprint on screen
+  // (shadow/cluster_map_size.h): this many texels per footprint pixel, at most shadowMapSize
+  // (the frame's map); 0: every pass at shadowMapSize. Distant lights keep shadowMapSize.
+  double texelsPerShadowPixel = 0;
 };
 
 // The pass count at which PassListOptions::fineProxyPasses is stated (issue 15's targets
@@ -107,8 +111,9 @@ class PassList {
  private:
   void beginBuild(size_t lights, std::vector<raster::ShadowPass>& passes);
   // `finePasses`: the passes (from the first) that draw the fine proxy.
+  // `mapSize`: the pass's shadow map (options.shadowMapSize or its cluster's own).
   void addPass(const PassListOptions& options, const LightFrustum& frustum, size_t column,
-               float depthBias, float objectDepthBias, uint32_t finePasses,
+               uint32_t mapSize, float depthBias, float objectDepthBias, uint32_t finePasses,
                std::vector<raster::ShadowPass>& passes);
   // Each pass's receiver triangles from patchesOf(its column) (at most mostPatches patches),
   // and the product's triangles.
@@ -125,6 +130,7 @@ class PassList {
 
   const SceneBundle& bundle_;
   const scene::PatchMesh& mesh_;
+  scene::Aabb room_;
   double farDistance_;
   std::vector<uint32_t> passCluster_;
   std::vector<glm::dmat4> passViewProj_;  // per used pass: the light's frustum (culling)

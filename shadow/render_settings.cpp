@@ -54,6 +54,10 @@ void validateRenderSettings(const RenderSettings& s, std::optional<size_t> produ
     bad("receivers_per_leaf", std::to_string(s.receiversPerLeaf) + " is not in [1, " +
                                   std::to_string(kMaxReceiversPerLeaf) + "]");
   }
+  if (!(s.texelsPerShadowPixel >= 0 && s.texelsPerShadowPixel <= kMaxTexelsPerShadowPixel)) {
+    bad("texels_per_shadow_pixel", core::formatNumber(s.texelsPerShadowPixel) + " is not in [0, " +
+                                       core::formatNumber(kMaxTexelsPerShadowPixel) + "]");
+  }
 }
 
 CompositorOptions compositorOptions(const RenderSettings& s) {
@@ -62,6 +66,7 @@ CompositorOptions compositorOptions(const RenderSettings& s) {
   c.fineProxyPasses = s.fineProxyPasses;
   c.productFineProxyPasses = s.productFineProxyPasses;
   c.areaPenumbrae = s.areaPenumbrae;
+  c.texelsPerShadowPixel = s.texelsPerShadowPixel;
   c.shafts.pruneFraction = s.pruneFraction;
   c.shafts.maxReceiversPerLeaf = s.receiversPerLeaf;
   return c;

@@ -42,6 +42,10 @@ struct RenderSettings {
   // passes (p99 beyond the reference's bounds 9 with the fine one in all, 6 with 8 of 50).
   // docs/accuracy.md, "Fine-proxy passes per product".
   std::vector<uint32_t> productFineProxyPasses{};
+  // A shadow map per source cluster (shadow/cluster_map_size.h): each point-light pass gets
+  // this many texels per pixel of its shadow's footprint on screen, at most shadowMapSize;
+  // 0 (the default): every pass at shadowMapSize, as Gibson 2003 §7.2. Bundle version 10.
+  double texelsPerShadowPixel = 0;
   bool operator==(const RenderSettings&) const = default;
 };
 
@@ -51,6 +55,8 @@ inline constexpr uint32_t kMaxSettingsPasses = 257;
 // 64 receivers are one shaft over most of a wall.
 inline constexpr double kMaxPruneFraction = 0.25;
 inline constexpr uint32_t kMaxReceiversPerLeaf = 64;
+// More texels per footprint pixel than this only ever gives the frame's whole map.
+inline constexpr double kMaxTexelsPerShadowPixel = 64;
 
 // The fine-proxy passes product `product` is drawn with (stated at
 // kFineProxyReferencePasses passes, shadow/pass_list.h): its own when the settings have one per
@@ -63,7 +69,8 @@ uint32_t fineProxyPassesOf(uint32_t shared, std::span<const uint32_t> perProduct
 // Throws std::invalid_argument naming the field: maxPasses in [1, kMaxSettingsPasses],
 // shadowMapSize a multiple of 16 in [64, 4096] (its fallbacks stay multiples of 16),
 // fineProxyPasses and each of productFineProxyPasses at most kMaxSettingsPasses, pruneFraction in
-// [0, kMaxPruneFraction], receiversPerLeaf in [1, kMaxReceiversPerLeaf]; with `products` given,
+// [0, kMaxPruneFraction], receiversPerLeaf in [1, kMaxReceiversPerLeaf], texelsPerShadowPixel
+// in [0, kMaxTexelsPerShadowPixel]; with `products` given,
 // productFineProxyPasses empty or one per product.
 void validateRenderSettings(const RenderSettings& s, std::optional<size_t> products = {});
 

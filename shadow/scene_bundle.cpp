@@ -187,6 +187,7 @@ void saveBundle(const SceneBundle& b, const std::filesystem::path& path) {
   w.addValue<uint32_t>("settings.tuned", rs.tuned ? 1u : 0u);
   w.addValue<double>("settings.prune_fraction", rs.pruneFraction);
   w.addValue<uint32_t>("settings.receivers_per_leaf", rs.receiversPerLeaf);
+  w.addValue<double>("settings.texels_per_shadow_pixel", rs.texelsPerShadowPixel);
   w.write(path);
 }
 
@@ -301,6 +302,9 @@ SceneBundle loadBundle(const std::filesystem::path& path) {
     }
     if (r.version() >= 9) {
       rs.productFineProxyPasses = r.get<uint32_t>("settings.product_fine_proxy_passes");
+    }
+    if (r.version() >= 10) {
+      rs.texelsPerShadowPixel = r.getValue<double>("settings.texels_per_shadow_pixel");
     }
     try {
       validateRenderSettings(rs, b.products.size());

@@ -29,7 +29,9 @@ namespace penumbra::shadow {
 // 8: the settings' shaft pruning fraction and receivers per leaf; version 7 bundles load
 // with their defaults.
 // 9: the settings' fine-proxy passes per product; older bundles give every product the same.
-inline constexpr uint32_t kBundleVersion = 9;
+// 10: the settings' texels per shadow pixel (a map size per cluster); older bundles give every
+// pass the frame's map.
+inline constexpr uint32_t kBundleVersion = 10;
 inline constexpr uint32_t kOldestBundleVersion = 4;
 
 // A patch as the per-frame pipeline needs it (scene::Patch in float).

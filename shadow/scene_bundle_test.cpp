@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -100,12 +102,13 @@ TEST(SceneBundle, InconsistentContentIsNamed) {
 }
 
 // v7: the render settings round-trip, and a bundle carrying unusable ones is refused with
-// the setting named (v8: with the shaft pruning fraction and receivers per leaf).
+// the setting named (v8: with the shaft pruning fraction and receivers per leaf; v10: the
+// texels per shadow pixel).
 TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
   const fs::path path = tempPath("penumbra-scene-bundle-settings.bundle");
   SceneBundle b = smallBundle();
   EXPECT_EQ(b.settings, RenderSettings{});
-  b.settings = {24, 128, 8, false, true, 0.05, 4, {50, 0}};
+  b.settings = {24, 128, 8, false, true, 0.05, 4, {50, 0}, 0.75};
   saveBundle(b, path);
   EXPECT_EQ(loadBundle(path).settings, b.settings);
   b.settings.productFineProxyPasses.clear();
@@ -138,6 +141,12 @@ TEST(SceneBundle, RenderSettingsRoundTripAndAreValidated) {
       refusal({64, 256, 16, true, false, 0.02, 8, {16, 16, 16}}),
       path.string() +
           ": section 'settings': settings.product_fine_proxy_passes: 3 values for 2 products");
+  EXPECT_EQ(refusal({64, 256, 16, true, false, 0.02, 8, {}, 65}),
+            path.string() +
+                ": section 'settings': settings.texels_per_shadow_pixel: 65 is not in [0, 64]");
+  EXPECT_EQ(refusal({64, 256, 16, true, false, 0.02, 8, {}, std::nan("")}),
+            path.string() +
+                ": section 'settings': settings.texels_per_shadow_pixel: nan is not in [0, 64]");
   fs::remove(path);
 }
 
@@ -306,8 +315,9 @@ std::vector<RawSection> readSections(const fs::path& path) {
 // reflectances) has neither, and shades with area-weighted normals and its one reflectance;
 // neither has fine proxies (version 6), so every pass draws the proxy. Before version 7 the
 // settings are the defaults; a version 7 bundle keeps its own but the shaft settings of
-// version 8.
-TEST(SceneBundle, Version4To8BundlesStillLoad) {
+// version 8, a version 8 one the per-product fine-proxy passes of version 9, and a version 9
+// one the map per cluster of version 10.
+TEST(SceneBundle, Version4To9BundlesStillLoad) {
   SceneBundle b = smallBundle();
   b.products[0].normals.assign(4, {0, 1, 0});
   // Not the defaults, which the older versions must load with.
@@ -315,12 +325,14 @@ TEST(SceneBundle, Version4To8BundlesStillLoad) {
   b.settings.pruneFraction = 0.05;
   b.settings.receiversPerLeaf = 4;
   b.settings.productFineProxyPasses = {4, 30};
+  b.settings.texelsPerShadowPixel = 1.5;
   const fs::path path = tempPath("penumbra-scene-bundle-old-compat.bundle");
-  for (const uint32_t version : {4u, 5u, 6u, 7u, 8u}) {
+  for (const uint32_t version : {4u, 5u, 6u, 7u, 8u, 9u}) {
     saveBundle(b, path);
     // Rewritten as `version`: the same sections without the newer ones, rehashed.
     const auto newer = [&](const std::string& name) {
-      if (name == "settings.product_fine_proxy_passes") return true;
+      if (name == "settings.texels_per_shadow_pixel") return true;
+      if (version < 9 && name == "settings.product_fine_proxy_passes") return true;
       if (version < 8 &&
           (name == "settings.prune_fraction" || name == "settings.receivers_per_leaf")) {
         return true;
@@ -346,11 +358,13 @@ TEST(SceneBundle, Version4To8BundlesStillLoad) {
       body += sec.data;
       ++kept;
     }
-    // The per-product fine-proxy passes, before version 8 the two shaft settings, before 7
-    // the five others; before version 6 the two products' fine proxies (positions and
-    // indices), before 5 also their normals and reflectances.
-    EXPECT_EQ(dropped, 1u + (version < 8 ? 2u : 0u) + (version < 7 ? 5u : 0u) +
-                           (version < 6 ? 4u : 0u) + (version < 5 ? 4u : 0u))
+    // The texels per shadow pixel, before version 9 the per-product fine-proxy passes, before
+    // version 8 the two shaft settings, before 7 the five others; before version 6 the two
+    // products' fine proxies (positions and indices), before 5 also their normals and
+    // reflectances.
+    EXPECT_EQ(dropped, 1u + (version < 9 ? 1u : 0u) + (version < 8 ? 2u : 0u) +
+                           (version < 7 ? 5u : 0u) + (version < 6 ? 4u : 0u) +
+                           (version < 5 ? 4u : 0u))
         << version;
     scene::Sha256 hash;
     hash.update(std::span(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
@@ -370,10 +384,11 @@ TEST(SceneBundle, Version4To8BundlesStillLoad) {
     EXPECT_EQ(r.products[0].fineProxy.indices.empty(), version < 6) << version;
     RenderSettings expected;
     if (version >= 7) expected.maxPasses = 12;
-    if (version == 8) {
+    if (version >= 8) {
       expected.pruneFraction = 0.05;
       expected.receiversPerLeaf = 4;
     }
+    if (version == 9) expected.productFineProxyPasses = {4, 30};
     EXPECT_EQ(r.settings, expected) << version;
     EXPECT_EQ(r.products[0].mesh, b.products[0].mesh);
     EXPECT_EQ(r.products[0].proxy, b.products[0].proxy);

@@ -22,6 +22,7 @@ done
 "${run[@]}" info "$data/showroom/showroom.bundle" >"$tmp/info" 2>&1
 status=$?
 [[ $status == 0 ]] && grep -qF "settings defaults: max_passes 64, shadow_map_sizes [256,128,64]" "$tmp/info" \
+  && grep -qF "texels_per_shadow_pixel off" "$tmp/info" \
   && grep -qF "product 2 teapot:" "$tmp/info" && grep -qF "fine proxy 1000 in 8 of 50 passes" "$tmp/info"
 check "info: the showroom's products and default settings ($(head -c 300 "$tmp/info"))" $status
 "${run[@]}" info "$data/showroom/showroom.bundle" --json >"$tmp/info.json" 2>&1
@@ -31,7 +32,8 @@ j = json.load(open(sys.argv[1]))
 s = j['settings']
 assert s == {'tuned': False, 'max_passes': 64, 'shadow_map_sizes': [256, 128, 64],
              'fine_proxy_passes': 16, 'product_fine_proxy_passes': [16, 32, 8],
-             'area_penumbrae': True, 'prune_fraction': 0.02, 'receivers_per_leaf': 8}, s
+             'area_penumbrae': True, 'prune_fraction': 0.02, 'receivers_per_leaf': 8,
+             'texels_per_shadow_pixel': 0}, s
 assert [p['name'] for p in j['products']] == ['chair', 'bunny', 'teapot'], j['products']
 # The scene file's fine_proxy_passes: the bunny's fine proxy in 32 of 50 passes, the teapot's in 8
 # of 50; the chair has none.
