@@ -394,7 +394,20 @@ TEST(TuneSettings, ShippedPoseSetsLoad) {
   EXPECT_EQ(set[2].pose.x, 5.45f);
   EXPECT_EQ(set[2].pose.yawDegrees, 90.0f);
   EXPECT_EQ(set[8].pose.lift, 0.5f);
-  EXPECT_EQ(loadPoseSet(testing::dataDir() / "showroom/poses-held-out.json").size(), 6u);
+  const std::vector<NamedPose> held =
+      loadPoseSet(testing::dataDir() / "showroom/poses-held-out.json");
+  EXPECT_EQ(held.size(), 6u);
+  // The tuning set: the fifteen, then five spanning the rest of the floor; none of them a
+  // held-out pose, by name or by place.
+  const std::vector<NamedPose> tune = loadPoseSet(testing::dataDir() / "showroom/poses-tune.json");
+  ASSERT_EQ(tune.size(), 20u);
+  for (size_t i = 0; i < set.size(); ++i) EXPECT_EQ(tune[i].name, set[i].name);
+  for (const NamedPose& t : tune) {
+    for (const NamedPose& h : held) {
+      EXPECT_NE(t.name, h.name);
+      EXPECT_FALSE(t.pose.x == h.pose.x && t.pose.z == h.pose.z) << t.name << " " << h.name;
+    }
+  }
 }
 
 TEST(TuneSettings, BadPoseSetsAreRefusedByName) {

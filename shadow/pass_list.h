@@ -2,7 +2,8 @@
 // clusters' order (decreasing transfer, §7.1.1). Each pass renders the product's proxy (the
 // first fineProxyPasses its fine proxy) into a shadow map from the light frustum fitted around the
 // product from the energy-weighted centroid of the cluster's sources (§8 casts from its most
-// energetic patch; see clusterCentroid) (shadow/light_frustum.h), then masks and subtracts S over
+// energetic patch; see clusterCentroid) (shadow/light_frustum.h), of the frame's size or, with
+// texelsPerShadowPixel, of its own (shadow/cluster_map_size.h), then masks and subtracts S over
 // the receiver triangles that may be shadowed and have something to subtract, S in corner order —
 // and over the product's own triangles for self-shadowing (§7.2). A cluster whose light lies inside
 // the product's bounding sphere gets no pass (no shadow map can hold the product): counted, so that
