@@ -111,7 +111,7 @@ struct TuneCommand {
     reference::TuneOptions o;
     o.pruneFractions = {0.005, 0.01, 0.02, 0.05};
     o.receiversPerLeaf = {4, 8, 16};
-    o.texelsPerShadowPixel = {0.5, 1, 2};
+    o.texelsPerShadowPixel = {2, 4, 8};
     return o;
   }();
 

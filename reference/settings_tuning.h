@@ -96,7 +96,7 @@ struct TuneOptions {
   // shadow/cluster_map_size.h): each value tried around the choice so far, under its map size
   // and under every larger one of mapSizes (each pass's own map only shrinks from that cap, so a
   // larger cap lets the clusters whose shadows look large get finer maps than the uniform
-  // choice). Empty: not searched. `penumbra tune` tries 0.5, 1 and 2.
+  // choice). Empty: not searched. `penumbra tune` tries 2, 4 and 8.
   std::vector<double> texelsPerShadowPixel;
   // Stop raising a combination's passes when the frames no longer change visibly (above).
   bool perceptualStop = true;
