@@ -55,6 +55,14 @@ core::Mat4 toRasterMat4(const glm::dmat4& m) {
   return out;
 }
 
+glm::dmat4 fromRasterMat4(const core::Mat4& m) {
+  glm::dmat4 out;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) out[c][r] = m.m[4 * size_t(r) + size_t(c)];
+  }
+  return out;
+}
+
 glm::dmat4 Camera::projection() const {
   glm::dmat4 m = perspective(fovYDegrees * std::numbers::pi / 180.0, aspect, zNear, zFar);
   // x_ndc += principalNdc.x (w_clip = -z_eye); only when set, so symmetric cameras keep

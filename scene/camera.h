@@ -23,6 +23,8 @@ glm::dmat4 perspectiveFromTanHalf(double tanHalfFovY, double aspect, double zNea
 
 // GLM stores columns (m[c][r]); the trace stores rows (element (r, c) at m[4r + c]).
 core::Mat4 toRasterMat4(const glm::dmat4& m);
+// And back, widened to double exactly (the trace's camera as GLM multiplies it).
+glm::dmat4 fromRasterMat4(const core::Mat4& m);
 
 struct Camera {
   glm::dvec3 eye{0.0}, target{0, 0, -1}, up{0, 1, 0};

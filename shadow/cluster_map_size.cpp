@@ -5,23 +5,21 @@
 #include <limits>
 #include <optional>
 
+#include "scene/camera.h"
+
 namespace penumbra::shadow {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// `p` in pixels of `view`, or nullopt when it is not in front of the camera (the clip w of a
-// point the camera looks at is its depth along the view axis; the near plane is well beyond
-// a millimetre).
-std::optional<glm::dvec2> toPixels(const raster::StaticView& view, const glm::dvec3& p) {
-  const auto& m = view.cameraViewProj.m;
-  const auto row = [&](int r) {
-    return ((double(m[4 * r]) * p.x + double(m[4 * r + 1]) * p.y) + double(m[4 * r + 2]) * p.z) +
-           double(m[4 * r + 3]);
-  };
-  const double w = row(3);
-  if (!(w > 1e-3)) return std::nullopt;
-  return glm::dvec2(0.5 * view.width * (row(0) / w), 0.5 * view.height * (row(1) / w));
+// `p` in pixels of a view `width` x `height` through `viewProj` (relative to the image centre),
+// or nullopt when it is not in front of the camera (the clip w of a point the camera looks at is
+// its depth along the view axis; the near plane is well beyond a millimetre).
+std::optional<glm::dvec2> toPixels(const glm::dmat4& viewProj, uint32_t width, uint32_t height,
+                                   const glm::dvec3& p) {
+  const glm::dvec4 clip = viewProj * glm::dvec4(p, 1.0);
+  if (!(clip.w > 1e-3)) return std::nullopt;
+  return glm::dvec2(0.5 * width * (clip.x / clip.w), 0.5 * height * (clip.y / clip.w));
 }
 
 }  // namespace
@@ -61,10 +59,12 @@ double shadowFootprintPx(const raster::StaticView& view, const LightFrustum& fru
     if (!(along * facing > 0) || std::abs(facing / along) > 1e3) return std::nullopt;
     return light + (facing / along) * (q - light);
   };
+  const glm::dmat4 viewProj = scene::fromRasterMat4(view.cameraViewProj);
   const auto span = [&](const std::optional<glm::dvec3>& a,
                         const std::optional<glm::dvec3>& b) -> double {
     if (!a || !b) return kInfinity;
-    const auto pa = toPixels(view, *a), pb = toPixels(view, *b);
+    const auto pa = toPixels(viewProj, view.width, view.height, *a);
+    const auto pb = toPixels(viewProj, view.width, view.height, *b);
     if (!pa || !pb) return kInfinity;
     return glm::length(*pa - *pb);
   };

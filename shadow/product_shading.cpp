@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "scene/camera.h"
 #include "shadow/patch_transfer.h"
 #include "shadow/shaft_hierarchy.h"
 
@@ -30,11 +31,8 @@ ProductShading::ProductShading(const SceneBundle& bundle, const scene::PatchMesh
   }
   // The camera centre: the point the view-projection sends to clip (0, 0, *, 0), i.e. the
   // homogeneous point inverse(VP) (0, 0, 1, 0).
-  glm::dmat4 vp;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) vp[c][r] = bundle.view.cameraViewProj.m[4 * size_t(r) + size_t(c)];
-  }
-  const glm::dvec4 e = glm::inverse(vp) * glm::dvec4(0, 0, 1, 0);
+  const glm::dvec4 e =
+      glm::inverse(scene::fromRasterMat4(bundle.view.cameraViewProj)) * glm::dvec4(0, 0, 1, 0);
   if (e.w != 0) eye_ = glm::vec3(glm::dvec3(e) / e.w);
 }
 
